@@ -1,0 +1,41 @@
+//! Cycle averages and time series of a wing's forces.
+
+use crate::wing::{BodyMotion, TermForce, Wing, WingForces};
+
+/// Cycle-mean forces, moments and coefficients of each term and their sum.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CycleMean {
+    /// Per term, in the order of [`crate::Term::ALL`].
+    pub terms: [TermForce; 4],
+    /// Sum of the terms.
+    pub total: TermForce,
+}
+
+impl CycleMean {
+    /// Accumulates one sample with weight `w`.
+    pub fn accumulate(&mut self, f: &WingForces, w: f64) {
+        for (acc, t) in self.terms.iter_mut().zip(&f.terms) {
+            scale_add(acc, t, w);
+        }
+        scale_add(&mut self.total, &f.total, w);
+    }
+}
+
+fn scale_add(acc: &mut TermForce, t: &TermForce, w: f64) {
+    acc.force_n += w * t.force_n;
+    acc.moment_hinge_nm += w * t.moment_hinge_nm;
+    acc.c_l += w * t.c_l;
+    acc.c_d += w * t.c_d;
+}
+
+/// The mean over one wingbeat starting at `start_phase`, sampled at `steps` equally spaced
+/// phases (the rectangle rule, spectrally accurate for smooth periodic integrands).
+pub fn cycle_mean(wing: &Wing, body: &BodyMotion, start_phase: f64, steps: usize) -> CycleMean {
+    let mut mean = CycleMean::default();
+    let w = 1.0 / steps as f64;
+    for k in 0..steps {
+        let f = wing.evaluate(start_phase + k as f64 * w, body);
+        mean.accumulate(&f, w);
+    }
+    mean
+}

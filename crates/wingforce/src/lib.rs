@@ -1,0 +1,35 @@
+//! # wingforce
+//!
+//! Quasi-steady blade-element aerodynamics of insect-scale flapping wings: translational
+//! (Lee et al. 2016, or Dickinson et al. 1999), rotational (Van Veen et al.), added-mass and
+//! the wake-capture term of the seed paper (eq 17-19, 23-24), each reported separately and
+//! summed, with the body's own motion included so a vehicle simulator gets damping right.
+//!
+//! Pure computation: no physics engine, no file or network I/O. Model files are parsed from
+//! text the caller has read. The frames, formulas and reference numbers follow
+//! `shared/reference/MODEL.md`.
+//!
+//! ```
+//! use wingforce::{BodyMotion, WingModelSpec};
+//! let text = include_str!("../../../models/robofly.toml");
+//! let wing = WingModelSpec::from_toml(text, "robofly.toml")?.build("robofly.toml")?;
+//! let forces = wing.evaluate(0.25, &BodyMotion::default()); // mid-downstroke
+//! assert!(forces.total.c_l > 1.0);
+//! # Ok::<(), wingforce::Error>(())
+//! ```
+
+pub mod coefficients;
+pub mod cycle;
+mod error;
+pub mod kinematics;
+pub mod model;
+pub mod planform;
+pub mod quad;
+pub mod wing;
+
+pub use coefficients::{RangeFlags, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
+pub use error::{Error, Result, Validator};
+pub use kinematics::{Kinematics, KinematicsSpec, StrokePhase, WingAngles};
+pub use model::{AeroSpec, FluidSpec, WingModelSpec, WingSpec};
+pub use planform::{Geometry, GeometryOverrides, PlanformSpec};
+pub use wing::{AeroOptions, BodyMotion, Fluid, Mount, Side, Term, TermForce, Wing, WingForces};

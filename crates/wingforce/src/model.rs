@@ -1,0 +1,234 @@
+//! Model files: the TOML text a user writes for one wing (planform, kinematics, fluid and
+//! aerodynamic options) and its validation into a ready [`Wing`].
+//!
+//! Degrees appear only in field names ending in `_deg`; everything built from a spec is SI
+//! and radians. Unknown fields are errors, and every error names the file, the field, the
+//! value and what is allowed.
+
+use serde::{Deserialize, Serialize};
+
+use crate::coefficients::{TranslationalModel, WakeCaptureModel};
+use crate::error::{Error, Result, Validator};
+use crate::kinematics::{Kinematics, KinematicsSpec};
+use crate::planform::{Geometry, GeometryOverrides, PlanformSpec};
+use crate::wing::{AeroOptions, Fluid, Mount, Wing};
+
+/// A planform with its measured overrides.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WingSpec {
+    /// The planform.
+    pub planform: PlanformSpec,
+    /// Measured values that replace derived ones.
+    #[serde(default)]
+    pub overrides: GeometryOverrides,
+}
+
+/// The fluid as written: density, and either the kinematic viscosity or the paper's Re.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FluidSpec {
+    /// Density, kg/m^3.
+    pub density_kg_m3: f64,
+    /// Kinematic viscosity, m^2/s.
+    pub kinematic_viscosity_m2_s: Option<f64>,
+    /// Reynolds number Re = V_ref c_bar / nu (sets nu from the wing's kinematics).
+    pub reynolds: Option<f64>,
+}
+
+impl Default for FluidSpec {
+    fn default() -> Self {
+        Self {
+            density_kg_m3: Fluid::AIR_20C.density_kg_m3,
+            kinematic_viscosity_m2_s: Some(Fluid::AIR_20C.kinematic_viscosity_m2_s),
+            reynolds: None,
+        }
+    }
+}
+
+/// Aerodynamic options as written.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AeroSpec {
+    /// `lee2016` (default) or `dickinson1999`.
+    pub translational: TranslationalModel,
+    /// Apply Lee et al.'s f_AR and f_Ro corrections.
+    pub ar_ro_corrections: bool,
+    /// Include the rotational term.
+    pub rotational: bool,
+    /// Include the added-mass term.
+    pub added_mass: bool,
+    /// Include the wake-capture term.
+    pub wake_capture: bool,
+    /// A refitted wake-capture model (e.g. written by `flapwing fit-wake`); the paper's if absent.
+    pub wake_capture_model: Option<WakeCaptureModel>,
+    /// Van Veen et al.'s C_rot.
+    pub c_rot: f64,
+    /// Number of blade-element strips per wing.
+    pub strips: usize,
+    /// Translational centre of pressure behind the leading edge, fraction of the chord.
+    pub cp_chord_frac: f64,
+}
+
+impl Default for AeroSpec {
+    fn default() -> Self {
+        Self {
+            translational: TranslationalModel::Lee2016,
+            ar_ro_corrections: true,
+            rotational: true,
+            added_mass: true,
+            wake_capture: true,
+            wake_capture_model: None,
+            c_rot: 2.08,
+            strips: 20,
+            cp_chord_frac: 0.25,
+        }
+    }
+}
+
+impl AeroSpec {
+    /// Validated options.
+    pub fn build(&self, v: &Validator<'_>, field: &str) -> Result<AeroOptions> {
+        v.positive(&format!("{field}.c_rot"), self.c_rot)?;
+        if !(1..=1000).contains(&self.strips) {
+            return Err(v.invalid(
+                &format!("{field}.strips"),
+                self.strips,
+                "an integer in [1, 1000]",
+            ));
+        }
+        v.within(
+            &format!("{field}.cp_chord_frac"),
+            self.cp_chord_frac,
+            0.0,
+            1.0,
+        )?;
+        if let Some(m) = &self.wake_capture_model {
+            for (name, r) in [
+                ("re_range", m.re_range),
+                ("dtau_a_range", m.dtau_a_range),
+                ("dtau_d_range", m.dtau_d_range),
+            ] {
+                if !(r.min.is_finite() && r.max.is_finite() && r.min < r.max) {
+                    return Err(v.invalid(
+                        &format!("{field}.wake_capture_model.{name}"),
+                        format!("[{}, {}]", r.min, r.max),
+                        "finite bounds with min < max",
+                    ));
+                }
+            }
+        }
+        Ok(AeroOptions {
+            translational: self.translational,
+            ar_ro_corrections: self.ar_ro_corrections,
+            rotational: self.rotational,
+            added_mass: self.added_mass,
+            wake_capture: if self.wake_capture {
+                Some(
+                    self.wake_capture_model
+                        .clone()
+                        .unwrap_or_else(WakeCaptureModel::paper),
+                )
+            } else {
+                None
+            },
+            c_rot: self.c_rot,
+        })
+    }
+}
+
+/// A wing on a fixed mount (a robotic wing in a tank): the file format of `models/robofly.toml`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WingModelSpec {
+    /// A name for reports.
+    #[serde(default)]
+    pub name: String,
+    /// The fluid.
+    #[serde(default)]
+    pub fluid: FluidSpec,
+    /// The wing.
+    pub wing: WingSpec,
+    /// The kinematics.
+    pub kinematics: KinematicsSpec,
+    /// Aerodynamic options.
+    #[serde(default)]
+    pub aero: AeroSpec,
+}
+
+/// Parses TOML text, naming `origin` in errors.
+pub fn parse_toml<T: serde::de::DeserializeOwned>(text: &str, origin: &str) -> Result<T> {
+    toml::from_str(text).map_err(|e| Error::Parse {
+        origin: origin.to_owned(),
+        message: e.to_string().trim_end().to_owned(),
+    })
+}
+
+impl WingModelSpec {
+    /// Parses a wing model from TOML text (`origin` names the file in errors).
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self> {
+        parse_toml(text, origin)
+    }
+
+    /// Validates and builds the wing on a fixed left mount at the origin.
+    pub fn build(&self, origin: &str) -> Result<Wing> {
+        let v = Validator::new(origin);
+        let aero = &self.aero;
+        let options = aero.build(&v, "aero")?;
+        let geometry = build_geometry(&self.wing, &v, "wing", aero)?;
+        let kinematics =
+            Kinematics::from_spec(&self.kinematics, &v, "kinematics", geometry.r_gyration_m)?;
+        let fluid = build_fluid(&self.fluid, &v, "fluid", &geometry, &kinematics)?;
+        Ok(Wing::builder(geometry, kinematics)
+            .fluid(fluid)
+            .options(options)
+            .mount(Mount::fixed(crate::Side::Left))
+            .build())
+    }
+}
+
+/// Builds a planform's geometry with the strips and centre of pressure of `aero`.
+pub fn build_geometry(
+    spec: &WingSpec,
+    v: &Validator<'_>,
+    field: &str,
+    aero: &AeroSpec,
+) -> Result<Geometry> {
+    spec.planform.build(
+        v,
+        &format!("{field}.planform"),
+        &spec.overrides,
+        aero.strips,
+        aero.cp_chord_frac,
+    )
+}
+
+/// Resolves a fluid spec (a given Re sets nu from the wing's V_ref and c_bar).
+pub fn build_fluid(
+    spec: &FluidSpec,
+    v: &Validator<'_>,
+    field: &str,
+    g: &Geometry,
+    k: &Kinematics,
+) -> Result<Fluid> {
+    let rho = v.positive(&format!("{field}.density_kg_m3"), spec.density_kg_m3)?;
+    let nu = match (spec.kinematic_viscosity_m2_s, spec.reynolds) {
+        (Some(nu), None) => v.positive(&format!("{field}.kinematic_viscosity_m2_s"), nu)?,
+        (None, Some(re)) => {
+            let re = v.positive(&format!("{field}.reynolds"), re)?;
+            k.peak_stroke_rate_rad_s() * g.r_gyration_m * g.mean_chord_m / re
+        }
+        (None, None) => Fluid::AIR_20C.kinematic_viscosity_m2_s,
+        (Some(nu), Some(re)) => {
+            return Err(v.invalid(
+                &format!("{field}.reynolds"),
+                format!("{re} together with kinematic_viscosity_m2_s = {nu}"),
+                "only one of kinematic_viscosity_m2_s and reynolds",
+            ));
+        }
+    };
+    Ok(Fluid {
+        density_kg_m3: rho,
+        kinematic_viscosity_m2_s: nu,
+    })
+}

@@ -1,0 +1,643 @@
+//! One wing: geometry, kinematics and mount, prepared for fast force evaluation.
+//!
+//! Frames (MODEL.md section 1): the body frame is x forward, y left, z up. Each wing has a
+//! stroke-plane frame with its origin at the hinge, obtained from the body frame by a rotation
+//! about body y by the stroke-plane tilt (`body_from_stroke`); its z axis is the stroke-plane
+//! normal, "lift" is along it. All per-step work happens in the stroke frame and the results
+//! are rotated into the body frame once, at the end of [`Wing::evaluate`].
+
+use nalgebra::{Matrix3, Rotation3, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::coefficients::{self, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
+use crate::kinematics::{Kinematics, StrokePhase, WingAngles};
+use crate::planform::Geometry;
+
+/// Which side of the body a wing is on. The right wing is the mirror image of the left in
+/// the body's x-z plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    /// +y side.
+    Left,
+    /// -y side.
+    Right,
+}
+
+impl Side {
+    /// +1 for the left wing, -1 for the right.
+    pub fn sign(self) -> f64 {
+        match self {
+            Side::Left => 1.0,
+            Side::Right => -1.0,
+        }
+    }
+}
+
+/// Where and how a wing is attached to the body.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mount {
+    /// Which side.
+    pub side: Side,
+    /// Hinge position in the body frame, relative to the centre of mass, m.
+    pub hinge_in_body_m: Vector3<f64>,
+    /// Rotation about body y from the body frame to the stroke-plane frame, rad (positive
+    /// tilts the stroke-plane normal forward: a hovering insect whose body is pitched up by
+    /// this angle relative to a horizontal stroke plane).
+    pub stroke_plane_tilt_rad: f64,
+}
+
+impl Mount {
+    /// A fixed mount at the origin with the stroke plane on the body x-y plane (robofly).
+    pub fn fixed(side: Side) -> Self {
+        Self {
+            side,
+            hinge_in_body_m: Vector3::zeros(),
+            stroke_plane_tilt_rad: 0.0,
+        }
+    }
+}
+
+/// Fluid properties.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Fluid {
+    /// Density rho, kg/m^3.
+    pub density_kg_m3: f64,
+    /// Kinematic viscosity nu, m^2/s.
+    pub kinematic_viscosity_m2_s: f64,
+}
+
+impl Fluid {
+    /// Air at 20 C and 101.325 kPa: rho = 1.204 kg/m^3, nu = 1.516e-5 m^2/s
+    /// (e.g. Engineering ToolBox / CRC Handbook tables of dry air).
+    pub const AIR_20C: Fluid = Fluid {
+        density_kg_m3: 1.204,
+        kinematic_viscosity_m2_s: 1.516e-5,
+    };
+}
+
+/// Which terms to compute and how.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AeroOptions {
+    /// Translational coefficient model.
+    pub translational: TranslationalModel,
+    /// Apply f_AR and f_Ro to the Lee et al. coefficients.
+    pub ar_ro_corrections: bool,
+    /// Include the rotational (Van Veen) term.
+    pub rotational: bool,
+    /// Include the added-mass term.
+    pub added_mass: bool,
+    /// The wake-capture model, or `None` to switch the term off.
+    pub wake_capture: Option<WakeCaptureModel>,
+    /// Van Veen et al.'s rotational coefficient C_rot (2.08 +- 0.13).
+    pub c_rot: f64,
+}
+
+impl Default for AeroOptions {
+    fn default() -> Self {
+        Self {
+            translational: TranslationalModel::Lee2016,
+            ar_ro_corrections: true,
+            rotational: true,
+            added_mass: true,
+            wake_capture: Some(WakeCaptureModel::paper()),
+            c_rot: 2.08,
+        }
+    }
+}
+
+/// Linear and angular velocity of the body relative to the air, in the body frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BodyMotion {
+    /// Velocity of the centre of mass relative to the air, body frame, m/s.
+    pub velocity_m_s: Vector3<f64>,
+    /// Angular velocity, body frame, rad/s.
+    pub angular_velocity_rad_s: Vector3<f64>,
+}
+
+/// The four aerodynamic terms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Term {
+    /// Quasi-steady translational lift and drag (delayed stall).
+    Translational,
+    /// Rotational circulation and pitch drag (Van Veen et al.).
+    Rotational,
+    /// Added mass (fluid accelerated with the wing).
+    AddedMass,
+    /// The seed paper's wake capture.
+    WakeCapture,
+}
+
+impl Term {
+    /// All terms, in the order of [`WingForces::terms`].
+    pub const ALL: [Term; 4] = [
+        Term::Translational,
+        Term::Rotational,
+        Term::AddedMass,
+        Term::WakeCapture,
+    ];
+
+    /// Snake-case name used in CSV headers, JSON and logs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Term::Translational => "translational",
+            Term::Rotational => "rotational",
+            Term::AddedMass => "added_mass",
+            Term::WakeCapture => "wake_capture",
+        }
+    }
+}
+
+/// Force and moment of one term, body frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct TermForce {
+    /// Force on the wing, body frame, N.
+    pub force_n: Vector3<f64>,
+    /// Moment about the hinge, body frame, N m.
+    pub moment_hinge_nm: Vector3<f64>,
+    /// Lift coefficient on the reference scale (eq 11): force along the stroke-plane normal
+    /// over 0.5 rho V_ref^2 S.
+    pub c_l: f64,
+    /// Drag coefficient on the reference scale (eq 12): force in the stroke plane against the
+    /// wing's current stroke direction over 0.5 rho V_ref^2 S.
+    pub c_d: f64,
+}
+
+impl TermForce {
+    /// Moment about the centre of mass given the hinge position (body frame, from the CoM):
+    /// `M_com = M_hinge + r_hinge x F`.
+    pub fn moment_about_com_nm(&self, hinge_in_body_m: &Vector3<f64>) -> Vector3<f64> {
+        self.moment_hinge_nm + hinge_in_body_m.cross(&self.force_n)
+    }
+
+    fn add(&mut self, other: &TermForce) {
+        self.force_n += other.force_n;
+        self.moment_hinge_nm += other.moment_hinge_nm;
+        self.c_l += other.c_l;
+        self.c_d += other.c_d;
+    }
+}
+
+/// Everything one evaluation produces.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WingForces {
+    /// Per term, in the order of [`Term::ALL`].
+    pub terms: [TermForce; 4],
+    /// Sum of the terms.
+    pub total: TermForce,
+    /// The kinematic state used.
+    pub angles: WingAngles,
+    /// Half stroke and t*.
+    pub phase: StrokePhase,
+}
+
+impl WingForces {
+    /// One term.
+    pub fn term(&self, term: Term) -> &TermForce {
+        &self.terms[term as usize]
+    }
+}
+
+/// Strip data laid out for the hot loop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct StripK {
+    r_m: f64,
+    half_rho_area: f64,
+    x_cp_m: f64,
+}
+
+/// A wing ready to evaluate: everything that depends only on Re, the planform or the
+/// kinematics parameters is computed here, once, not per step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Wing {
+    geometry: Geometry,
+    kinematics: Kinematics,
+    mount: Mount,
+    fluid: Fluid,
+    options: AeroOptions,
+    cache: Cache,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct Cache {
+    strips: Vec<StripK>,
+    reynolds: f64,
+    v_ref_m_s: f64,
+    /// 0.5 rho V_ref^2 S, N.
+    q_ref_s_n: f64,
+    /// Lee: 2 K_l f, C_d0 f, 2 K_d f (f = f_AR f_Ro or 1).
+    kl2: f64,
+    cd0: f64,
+    kd2: f64,
+    wake: Option<WakeCaptureParams>,
+    body_from_stroke: Matrix3<f64>,
+    stroke_from_body: Matrix3<f64>,
+    /// -(pi/4) rho.
+    am_k: f64,
+}
+
+/// Builds a [`Wing`] (see [`Wing::builder`]).
+#[derive(Debug, Clone)]
+pub struct WingBuilder {
+    geometry: Geometry,
+    kinematics: Kinematics,
+    mount: Mount,
+    fluid: Fluid,
+    options: AeroOptions,
+}
+
+impl WingBuilder {
+    /// Where the wing is attached (default: a fixed left mount at the origin).
+    pub fn mount(mut self, mount: Mount) -> Self {
+        self.mount = mount;
+        self
+    }
+    /// The fluid (default: air at 20 C).
+    pub fn fluid(mut self, fluid: Fluid) -> Self {
+        self.fluid = fluid;
+        self
+    }
+    /// Term switches and models (default: all four terms, Lee et al. translational).
+    pub fn options(mut self, options: AeroOptions) -> Self {
+        self.options = options;
+        self
+    }
+    /// The prepared wing.
+    pub fn build(self) -> Wing {
+        let mut wing = Wing {
+            geometry: self.geometry,
+            kinematics: self.kinematics,
+            mount: self.mount,
+            fluid: self.fluid,
+            options: self.options,
+            cache: Cache::empty(),
+        };
+        wing.refresh();
+        wing
+    }
+}
+
+impl Cache {
+    fn empty() -> Self {
+        Self {
+            strips: Vec::new(),
+            reynolds: 0.0,
+            v_ref_m_s: 0.0,
+            q_ref_s_n: 0.0,
+            kl2: 0.0,
+            cd0: 0.0,
+            kd2: 0.0,
+            wake: None,
+            body_from_stroke: Matrix3::identity(),
+            stroke_from_body: Matrix3::identity(),
+            am_k: 0.0,
+        }
+    }
+}
+
+impl Wing {
+    /// Starts building a wing from its geometry and kinematics.
+    pub fn builder(geometry: Geometry, kinematics: Kinematics) -> WingBuilder {
+        WingBuilder {
+            geometry,
+            kinematics,
+            mount: Mount::fixed(Side::Left),
+            fluid: Fluid::AIR_20C,
+            options: AeroOptions::default(),
+        }
+    }
+
+    /// Recomputes the cached quantities after a change of kinematics, fluid or options.
+    fn refresh(&mut self) {
+        let g = &self.geometry;
+        let rho = self.fluid.density_kg_m3;
+        let v_ref = self.kinematics.peak_stroke_rate_rad_s() * g.r_gyration_m;
+        let re = v_ref * g.mean_chord_m / self.fluid.kinematic_viscosity_m2_s;
+        let corr = if self.options.ar_ro_corrections
+            && self.options.translational == TranslationalModel::Lee2016
+        {
+            coefficients::f_ar(g.aspect_ratio) * coefficients::f_ro(g.rossby)
+        } else {
+            1.0
+        };
+        let (kl, cd0, kd) = coefficients::lee2016_factors(re);
+        let (da, dd) = self.kinematics.acceleration_fractions();
+        let rot = Rotation3::from_axis_angle(&Vector3::y_axis(), self.mount.stroke_plane_tilt_rad);
+        self.cache = Cache {
+            strips: g
+                .strips
+                .iter()
+                .map(|s| StripK {
+                    r_m: s.r_m,
+                    half_rho_area: 0.5 * rho * s.area_m2,
+                    x_cp_m: s.x_cp_m,
+                })
+                .collect(),
+            reynolds: re,
+            v_ref_m_s: v_ref,
+            q_ref_s_n: 0.5 * rho * v_ref * v_ref * g.area_m2,
+            kl2: 2.0 * kl * corr,
+            cd0: cd0 * corr,
+            kd2: 2.0 * kd * corr,
+            wake: self
+                .options
+                .wake_capture
+                .as_ref()
+                .map(|m| m.clamped(re, da, dd)),
+            body_from_stroke: *rot.matrix(),
+            stroke_from_body: *rot.inverse().matrix(),
+            am_k: -0.25 * std::f64::consts::PI * rho,
+        };
+    }
+
+    /// Replaces the kinematics (a controller does this between wingbeats).
+    pub fn set_kinematics(&mut self, kinematics: Kinematics) {
+        self.kinematics = kinematics;
+        self.refresh();
+    }
+
+    /// Replaces the fluid.
+    pub fn set_fluid(&mut self, fluid: Fluid) {
+        self.fluid = fluid;
+        self.refresh();
+    }
+
+    /// Sets the kinematic viscosity so that the paper's Re = V_ref c_bar / nu equals `re`.
+    pub fn set_reynolds(&mut self, re: f64) {
+        let v_ref = self.kinematics.peak_stroke_rate_rad_s() * self.geometry.r_gyration_m;
+        self.fluid.kinematic_viscosity_m2_s = v_ref * self.geometry.mean_chord_m / re;
+        self.refresh();
+    }
+
+    /// Replaces the options.
+    pub fn set_options(&mut self, options: AeroOptions) {
+        self.options = options;
+        self.refresh();
+    }
+
+    /// The planform's derived quantities.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+    /// The kinematics.
+    pub fn kinematics(&self) -> &Kinematics {
+        &self.kinematics
+    }
+    /// The mount.
+    pub fn mount(&self) -> &Mount {
+        &self.mount
+    }
+    /// The fluid.
+    pub fn fluid(&self) -> &Fluid {
+        &self.fluid
+    }
+    /// The options.
+    pub fn options(&self) -> &AeroOptions {
+        &self.options
+    }
+    /// Reynolds number Re = V_ref c_bar / nu (the seed paper's definition: V_ref is the peak
+    /// stroke speed at the radius of gyration, c_bar the mean chord).
+    pub fn reynolds(&self) -> f64 {
+        self.cache.reynolds
+    }
+    /// Reference speed V_ref = peak stroke rate times R_g, m/s.
+    pub fn v_ref_m_s(&self) -> f64 {
+        self.cache.v_ref_m_s
+    }
+    /// Reference force 0.5 rho V_ref^2 S, N.
+    pub fn reference_force_n(&self) -> f64 {
+        self.cache.q_ref_s_n
+    }
+    /// The wake-capture parameters in use (clamped to the fitted range; flags say which
+    /// inputs were), or `None` when the term is off.
+    pub fn wake_capture(&self) -> Option<&WakeCaptureParams> {
+        self.cache.wake.as_ref()
+    }
+    /// Rotation from the stroke-plane frame to the body frame.
+    pub fn body_from_stroke(&self) -> &Matrix3<f64> {
+        &self.cache.body_from_stroke
+    }
+
+    /// Forces at time `t_s` for a wing whose phase is `t_s * f` (constant frequency).
+    pub fn evaluate_at_time(&self, t_s: f64, body: &BodyMotion) -> WingForces {
+        self.evaluate(t_s * self.kinematics.freq_hz, body)
+    }
+
+    /// Forces and moments of all four terms at wingbeat `phase` with the body moving as given.
+    pub fn evaluate(&self, phase: f64, body: &BodyMotion) -> WingForces {
+        let c = &self.cache;
+        let a = self.kinematics.angles(phase);
+        let sp = self.kinematics.stroke_phase(phase);
+        let frame = WingFrame::new(&a, self.mount.side);
+        let z = Vector3::z();
+
+        // Body motion in the stroke frame; velocity of the hinge relative to the air.
+        let v_body_s = c.stroke_from_body * body.velocity_m_s;
+        let w_body_s = c.stroke_from_body * body.angular_velocity_rad_s;
+        let hinge_s = c.stroke_from_body * self.mount.hinge_in_body_m;
+        let v_hinge_s = v_body_s + w_body_s.cross(&hinge_s);
+
+        let mut terms = [TermForce::default(); 4];
+
+        // 1. Translational, per strip. The velocity of the pitch-axis point at radius r is
+        //    linear in r: v(r) = v_hinge + r (omega_wing + omega_body) x e_span.
+        let b = (frame.omega + w_body_s).cross(&frame.e_span);
+        let (a_le, b_le) = (v_hinge_s.dot(&frame.e_le), b.dot(&frame.e_le));
+        let (a_n, b_n) = (v_hinge_s.dot(&frame.n), b.dot(&frame.n));
+        let (mut f_le, mut f_n, mut rf_le, mut rf_n, mut xf_n) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        match self.options.translational {
+            TranslationalModel::Lee2016 => {
+                for s in &c.strips {
+                    let u_le = a_le + s.r_m * b_le;
+                    let u_n = a_n + s.r_m * b_n;
+                    let v2 = u_le * u_le + u_n * u_n;
+                    if v2 <= 0.0 {
+                        continue;
+                    }
+                    let vm = v2.sqrt();
+                    // In the (e_le, n) plane with u = (u_le, u_n): |V|^2 sin(2 alpha) along the
+                    // lift direction is 2 u_le u_n (u_n, -u_le)/|V|, and sin^2(alpha) is
+                    // u_n^2/|V|^2, so no trigonometry is needed per strip.
+                    let lift = c.kl2 * u_n * u_le / vm;
+                    let drag = (c.cd0 + c.kd2 * u_n * u_n / v2) * vm;
+                    let fl = s.half_rho_area * (lift * u_n - drag * u_le);
+                    let fn_ = s.half_rho_area * (-lift * u_le - drag * u_n);
+                    f_le += fl;
+                    f_n += fn_;
+                    rf_le += s.r_m * fl;
+                    rf_n += s.r_m * fn_;
+                    xf_n += s.x_cp_m * fn_;
+                }
+            }
+            TranslationalModel::Dickinson1999 => {
+                for s in &c.strips {
+                    let u_le = a_le + s.r_m * b_le;
+                    let u_n = a_n + s.r_m * b_n;
+                    let v2 = u_le * u_le + u_n * u_n;
+                    if v2 <= 0.0 {
+                        continue;
+                    }
+                    let (fl, fn_) = strip_lift_drag_dickinson(u_le, u_n, v2, s.half_rho_area);
+                    f_le += fl;
+                    f_n += fn_;
+                    rf_le += s.r_m * fl;
+                    rf_n += s.r_m * fn_;
+                    xf_n += s.x_cp_m * fn_;
+                }
+            }
+        }
+        let f_tr = f_le * frame.e_le + f_n * frame.n;
+        let m_tr = frame.e_span.cross(&(rf_le * frame.e_le + rf_n * frame.n))
+            + frame.e_le.cross(&(xf_n * frame.n));
+        terms[0] = frame.term(f_tr, m_tr, c.q_ref_s_n, sp.downstroke);
+
+        // 2. Rotational (Van Veen et al., MODEL.md 4.2), normal to the wing, at R_g on the
+        //    pitch axis. Stroke-pitch: lift side when the angle of attack rises; pitch-only:
+        //    against the motion of the area farther from the pitch axis.
+        if self.options.rotational {
+            let g = &self.geometry;
+            let rho = self.fluid.density_kg_m3;
+            let td = a.theta_dot;
+            let mag = self.options.c_rot
+                * rho
+                * (g.sqrt_sxx_syy_m4 * a.phi_dot.abs() * td - g.sx_absx_m4 * td * td.abs());
+            let f = mag * frame.n;
+            let m = (g.r_gyration_m * frame.e_span).cross(&f);
+            terms[1] = frame.term(f, m, c.q_ref_s_n, sp.downstroke);
+        }
+
+        // 3. Added mass (eq 7), normal acceleration of each strip's mid-chord point from the
+        //    rigid-wing kinematics: a_n(r, x) = k1 r + k2 x; the span integrals are cached.
+        if self.options.added_mass {
+            let am = &self.geometry.added_mass;
+            let acc =
+                |p: &Vector3<f64>| frame.alpha.cross(p) + frame.omega.cross(&frame.omega.cross(p));
+            let k1 = frame.n.dot(&acc(&frame.e_span));
+            let k2 = frame.n.dot(&acc(&frame.e_le));
+            let f_mag = c.am_k * (k1 * am.c2_r + k2 * am.c2_x);
+            let rf = c.am_k * (k1 * am.c2_r2 + k2 * am.c2_rx);
+            let xf = c.am_k * (k1 * am.c2_rx + k2 * am.c2_x2);
+            let f = f_mag * frame.n;
+            let m = frame.e_span.cross(&(rf * frame.n)) + frame.e_le.cross(&(xf * frame.n));
+            terms[2] = frame.term(f, m, c.q_ref_s_n, sp.downstroke);
+        }
+
+        // 4. Wake capture (eq 23-24) on the reference scale, at R_g: lift along the stroke-plane
+        //    normal, drag against the new half stroke's motion.
+        if let Some(w) = &c.wake {
+            let (cl, cd) = w.coefficients(sp.t_star);
+            let dir = if sp.downstroke { 1.0 } else { -1.0 };
+            let f = c.q_ref_s_n * (cl * z - cd * dir * frame.t);
+            let m = (self.geometry.r_gyration_m * frame.e_span).cross(&f);
+            terms[3] = frame.term(f, m, c.q_ref_s_n, sp.downstroke);
+        }
+
+        let mut total = TermForce::default();
+        for t in &mut terms {
+            t.force_n = c.body_from_stroke * t.force_n;
+            t.moment_hinge_nm = c.body_from_stroke * t.moment_hinge_nm;
+            total.add(t);
+        }
+        WingForces {
+            terms,
+            total,
+            angles: a,
+            phase: sp,
+        }
+    }
+}
+
+/// Dickinson et al. (1999) strip force in the (e_le, n) components, alpha from the velocity.
+#[inline]
+fn strip_lift_drag_dickinson(u_le: f64, u_n: f64, v2: f64, half_rho_area: f64) -> (f64, f64) {
+    let vm = v2.sqrt();
+    let alpha = u_n.abs().atan2(u_le); // 0..pi
+    // Beyond 90 deg the flow meets the trailing edge first: the plate looks like one at
+    // 180 - alpha with its lift reversed.
+    let (cl, cd) = if alpha <= std::f64::consts::FRAC_PI_2 {
+        coefficients::dickinson1999_deg(alpha.to_degrees())
+    } else {
+        let (cl, cd) = coefficients::dickinson1999_deg(180.0 - alpha.to_degrees());
+        (-cl, cd)
+    };
+    let sgn = if u_n < 0.0 { -1.0 } else { 1.0 };
+    // Lift direction sgn(u_n) (u_n e_le - u_le n)/|V|; drag along -(u_le e_le + u_n n)/|V|.
+    let q = half_rho_area * v2;
+    let fl = q * (cl * sgn * u_n - cd * u_le) / vm;
+    let fn_ = q * (-cl * sgn * u_le - cd * u_n) / vm;
+    (fl, fn_)
+}
+
+/// The wing's unit vectors and rigid-body rates in its stroke-plane frame.
+#[derive(Debug, Clone, Copy)]
+pub struct WingFrame {
+    /// Span axis (root to tip).
+    pub e_span: Vector3<f64>,
+    /// Forward stroke tangent (horizontal; direction of increasing phi).
+    pub t: Vector3<f64>,
+    /// Leading-edge chord direction.
+    pub e_le: Vector3<f64>,
+    /// Wing normal; (e_span, e_le, n) is right-handed.
+    pub n: Vector3<f64>,
+    /// Angular velocity of the wing relative to the stroke frame, rad/s.
+    pub omega: Vector3<f64>,
+    /// Angular acceleration relative to the stroke frame, rad/s^2.
+    pub alpha: Vector3<f64>,
+}
+
+impl WingFrame {
+    /// The frame for given angles. The wing orientation is a rotation by phi about the
+    /// stroke-plane normal, then eta about the stroke tangent, then theta about the span.
+    pub fn new(a: &WingAngles, side: Side) -> Self {
+        let s = side.sign();
+        let (sf, cf) = a.phi.sin_cos();
+        let (se, ce) = a.eta.sin_cos();
+        let (st, ct) = a.theta.sin_cos();
+        let z = Vector3::z();
+        let h = Vector3::new(sf, s * cf, 0.0);
+        let t = Vector3::new(cf, -s * sf, 0.0);
+        let e_span = ce * h + se * z;
+        let zp = -se * h + ce * z;
+        let e_le = ct * t + st * zp;
+        let n = -st * t + ct * zp;
+        let k_phi = Vector3::new(0.0, 0.0, -s); // h x t
+        let k_eta = e_span.cross(&zp);
+        let k_theta = t.cross(&zp);
+        let w_phi = a.phi_dot * k_phi;
+        let w12 = w_phi + a.eta_dot * k_eta;
+        let omega = w12 + a.theta_dot * k_theta;
+        let alpha = a.phi_ddot * k_phi
+            + a.eta_ddot * k_eta
+            + a.theta_ddot * k_theta
+            + a.eta_dot * w_phi.cross(&k_eta)
+            + a.theta_dot * w12.cross(&k_theta);
+        Self {
+            e_span,
+            t,
+            e_le,
+            n,
+            omega,
+            alpha,
+        }
+    }
+
+    /// Normal acceleration n . a of the wing point at span `r_m` and chordwise `x_m` (from
+    /// the pitch axis towards the leading edge) from the rigid-wing kinematics alone.
+    pub fn normal_acceleration(&self, r_m: f64, x_m: f64) -> f64 {
+        let p = r_m * self.e_span + x_m * self.e_le;
+        self.n
+            .dot(&(self.alpha.cross(&p) + self.omega.cross(&self.omega.cross(&p))))
+    }
+
+    /// A term's force and moment (stroke frame) with its lift and drag coefficients.
+    fn term(&self, f: Vector3<f64>, m: Vector3<f64>, q_ref_s: f64, downstroke: bool) -> TermForce {
+        let dir = if downstroke { 1.0 } else { -1.0 };
+        TermForce {
+            force_n: f,
+            moment_hinge_nm: m,
+            c_l: f.z / q_ref_s,
+            c_d: -f.dot(&(dir * self.t)) / q_ref_s,
+        }
+    }
+}
