@@ -1,1 +1,39 @@
-//! flapsim
+//! # flapsim
+//!
+//! An insect-scale flapping-wing vehicle as a rapier3d-f64 rigid body, fed the forces of
+//! [`wingforce`] every step: tethered (a force sensor), free flight, or free with chosen
+//! degrees of freedom locked. Deterministic: the same model and inputs give bit-identical
+//! trajectories. Drive it step by step through [`Simulation`], the plugin face of flapwing.
+//!
+//! Frames: world z up; body x forward, y left, z up, origin at the centre of mass
+//! (MODEL.md section 1). rapier's glam types meet wingforce's nalgebra types only in
+//! [`frames`].
+
+pub mod averaged;
+mod error;
+pub mod frames;
+pub mod model;
+pub mod sim;
+pub mod summary;
+
+pub use error::{Error, Result};
+pub use model::{Controls, Vehicle, VehicleSpec};
+pub use sim::{BodyLoad, Mode, Simulation, State, StepOutput};
+pub use summary::{RunSummary, SummaryBuilder};
+
+/// The built-in default vehicle (a hovering fruit fly).
+pub const DROSOPHILA_TOML: &str = include_str!("../../../models/drosophila.toml");
+/// The built-in RoboBee-class vehicle.
+pub const ROBOBEE_TOML: &str = include_str!("../../../models/robobee.toml");
+/// The built-in bumblebee of Sun and Xiong (2005).
+pub const BUMBLEBEE_TOML: &str = include_str!("../../../models/bumblebee.toml");
+
+/// A built-in model's text by name (`drosophila`, `robobee`, `bumblebee`).
+pub fn builtin_model(name: &str) -> Option<&'static str> {
+    match name {
+        "drosophila" => Some(DROSOPHILA_TOML),
+        "robobee" => Some(ROBOBEE_TOML),
+        "bumblebee" => Some(BUMBLEBEE_TOML),
+        _ => None,
+    }
+}

@@ -149,6 +149,10 @@ pub struct TableShape {
     stroke_amplitude_rad: f64,
     /// Phases of the stroke reversals in [0, 1): (phase, downstroke starts here).
     reversals: Vec<(f64, bool)>,
+    /// Peak |d stroke / d phase| of the table, rad per cycle.
+    peak_rate_per_cycle: f64,
+    /// (dtau_A, dtau_D) measured by the half-peak rule (amplitude and frequency do not change them).
+    accel_fractions: (f64, f64),
 }
 
 /// Kinematics of one wing: a shape plus the parameters a controller changes between wingbeats.
@@ -366,6 +370,13 @@ impl KinematicsSpec {
                     .map(|i| stroke.value(i as f64 / 2000.0))
                     .sum::<f64>()
                     / 2000.0;
+                let peak_rate_per_cycle = (0..4000)
+                    .map(|i| stroke.derivative(i as f64 / 4000.0).abs())
+                    .fold(0.0, f64::max);
+                let accel_fractions = measure_acceleration_fractions(
+                    |p| stroke.derivative(p),
+                    [reversals[0], reversals[1]],
+                );
                 Ok(Kinematics {
                     shape: Shape::Tabulated(Box::new(TableShape {
                         stroke,
@@ -374,6 +385,8 @@ impl KinematicsSpec {
                         stroke_mean_rad: mean,
                         stroke_amplitude_rad: amplitude,
                         reversals,
+                        peak_rate_per_cycle,
+                        accel_fractions,
                     })),
                     freq_hz: 1.0 / period,
                     amplitude_rad: amplitude,
@@ -573,9 +586,9 @@ impl Kinematics {
                 self.freq_hz * self.amplitude_rad / (0.5 - 0.5 * (dtau_a + dtau_d))
             }
             Shape::Harmonic { .. } => self.freq_hz * PI * self.amplitude_rad,
-            Shape::Tabulated(_) => (0..4000)
-                .map(|i| self.angles(i as f64 / 4000.0).phi_dot.abs())
-                .fold(0.0, f64::max),
+            Shape::Tabulated(t) => {
+                self.freq_hz * self.amplitude_rad / t.stroke_amplitude_rad * t.peak_rate_per_cycle
+            }
         }
     }
 
@@ -589,10 +602,12 @@ impl Kinematics {
     /// averaged over the two half strokes. For a cosine ramp the half-peak point is exactly
     /// mid-ramp, so the rule returns the trapezoid's own values (tested).
     pub fn acceleration_fractions(&self) -> (f64, f64) {
-        if let Shape::Trapezoidal { dtau_a, dtau_d, .. } = self.shape {
-            return (dtau_a, dtau_d);
+        match &self.shape {
+            Shape::Trapezoidal { dtau_a, dtau_d, .. } => (*dtau_a, *dtau_d),
+            // A pure cosine stroke: |sin| first reaches half its peak T/12 after a reversal.
+            Shape::Harmonic { .. } => (1.0 / 6.0, 1.0 / 6.0),
+            Shape::Tabulated(t) => t.accel_fractions,
         }
-        measure_acceleration_fractions(|tau| self.angles(tau).phi_dot, self.stroke_reversals())
     }
 
     /// The stroke reversals in [0, 1): (phase, a downstroke starts there).

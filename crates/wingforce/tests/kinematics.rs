@@ -144,7 +144,12 @@ fn half_peak_rule_recovers_trapezoid_fractions() {
         );
     }
     // Sinusoid: |sin| reaches half its peak at T/12 after reversal, so dtau = 1/6.
-    let (ha, hd) = harmonic().acceleration_fractions();
+    let h = harmonic();
+    let (ha, hd) = wingforce::kinematics::measure_acceleration_fractions(
+        |p| h.angles(p).phi_dot,
+        h.stroke_reversals(),
+    );
+    assert_eq!(h.acceleration_fractions(), (1.0 / 6.0, 1.0 / 6.0));
     assert!((ha - 1.0 / 6.0).abs() < 2e-4 && (hd - 1.0 / 6.0).abs() < 2e-4);
 }
 

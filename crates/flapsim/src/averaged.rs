@@ -1,0 +1,64 @@
+//! Cycle-averaged loads at a frozen body state: the averaged model that trim and the
+//! stability derivatives of Sun and Xiong (2005) are built on. The body's velocity and
+//! attitude are held fixed over one wingbeat while the wings flap; the loads are averaged
+//! over `steps` equally spaced phases.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use wingforce::{BodyMotion, Term};
+
+use crate::model::Vehicle;
+use crate::sim::BodyLoad;
+
+/// A frozen body state for averaging.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrozenState {
+    /// Attitude world_from_body.
+    pub world_from_body: UnitQuaternion<f64>,
+    /// Air-relative velocity of the CoM in the body frame, m/s.
+    pub velocity_body_m_s: Vector3<f64>,
+    /// Angular velocity, body frame, rad/s.
+    pub angular_velocity_body_rad_s: Vector3<f64>,
+}
+
+/// Cycle-mean aerodynamic load per term and in total (body frame, about the CoM).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MeanLoads {
+    /// Per term, in the order of [`Term::ALL`].
+    pub terms: [BodyLoad; 4],
+    /// Sum.
+    pub total: BodyLoad,
+}
+
+/// Mean loads over one wingbeat at a frozen state, `steps` samples.
+pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> MeanLoads {
+    let motion = BodyMotion {
+        velocity_m_s: state.velocity_body_m_s,
+        angular_velocity_rad_s: state.angular_velocity_body_rad_s,
+    };
+    let mut out = MeanLoads::default();
+    let w = 1.0 / steps as f64;
+    for k in 0..steps {
+        let phase = k as f64 * w;
+        for wing in &vehicle.wings {
+            let f = wing.evaluate(phase, &motion);
+            let hinge = &wing.mount().hinge_in_body_m;
+            for term in Term::ALL {
+                let t = f.term(term);
+                let m = t.moment_about_com_nm(hinge);
+                let slot = &mut out.terms[term as usize];
+                slot.force_n += w * t.force_n;
+                slot.moment_nm += w * m;
+                out.total.force_n += w * t.force_n;
+                out.total.moment_nm += w * m;
+            }
+        }
+    }
+    out
+}
+
+impl MeanLoads {
+    /// Total force in the world frame for the given attitude, N.
+    pub fn force_world_n(&self, world_from_body: &UnitQuaternion<f64>) -> Vector3<f64> {
+        world_from_body * self.total.force_n
+    }
+}

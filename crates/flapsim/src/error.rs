@@ -1,0 +1,25 @@
+//! The flapsim error type.
+
+/// Everything that can stop a vehicle model from loading or a simulation from running.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// The model file is malformed or a value is out of range (names file, field, value).
+    #[error(transparent)]
+    Model(#[from] wingforce::Error),
+    /// The simulation left the physically meaningful region and was stopped.
+    #[error("run diverged at t = {t_s:.6} s (step {step}): {reason}")]
+    Diverged {
+        /// Simulation time of the step that failed, s.
+        t_s: f64,
+        /// Step index.
+        step: u64,
+        /// What went wrong, in words.
+        reason: String,
+    },
+    /// An analysis (trim, stability) could not find what it looked for.
+    #[error("{0}")]
+    Analysis(String),
+}
+
+/// Result with flapsim's [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;

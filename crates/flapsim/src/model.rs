@@ -1,0 +1,466 @@
+//! Vehicle model files (TOML): body, wings, kinematics and their control parameters, fluid,
+//! gravity, simulation settings and the initial state. Strict: unknown fields are errors and
+//! every value is range-checked with an error naming file, field, value and what is allowed.
+
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+use wingforce::model::{build_fluid, build_geometry, parse_toml};
+use wingforce::{
+    AeroSpec, Fluid, FluidSpec, Kinematics, KinematicsSpec, Mount, Side, Validator, Wing, WingSpec,
+};
+
+use crate::error::Result;
+
+/// Rigid body of the vehicle (wings excluded unless `wing_mass_kg` is set).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Inertia tensor about the centre of mass in body axes [Ixx, Iyy, Izz], kg m^2.
+    pub inertia_diag_kg_m2: [f64; 3],
+    /// Product of inertia Ixz (the only one a left-right symmetric body has), kg m^2.
+    #[serde(default)]
+    pub inertia_xz_kg_m2: f64,
+    /// Body length, m (for reports: excursions in body lengths).
+    pub length_m: f64,
+}
+
+/// Where the wings attach.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HingeSpec {
+    /// Left hinge in body axes from the centre of mass, m; the right hinge mirrors it in y.
+    pub left_in_body_m: [f64; 3],
+    /// Stroke-plane tilt relative to the body, deg (see `wingforce::Mount`).
+    pub stroke_plane_tilt_deg: f64,
+}
+
+/// Control parameters of the kinematics, changed once per wingbeat. Deltas are added to
+/// the base kinematics; `diff_*` are left minus right (half added to the left wing, half
+/// subtracted from the right).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ControlSpec {
+    /// Mean stroke angle offset, deg (moves the lift forward: pitch control).
+    pub mean_stroke_deg: f64,
+    /// Amplitude offset, deg (lift: height control).
+    pub amplitude_deg: f64,
+    /// Pitch bias offset, deg.
+    pub pitch_bias_deg: f64,
+    /// Frequency offset, Hz.
+    pub freq_hz: f64,
+    /// Left-minus-right amplitude, deg (roll control).
+    pub diff_amplitude_deg: f64,
+    /// Left-minus-right pitch bias, deg (yaw control).
+    pub diff_pitch_bias_deg: f64,
+    /// Left-minus-right mean stroke angle, deg.
+    pub diff_mean_stroke_deg: f64,
+}
+
+/// Control inputs in SI units (radians, hertz); see [`ControlSpec`].
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct Controls {
+    /// Mean stroke angle offset, rad.
+    pub mean_stroke_rad: f64,
+    /// Amplitude offset, rad.
+    pub amplitude_rad: f64,
+    /// Pitch bias offset, rad.
+    pub pitch_bias_rad: f64,
+    /// Frequency offset, Hz.
+    pub freq_hz: f64,
+    /// Left-minus-right amplitude, rad.
+    pub diff_amplitude_rad: f64,
+    /// Left-minus-right pitch bias, rad.
+    pub diff_pitch_bias_rad: f64,
+    /// Left-minus-right mean stroke angle, rad.
+    pub diff_mean_stroke_rad: f64,
+}
+
+impl Controls {
+    /// The controls as a vector, in the order of [`Controls::NAMES`].
+    pub fn to_array(&self) -> [f64; 7] {
+        [
+            self.mean_stroke_rad,
+            self.amplitude_rad,
+            self.pitch_bias_rad,
+            self.freq_hz,
+            self.diff_amplitude_rad,
+            self.diff_pitch_bias_rad,
+            self.diff_mean_stroke_rad,
+        ]
+    }
+    /// Inverse of [`Controls::to_array`].
+    pub fn from_array(a: [f64; 7]) -> Self {
+        Self {
+            mean_stroke_rad: a[0],
+            amplitude_rad: a[1],
+            pitch_bias_rad: a[2],
+            freq_hz: a[3],
+            diff_amplitude_rad: a[4],
+            diff_pitch_bias_rad: a[5],
+            diff_mean_stroke_rad: a[6],
+        }
+    }
+    /// Names (with units) of the array entries.
+    pub const NAMES: [&'static str; 7] = [
+        "mean_stroke_rad",
+        "amplitude_rad",
+        "pitch_bias_rad",
+        "freq_hz",
+        "diff_amplitude_rad",
+        "diff_pitch_bias_rad",
+        "diff_mean_stroke_rad",
+    ];
+}
+
+/// Simulation settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SimSpec {
+    /// Physics steps per wingbeat (>= 100 recommended; at least 20 accepted).
+    pub steps_per_wingbeat: usize,
+    /// rapier solver iterations (substeps) per step.
+    pub solver_iterations: usize,
+    /// Add a ground plane at z = 0 and a contact sphere on the body (take-off and landing).
+    pub ground: bool,
+    /// Mass of each wing, kg: when > 0, the inertial reaction of the wing's accelerating
+    /// centre of mass is applied to the body (wings massless when 0).
+    pub wing_mass_kg: f64,
+    /// Speed above which a run counts as diverged, m/s.
+    pub max_speed_m_s: f64,
+    /// Angular speed above which a run counts as diverged, rad/s.
+    pub max_angular_speed_rad_s: f64,
+}
+
+impl Default for SimSpec {
+    fn default() -> Self {
+        Self {
+            steps_per_wingbeat: 100,
+            solver_iterations: 1,
+            ground: false,
+            wing_mass_kg: 0.0,
+            max_speed_m_s: 50.0,
+            max_angular_speed_rad_s: 5000.0,
+        }
+    }
+}
+
+/// Initial state of the body.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InitialSpec {
+    /// Position of the centre of mass in the world (z up), m.
+    pub position_m: [f64; 3],
+    /// Attitude as roll, pitch, yaw (intrinsic z-y-x), deg. Pitch positive nose up.
+    pub attitude_deg: [f64; 3],
+    /// Velocity in the world frame, m/s.
+    pub velocity_m_s: [f64; 3],
+    /// Angular velocity in the body frame, deg/s.
+    pub angular_velocity_deg_s: [f64; 3],
+}
+
+/// A vehicle model file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleSpec {
+    /// Name for reports and logs.
+    pub name: String,
+    /// The fluid (air at 20 C if absent).
+    #[serde(default)]
+    pub fluid: FluidSpec,
+    /// Gravitational acceleration, m/s^2.
+    #[serde(default = "default_gravity")]
+    pub gravity_m_s2: f64,
+    /// The body.
+    pub body: BodySpec,
+    /// Both wings' planform.
+    pub wing: WingSpec,
+    /// Hinge positions and stroke plane.
+    pub hinge: HingeSpec,
+    /// Base kinematics of both wings.
+    pub kinematics: KinematicsSpec,
+    /// Left-wing kinematics replacing the base (optional).
+    #[serde(default)]
+    pub left_kinematics: Option<KinematicsSpec>,
+    /// Right-wing kinematics replacing the base (optional).
+    #[serde(default)]
+    pub right_kinematics: Option<KinematicsSpec>,
+    /// Control offsets applied from the start.
+    #[serde(default)]
+    pub controls: ControlSpec,
+    /// Aerodynamic options.
+    #[serde(default)]
+    pub aero: AeroSpec,
+    /// Simulation settings.
+    #[serde(default)]
+    pub sim: SimSpec,
+    /// Initial state.
+    #[serde(default)]
+    pub initial: InitialSpec,
+}
+
+fn default_gravity() -> f64 {
+    9.81
+}
+
+/// A validated vehicle: everything in SI units, wings prepared.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Vehicle {
+    /// Name.
+    pub name: String,
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Inertia tensor about the CoM in body axes, kg m^2.
+    pub inertia_kg_m2: Matrix3<f64>,
+    /// Body length, m.
+    pub length_m: f64,
+    /// Gravity magnitude, m/s^2.
+    pub gravity_m_s2: f64,
+    /// Left and right wings (index 0 left, 1 right), with the base kinematics.
+    pub wings: [Wing; 2],
+    /// Base kinematics of each wing (controls are applied on top of these).
+    pub base_kinematics: [Kinematics; 2],
+    /// Initial controls.
+    pub controls: Controls,
+    /// Simulation settings.
+    pub sim: SimSpec,
+    /// Initial position, m (world).
+    pub initial_position_m: Vector3<f64>,
+    /// Initial attitude (world_from_body).
+    pub initial_attitude: UnitQuaternion<f64>,
+    /// Initial velocity, world, m/s.
+    pub initial_velocity_m_s: Vector3<f64>,
+    /// Initial angular velocity, body, rad/s.
+    pub initial_angular_velocity_rad_s: Vector3<f64>,
+}
+
+impl VehicleSpec {
+    /// Parses TOML text; `origin` (the file path) appears in errors.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self> {
+        Ok(parse_toml(text, origin)?)
+    }
+
+    /// Validates everything and prepares the wings.
+    pub fn build(&self, origin: &str) -> Result<Vehicle> {
+        let v = Validator::new(origin);
+        let mass = v.positive("body.mass_kg", self.body.mass_kg)?;
+        let [ixx, iyy, izz] = self.body.inertia_diag_kg_m2;
+        for (i, x) in [ixx, iyy, izz].into_iter().enumerate() {
+            v.positive(&format!("body.inertia_diag_kg_m2[{i}]"), x)?;
+        }
+        let ixz = v.finite("body.inertia_xz_kg_m2", self.body.inertia_xz_kg_m2)?;
+        // Positive definite and satisfying the triangle inequalities of a real body.
+        if ixz * ixz >= ixx * izz || ixx + iyy < izz || iyy + izz < ixx || ixx + izz < iyy {
+            return Err(v
+                .invalid(
+                    "body.inertia_diag_kg_m2",
+                    format!("[{ixx}, {iyy}, {izz}] with Ixz {ixz}"),
+                    "a physical inertia: each diagonal entry at most the sum of the other two, and Ixz^2 < Ixx Izz",
+                )
+                .into());
+        }
+        let length = v.positive("body.length_m", self.body.length_m)?;
+        let g = v.within("gravity_m_s2", self.gravity_m_s2, 0.0, 100.0)?;
+        let aero = self.aero.build(&v, "aero")?;
+        let geometry = build_geometry(&self.wing, &v, "wing", &self.aero)?;
+        let base = self
+            .kinematics
+            .build(&v, "kinematics", geometry.r_gyration_m)?;
+        let left_k = match &self.left_kinematics {
+            Some(k) => k.build(&v, "left_kinematics", geometry.r_gyration_m)?,
+            None => base.clone(),
+        };
+        let right_k = match &self.right_kinematics {
+            Some(k) => k.build(&v, "right_kinematics", geometry.r_gyration_m)?,
+            None => base.clone(),
+        };
+        let fluid: Fluid = build_fluid(&self.fluid, &v, "fluid", &geometry, &base)?;
+        let [hx, hy, hz] = self.hinge.left_in_body_m;
+        for (i, x) in [hx, hy, hz].into_iter().enumerate() {
+            v.within(&format!("hinge.left_in_body_m[{i}]"), x, -1.0, 1.0)?;
+        }
+        let tilt = v
+            .within(
+                "hinge.stroke_plane_tilt_deg",
+                self.hinge.stroke_plane_tilt_deg,
+                -90.0,
+                90.0,
+            )?
+            .to_radians();
+        let sim = &self.sim;
+        if !(20..=100_000).contains(&sim.steps_per_wingbeat) {
+            return Err(v
+                .invalid(
+                    "sim.steps_per_wingbeat",
+                    sim.steps_per_wingbeat,
+                    "an integer in [20, 100000] (100+ recommended)",
+                )
+                .into());
+        }
+        if !(1..=16).contains(&sim.solver_iterations) {
+            return Err(v
+                .invalid(
+                    "sim.solver_iterations",
+                    sim.solver_iterations,
+                    "an integer in [1, 16]",
+                )
+                .into());
+        }
+        v.non_negative("sim.wing_mass_kg", sim.wing_mass_kg)?;
+        v.positive("sim.max_speed_m_s", sim.max_speed_m_s)?;
+        v.positive("sim.max_angular_speed_rad_s", sim.max_angular_speed_rad_s)?;
+        let c = &self.controls;
+        let controls = Controls {
+            mean_stroke_rad: v
+                .within("controls.mean_stroke_deg", c.mean_stroke_deg, -60.0, 60.0)?
+                .to_radians(),
+            amplitude_rad: v
+                .within("controls.amplitude_deg", c.amplitude_deg, -90.0, 90.0)?
+                .to_radians(),
+            pitch_bias_rad: v
+                .within("controls.pitch_bias_deg", c.pitch_bias_deg, -30.0, 30.0)?
+                .to_radians(),
+            freq_hz: v.finite("controls.freq_hz", c.freq_hz)?,
+            diff_amplitude_rad: v
+                .within(
+                    "controls.diff_amplitude_deg",
+                    c.diff_amplitude_deg,
+                    -90.0,
+                    90.0,
+                )?
+                .to_radians(),
+            diff_pitch_bias_rad: v
+                .within(
+                    "controls.diff_pitch_bias_deg",
+                    c.diff_pitch_bias_deg,
+                    -30.0,
+                    30.0,
+                )?
+                .to_radians(),
+            diff_mean_stroke_rad: v
+                .within(
+                    "controls.diff_mean_stroke_deg",
+                    c.diff_mean_stroke_deg,
+                    -60.0,
+                    60.0,
+                )?
+                .to_radians(),
+        };
+        let init = &self.initial;
+        let vec = |name: &str, a: [f64; 3], lim: f64| -> Result<Vector3<f64>> {
+            for (i, x) in a.into_iter().enumerate() {
+                v.within(&format!("initial.{name}[{i}]"), x, -lim, lim)?;
+            }
+            Ok(Vector3::new(a[0], a[1], a[2]))
+        };
+        let pos = vec("position_m", init.position_m, 1e4)?;
+        let att = vec("attitude_deg", init.attitude_deg, 180.0)?;
+        let vel = vec("velocity_m_s", init.velocity_m_s, 100.0)?;
+        let rate = vec("angular_velocity_deg_s", init.angular_velocity_deg_s, 1e5)?;
+        let hinge_left = Vector3::new(hx, hy, hz);
+        let mount = |side: Side| Mount {
+            side,
+            hinge_in_body_m: if side == Side::Left {
+                hinge_left
+            } else {
+                Vector3::new(hx, -hy, hz)
+            },
+            stroke_plane_tilt_rad: tilt,
+        };
+        let make = |side: Side, k: &Kinematics| {
+            Wing::builder(geometry.clone(), k.clone())
+                .mount(mount(side))
+                .fluid(fluid)
+                .options(aero.clone())
+                .build()
+        };
+        let mut vehicle = Vehicle {
+            name: self.name.clone(),
+            mass_kg: mass,
+            inertia_kg_m2: Matrix3::new(ixx, 0.0, -ixz, 0.0, iyy, 0.0, -ixz, 0.0, izz),
+            length_m: length,
+            gravity_m_s2: g,
+            wings: [make(Side::Left, &left_k), make(Side::Right, &right_k)],
+            base_kinematics: [left_k, right_k],
+            controls,
+            sim: sim.clone(),
+            initial_position_m: pos,
+            initial_attitude: UnitQuaternion::from_euler_angles(
+                att.x.to_radians(),
+                -att.y.to_radians(),
+                att.z.to_radians(),
+            ),
+            initial_velocity_m_s: vel,
+            initial_angular_velocity_rad_s: rate.map(f64::to_radians),
+        };
+        vehicle.apply_controls(&controls).map_err(|e| match e {
+            crate::Error::Model(m) => crate::Error::Model(m),
+            other => other,
+        })?;
+        // Check the controlled kinematics are still valid (e.g. amplitude within (0, 180]).
+        for (i, w) in vehicle.wings.iter().enumerate() {
+            let k = w.kinematics();
+            let side = if i == 0 { "left" } else { "right" };
+            v.within_open_low(
+                &format!("controls (resulting {side} amplitude, deg)"),
+                k.amplitude_rad.to_degrees(),
+                0.0,
+                180.0,
+            )?;
+            v.positive(
+                &format!("controls (resulting {side} frequency, Hz)"),
+                k.freq_hz,
+            )?;
+        }
+        Ok(vehicle)
+    }
+}
+
+impl Vehicle {
+    /// Loads a vehicle from TOML text.
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self> {
+        VehicleSpec::from_toml(text, origin)?.build(origin)
+    }
+
+    /// Weight m g, N.
+    pub fn weight_n(&self) -> f64 {
+        self.mass_kg * self.gravity_m_s2
+    }
+
+    /// The kinematics of wing `i` (0 left, 1 right) under `controls`.
+    pub fn controlled_kinematics(&self, i: usize, c: &Controls) -> Kinematics {
+        let half = if i == 0 { 0.5 } else { -0.5 };
+        let mut k = self.base_kinematics[i].clone();
+        k.mean_stroke_rad += c.mean_stroke_rad + half * c.diff_mean_stroke_rad;
+        k.amplitude_rad += c.amplitude_rad + half * c.diff_amplitude_rad;
+        k.pitch_bias_rad += c.pitch_bias_rad + half * c.diff_pitch_bias_rad;
+        k.freq_hz += c.freq_hz;
+        k
+    }
+
+    /// Applies control inputs to both wings (call between wingbeats).
+    pub fn apply_controls(&mut self, c: &Controls) -> Result<()> {
+        for i in 0..2 {
+            let k = self.controlled_kinematics(i, c);
+            if !(k.amplitude_rad > 0.0
+                && k.amplitude_rad <= std::f64::consts::PI
+                && k.freq_hz > 0.0)
+            {
+                return Err(crate::Error::Analysis(format!(
+                    "controls give wing {i} an amplitude of {:.2} deg and a frequency of {:.2} Hz; allowed: amplitude in (0, 180] deg, frequency > 0",
+                    k.amplitude_rad.to_degrees(),
+                    k.freq_hz
+                )));
+            }
+            self.wings[i].set_kinematics(k);
+        }
+        self.controls = *c;
+        Ok(())
+    }
+
+    /// Wingbeat frequency now, Hz (both wings share it).
+    pub fn freq_hz(&self) -> f64 {
+        self.wings[0].kinematics().freq_hz
+    }
+}

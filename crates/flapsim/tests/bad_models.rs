@@ -1,0 +1,69 @@
+//! Bad vehicle files give errors naming file, field, value and what is allowed.
+
+use flapsim::Vehicle;
+
+fn err(text: &str) -> String {
+    Vehicle::from_toml(text, "bad.toml")
+        .unwrap_err()
+        .to_string()
+}
+
+#[test]
+fn errors_name_file_field_value_and_range() {
+    let good = flapsim::DROSOPHILA_TOML;
+    Vehicle::from_toml(good, "ok").unwrap();
+    let cases = [
+        ("mass_kg = 1.0e-6", "mass_kg = -1.0e-6", "body.mass_kg"),
+        ("mass_kg = 1.0e-6", "mass_kg = nan", "body.mass_kg"),
+        ("freq_hz = 218.0", "freq_hz = 0.0", "kinematics.freq_hz"),
+        (
+            "amplitude_deg = 140.0",
+            "amplitude_deg = 0.0",
+            "kinematics.amplitude_deg",
+        ),
+        (
+            "amplitude_deg = 140.0",
+            "amplitude_deg = 1e300",
+            "kinematics.amplitude_deg",
+        ),
+        ("span_m = 2.39e-3", "span_m = inf", "wing.planform.span_m"),
+        (
+            "steps_per_wingbeat = 100",
+            "steps_per_wingbeat = 5",
+            "sim.steps_per_wingbeat",
+        ),
+        (
+            "stroke_plane_tilt_deg = 45.0",
+            "stroke_plane_tilt_deg = 400.0",
+            "hinge.stroke_plane_tilt_deg",
+        ),
+        (
+            "inertia_diag_kg_m2 = [8.1e-14, 3.53e-13, 3.53e-13]",
+            "inertia_diag_kg_m2 = [8.1e-14, 3.53e-13, 9.53e-13]",
+            "body.inertia_diag_kg_m2",
+        ),
+    ];
+    for (from, to, field) in cases {
+        assert!(good.contains(from), "fixture lost {from}");
+        let e = err(&good.replacen(from, to, 1));
+        assert!(
+            e.starts_with("bad.toml") && e.contains(field) && e.contains("not allowed"),
+            "{to}: {e}"
+        );
+    }
+    let unknown = err(&good.replacen("[body]", "[body]\nmass_g = 1.0", 1));
+    assert!(
+        unknown.contains("bad.toml") && unknown.contains("mass_g"),
+        "{unknown}"
+    );
+    let missing = err(&good.replacen("length_m = 2.5e-3", "", 1));
+    assert!(
+        missing.contains("bad.toml") && missing.contains("length_m"),
+        "{missing}"
+    );
+    let wrong_type = err(&good.replacen("mass_kg = 1.0e-6", "mass_kg = \"heavy\"", 1));
+    assert!(
+        wrong_type.contains("bad.toml") && wrong_type.contains("mass_kg"),
+        "{wrong_type}"
+    );
+}

@@ -1,0 +1,205 @@
+//! Physics invariants of the vehicle simulation.
+//!
+//! - Free fall: rapier integrates a free body with symplectic Euler per substep (h = dt/N:
+//!   v += a h, then x += v h), so after n steps (t = n dt) the exact discrete solution is
+//!   v = v0 + a t and x = x0 + v0 t + a t (t + h) / 2. With the wings still the simulation must
+//!   match it to 1e-9 relative.
+//! - One model, two paths: the tethered vehicle's cycle-mean load equals the sum of
+//!   wingforce's cycle means of the two wings (same phases, same kinematics).
+//! - Symmetry: mirror-image wings give zero mean side force, roll and yaw moment.
+//! - Damping: a climbing body feels a restoring (downward) force change and a pitching body
+//!   a moment opposing the pitch rate (flapping counter-force and counter-torque; Cheng et al.
+//!   2010, Hedrick et al. 2009).
+
+use flapsim::averaged::{FrozenState, mean_loads};
+use flapsim::{Mode, Simulation, Vehicle};
+use nalgebra::{UnitQuaternion, Vector3};
+use wingforce::BodyMotion;
+use wingforce::cycle::cycle_mean;
+
+fn drosophila() -> Vehicle {
+    Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "models/drosophila.toml").unwrap()
+}
+
+#[test]
+fn free_fall_matches_the_discrete_analytic_solution() {
+    for iterations in [1usize, 4] {
+        let mut v = drosophila();
+        v.sim.solver_iterations = iterations;
+        v.initial_velocity_m_s = Vector3::new(0.01, -0.02, 0.3);
+        v.initial_angular_velocity_rad_s = Vector3::zeros();
+        let x0 = v.initial_position_m;
+        let v0 = v.initial_velocity_m_s;
+        let mut sim = Simulation::new(v, Mode::Free);
+        sim.set_wings_still(true);
+        let n = 2000u64;
+        for _ in 0..n {
+            sim.step().unwrap();
+        }
+        let dt = sim.dt_s();
+        let h = dt / iterations as f64;
+        let t = n as f64 * dt;
+        let a = Vector3::new(0.0, 0.0, -9.81);
+        let x = x0 + v0 * t + 0.5 * a * t * (t + h);
+        let vel = v0 + a * t;
+        let s = sim.state();
+        assert!(
+            (s.position_m - x).norm() <= 1e-9 * x.norm(),
+            "{} vs {x}",
+            s.position_m
+        );
+        assert!((s.velocity_m_s - vel).norm() <= 1e-9 * vel.norm());
+    }
+}
+
+#[test]
+fn tethered_mean_equals_wingforce_cycle_mean() {
+    let v = drosophila();
+    let steps = v.sim.steps_per_wingbeat;
+    let expected: Vector3<f64> = v
+        .wings
+        .iter()
+        .map(|w| {
+            cycle_mean(w, &BodyMotion::default(), 0.0, steps)
+                .total
+                .force_n
+        })
+        .sum();
+    let mut sim = Simulation::new(v, Mode::Tethered);
+    let mut mean = Vector3::zeros();
+    for _ in 0..steps {
+        mean += sim.step().unwrap().total.force_n / steps as f64;
+    }
+    assert!(
+        (mean - expected).norm() < 1e-9 * expected.norm(),
+        "{mean} vs {expected}"
+    );
+    // The body did not move.
+    assert_eq!(sim.state().velocity_m_s, Vector3::zeros());
+}
+
+#[test]
+fn symmetric_wings_give_no_mean_side_force_roll_or_yaw() {
+    let v = drosophila();
+    let m = mean_loads(
+        &v,
+        &FrozenState {
+            world_from_body: v.initial_attitude,
+            velocity_body_m_s: Vector3::zeros(),
+            angular_velocity_body_rad_s: Vector3::zeros(),
+        },
+        200,
+    );
+    let lift = m.total.force_n.norm();
+    let arm = v.length_m;
+    assert!(m.total.force_n.y.abs() < 1e-12 * lift);
+    assert!(m.total.moment_nm.x.abs() < 1e-12 * lift * arm);
+    assert!(m.total.moment_nm.z.abs() < 1e-12 * lift * arm);
+}
+
+#[test]
+fn climbing_and_pitching_are_damped() {
+    let v = drosophila();
+    let q = v.initial_attitude;
+    let at = |vel_world: Vector3<f64>, rate: Vector3<f64>| {
+        mean_loads(
+            &v,
+            &FrozenState {
+                world_from_body: q,
+                velocity_body_m_s: q.inverse() * vel_world,
+                angular_velocity_body_rad_s: rate,
+            },
+            200,
+        )
+    };
+    let rest = at(Vector3::zeros(), Vector3::zeros());
+    let climb = at(Vector3::new(0.0, 0.0, 0.2), Vector3::zeros());
+    let fz = |m: &flapsim::averaged::MeanLoads| (q * m.total.force_n).z;
+    assert!(
+        fz(&climb) < fz(&rest),
+        "climbing at 0.2 m/s: {} vs {}",
+        fz(&climb),
+        fz(&rest)
+    );
+    let pitch = at(Vector3::zeros(), Vector3::new(0.0, 20.0, 0.0));
+    let dm = pitch.total.moment_nm.y - rest.total.moment_nm.y;
+    assert!(dm < 0.0, "pitch rate +20 rad/s changed M_y by {dm}");
+}
+
+#[test]
+fn drosophila_lifts_its_weight_within_25_percent() {
+    // The flapsim issue: with literature hover kinematics (Fry et al. 2005: 218 Hz, 140 deg)
+    // the mean lift is within 25% of the weight.
+    let v = drosophila();
+    let m = mean_loads(
+        &v,
+        &FrozenState {
+            world_from_body: v.initial_attitude,
+            velocity_body_m_s: Vector3::zeros(),
+            angular_velocity_body_rad_s: Vector3::zeros(),
+        },
+        400,
+    );
+    let ratio = m.force_world_n(&v.initial_attitude).z / v.weight_n();
+    println!("drosophila mean lift / weight = {ratio:.4}");
+    assert!((ratio - 1.0).abs() < 0.25, "lift/weight {ratio}");
+}
+
+#[test]
+fn runs_are_bit_identical() {
+    let run = || {
+        let mut sim = Simulation::new(drosophila(), Mode::Free);
+        let mut trace = Vec::new();
+        for _ in 0..300 {
+            let o = sim.step().unwrap();
+            trace.push((o.state.position_m, o.state.world_from_body, o.total.force_n));
+        }
+        trace
+    };
+    assert!(run() == run());
+}
+
+#[test]
+fn divergence_stops_with_time_and_reason() {
+    let mut v = drosophila();
+    v.sim.max_angular_speed_rad_s = 100.0;
+    v.initial_angular_velocity_rad_s = Vector3::new(0.0, 0.0, 0.0);
+    let mut sim = Simulation::new(v, Mode::Free);
+    let mut s = sim.state();
+    s.angular_velocity_body_rad_s = Vector3::new(200.0, 0.0, 0.0);
+    sim.set_state(&s);
+    let mut seen = 0;
+    let err = sim.run_for(0.1, |_| seen += 1).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("diverged at t = 0.000000 s") && msg.contains("angular speed"),
+        "{msg}"
+    );
+    assert_eq!(seen, 0);
+}
+
+#[test]
+fn controls_change_at_wingbeat_boundaries() {
+    let v = drosophila();
+    let steps = v.sim.steps_per_wingbeat;
+    let mut sim = Simulation::new(v, Mode::Tethered);
+    for _ in 0..10 {
+        sim.step().unwrap();
+    }
+    let c = flapsim::Controls {
+        amplitude_rad: 0.1,
+        ..Default::default()
+    };
+    sim.set_controls(c);
+    for _ in 10..steps {
+        let o = sim.step().unwrap();
+        assert_eq!(
+            o.controls.amplitude_rad, 0.0,
+            "changed mid-wingbeat at step {}",
+            o.step
+        );
+    }
+    let o = sim.step().unwrap();
+    assert_eq!(o.controls.amplitude_rad, 0.1);
+    let _ = UnitQuaternion::<f64>::identity();
+}
