@@ -10,11 +10,15 @@
 //! [`frames`].
 
 pub mod averaged;
+pub mod control;
 mod error;
 pub mod frames;
+pub mod linear;
 pub mod model;
 pub mod sim;
+pub mod stability;
 pub mod summary;
+pub mod trim;
 
 pub use error::{Error, Result};
 pub use model::{Controls, Vehicle, VehicleSpec};

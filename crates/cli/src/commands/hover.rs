@@ -1,0 +1,185 @@
+//! `flapwing hover`: the main job. Trim the vehicle, design the per-wingbeat LQR hover
+//! controller on the averaged model, and fly it from a disturbed start or through a gust;
+//! report how far it strayed and how fast it recovered. `--open-loop` holds the trim
+//! kinematics and shows the uncontrolled divergence.
+
+use std::io::Write;
+
+use anyhow::Result;
+use flapsim::control::{Disturbance, HoverController, HoverOutcome, LqrWeights, run_hover};
+use serde::Serialize;
+
+use crate::error::input_error;
+use crate::vehicle::{build_vehicle, check_duration, read_vehicle, sim_error};
+
+/// Arguments of `flapwing hover`.
+#[derive(Debug, clap::Args)]
+pub struct HoverArgs {
+    /// Vehicle model: a TOML file or a built-in name (drosophila, robobee, bumblebee).
+    #[arg(long, value_name = "FILE|NAME")]
+    pub model: Option<String>,
+    /// Simulated time, s.
+    #[arg(long = "duration-s", default_value_t = 1.0)]
+    pub duration_s: f64,
+    /// Disturbance as comma-separated key=value pairs: pitch_deg, roll_deg, vx_m_s, vy_m_s,
+    /// vz_m_s, gust_x_m_s, gust_y_m_s, gust_z_m_s, gust_start_s, gust_duration_s.
+    #[arg(long, default_value = "pitch_deg=5")]
+    pub disturbance: String,
+    /// Hold the trim kinematics (no controller).
+    #[arg(long = "open-loop")]
+    pub open_loop: bool,
+    /// Sensor delay of the controller, whole wingbeats.
+    #[arg(long = "delay-wingbeats", default_value_t = 0)]
+    pub delay_wingbeats: usize,
+    /// Print one JSON document on stdout instead of the text report.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Parses `--disturbance`.
+pub fn parse_disturbance(s: &str) -> Result<Disturbance> {
+    let mut d = Disturbance::default();
+    for part in s.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let (k, v) = part
+            .split_once('=')
+            .ok_or_else(|| input_error(format!("--disturbance: `{part}` is not key=value")))?;
+        let x: f64 = v
+            .trim()
+            .parse()
+            .ok()
+            .filter(|x: &f64| x.is_finite())
+            .ok_or_else(|| {
+                input_error(format!(
+                    "--disturbance: `{k}` = `{v}` is not a finite number"
+                ))
+            })?;
+        let check = |lim: f64| -> Result<f64> {
+            if x.abs() <= lim {
+                Ok(x)
+            } else {
+                Err(input_error(format!(
+                    "--disturbance: {k} = {x} is not allowed: |{k}| <= {lim}"
+                )))
+            }
+        };
+        match k.trim() {
+            "pitch_deg" => d.pitch_deg = check(89.0)?,
+            "roll_deg" => d.roll_deg = check(89.0)?,
+            "vx_m_s" => d.velocity_m_s[0] = check(10.0)?,
+            "vy_m_s" => d.velocity_m_s[1] = check(10.0)?,
+            "vz_m_s" => d.velocity_m_s[2] = check(10.0)?,
+            "gust_x_m_s" => d.gust_m_s[0] = check(20.0)?,
+            "gust_y_m_s" => d.gust_m_s[1] = check(20.0)?,
+            "gust_z_m_s" => d.gust_m_s[2] = check(20.0)?,
+            "gust_start_s" => d.gust_start_s = check(3600.0)?,
+            "gust_duration_s" => d.gust_duration_s = check(3600.0)?,
+            other => {
+                return Err(input_error(format!(
+                    "--disturbance: unknown key `{other}`; allowed: pitch_deg, roll_deg, vx_m_s, vy_m_s, vz_m_s, gust_x_m_s, gust_y_m_s, gust_z_m_s, gust_start_s, gust_duration_s"
+                )));
+            }
+        }
+    }
+    Ok(d)
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    model: &'a str,
+    disturbance: Disturbance,
+    trim_pitch_deg: f64,
+    trim_amplitude_offset_deg: f64,
+    trim_mean_stroke_offset_deg: f64,
+    delay_wingbeats: usize,
+    outcome: &'a HoverOutcome,
+}
+
+/// Runs the command.
+pub fn run(args: HoverArgs) -> Result<()> {
+    let src = read_vehicle(args.model.as_deref())?;
+    let vehicle = build_vehicle(&src)?;
+    let duration_s = check_duration(args.duration_s)?;
+    let disturbance = parse_disturbance(&args.disturbance)?;
+    let trim = flapsim::trim::trim(&vehicle).map_err(sim_error)?;
+    let trimmed = flapsim::trim::trimmed_vehicle(&vehicle, &trim).map_err(sim_error)?;
+    let controller = if args.open_loop {
+        None
+    } else {
+        Some(
+            HoverController::design(
+                &trimmed,
+                &trim,
+                &LqrWeights::default(),
+                args.delay_wingbeats,
+            )
+            .map_err(sim_error)?,
+        )
+    };
+    let steps =
+        (duration_s * vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64).round() as u64;
+    let bar = crate::progress::progress_bar(steps, "hovering");
+    let outcome = run_hover(
+        &trimmed,
+        &trim,
+        controller,
+        &disturbance,
+        duration_s,
+        |out| {
+            if out.step % 1024 == 0 {
+                bar.set_position(out.step);
+            }
+        },
+    )
+    .map_err(sim_error)?;
+    bar.finish_and_clear();
+    let report = Report {
+        model: &src.origin,
+        disturbance,
+        trim_pitch_deg: trim.pitch_rad.to_degrees(),
+        trim_amplitude_offset_deg: trim.controls.amplitude_rad.to_degrees(),
+        trim_mean_stroke_offset_deg: trim.controls.mean_stroke_rad.to_degrees(),
+        delay_wingbeats: args.delay_wingbeats,
+        outcome: &outcome,
+    };
+    if args.json {
+        return crate::output::print_json(&report);
+    }
+    let o = &outcome;
+    let mut w = std::io::stdout().lock();
+    writeln!(
+        w,
+        "{} hover of {} for {:.3} s from {}",
+        if o.closed_loop {
+            "closed-loop"
+        } else {
+            "open-loop"
+        },
+        src.origin,
+        o.duration_s,
+        args.disturbance
+    )?;
+    writeln!(
+        w,
+        "trim: body pitch {:.2} deg, amplitude offset {:+.3} deg, mean stroke offset {:+.3} deg",
+        report.trim_pitch_deg, report.trim_amplitude_offset_deg, report.trim_mean_stroke_offset_deg
+    )?;
+    writeln!(
+        w,
+        "largest excursion: {:.3e} m ({:.2} body lengths), attitude error {:.2} deg",
+        o.max_position_error_m, o.max_position_error_body_lengths, o.max_attitude_error_deg
+    )?;
+    writeln!(
+        w,
+        "at the end: position error {:.3e} m, attitude error {:.3} deg",
+        o.final_position_error_m, o.final_attitude_error_deg
+    )?;
+    match (&o.diverged, o.recovery_time_s) {
+        (Some(why), _) => writeln!(w, "diverged: {why}")?,
+        (None, Some(t)) => writeln!(
+            w,
+            "recovered (within 1 body length and 2 deg for good) after {t:.4} s"
+        )?,
+        (None, None) => writeln!(w, "not recovered within the run")?,
+    }
+    Ok(())
+}

@@ -1,0 +1,9 @@
+//! One module per subcommand, each with a `run(args) -> anyhow::Result<()>`.
+
+pub mod forces;
+pub mod hover;
+pub mod simulate;
+pub mod stability;
+pub mod trim;
+pub mod validate;
+pub mod wake_capture;

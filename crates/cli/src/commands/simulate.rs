@@ -1,0 +1,146 @@
+//! `flapwing simulate`: fly (or tether) a vehicle for a while and summarise the run.
+
+use std::io::Write;
+
+use anyhow::Result;
+use flapsim::{Mode, RunSummary, Simulation, SummaryBuilder};
+use serde::Serialize;
+use wingforce::Term;
+
+use crate::vehicle::{build_vehicle, check_duration, read_vehicle, sim_error};
+
+/// Arguments of `flapwing simulate`.
+#[derive(Debug, clap::Args)]
+pub struct SimulateArgs {
+    /// Vehicle model: a TOML file or a built-in name (drosophila, robobee, bumblebee).
+    #[arg(long, value_name = "FILE|NAME")]
+    pub model: Option<String>,
+    /// Simulated time, s.
+    #[arg(long = "duration-s", default_value_t = 0.1)]
+    pub duration_s: f64,
+    /// Hold the body still and report the loads like a force sensor.
+    #[arg(long, conflicts_with = "longitudinal")]
+    pub tethered: bool,
+    /// Free flight with only surge, heave and pitch.
+    #[arg(long)]
+    pub longitudinal: bool,
+    /// Print one JSON document on stdout instead of the text report.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    model: &'a str,
+    mode: &'a str,
+    dt_s: f64,
+    steps_per_wingbeat: usize,
+    weight_n: f64,
+    summary: &'a RunSummary,
+    error: Option<String>,
+}
+
+/// Runs the command.
+pub fn run(args: SimulateArgs) -> Result<()> {
+    let src = read_vehicle(args.model.as_deref())?;
+    let vehicle = build_vehicle(&src)?;
+    let duration_s = check_duration(args.duration_s)?;
+    let mode = if args.tethered {
+        Mode::Tethered
+    } else if args.longitudinal {
+        Mode::LONGITUDINAL
+    } else {
+        Mode::Free
+    };
+    let mode_name = if args.tethered {
+        "tethered"
+    } else if args.longitudinal {
+        "longitudinal"
+    } else {
+        "free"
+    };
+    let weight = vehicle.weight_n();
+    let steps_per_wingbeat = vehicle.sim.steps_per_wingbeat;
+    let name = vehicle.name.clone();
+    let mut sim = Simulation::new(vehicle, mode);
+    let dt = sim.dt_s();
+    let n = (duration_s / dt).round() as u64;
+    let bar = crate::progress::progress_bar(n, "simulating");
+    let mut summary = SummaryBuilder::new(weight);
+    let result = sim.run_for(duration_s, |out| {
+        summary.observe(out, dt);
+        if out.step % 1024 == 0 {
+            bar.set_position(out.step);
+        }
+    });
+    bar.finish_and_clear();
+    let s = summary.finish(sim.state());
+    let error = result.as_ref().err().map(|e| e.to_string());
+    let report = Report {
+        model: &src.origin,
+        mode: mode_name,
+        dt_s: dt,
+        steps_per_wingbeat,
+        weight_n: weight,
+        summary: &s,
+        error: error.clone(),
+    };
+    if args.json {
+        crate::output::print_json(&report)?;
+    } else {
+        print_text(&name, &report)?;
+    }
+    result.map_err(sim_error)
+}
+
+fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
+    let s = r.summary;
+    let mut o = std::io::stdout().lock();
+    writeln!(
+        o,
+        "{name} ({}), {} flight, {:.4} s = {} steps (dt {:.3e} s, {} steps per wingbeat)",
+        r.model, r.mode, s.duration_s, s.steps, r.dt_s, r.steps_per_wingbeat
+    )?;
+    writeln!(
+        o,
+        "cycle means over {} complete wingbeats, body frame (x fwd, y left, z up), about the CoM:",
+        s.wingbeats_averaged
+    )?;
+    writeln!(
+        o,
+        "  {:<14} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}",
+        "term", "Fx [N]", "Fy [N]", "Fz [N]", "Mx [N m]", "My [N m]", "Mz [N m]"
+    )?;
+    for (t, l) in Term::ALL
+        .iter()
+        .zip(&s.mean_terms)
+        .map(|(t, l)| (t.name(), l))
+        .chain(std::iter::once(("total", &s.mean_total)))
+    {
+        writeln!(
+            o,
+            "  {:<14} {:>12.4e} {:>12.4e} {:>12.4e} {:>12.4e} {:>12.4e} {:>12.4e}",
+            t, l.force_n.x, l.force_n.y, l.force_n.z, l.moment_nm.x, l.moment_nm.y, l.moment_nm.z
+        )?;
+    }
+    writeln!(
+        o,
+        "mean lift / weight: {:.4} (weight {:.4e} N)",
+        s.mean_lift_over_weight, r.weight_n
+    )?;
+    let p = s.final_state.position_m;
+    writeln!(
+        o,
+        "final position [m]: ({:.4e}, {:.4e}, {:.4e}); roll/pitch/yaw [deg]: ({:.2}, {:.2}, {:.2})",
+        p.x, p.y, p.z, s.final_euler_deg[0], s.final_euler_deg[1], s.final_euler_deg[2]
+    )?;
+    writeln!(
+        o,
+        "drift: {:.4e} m; largest excursion: {:.4e} m",
+        s.drift_m, s.max_excursion_m
+    )?;
+    if let Some(e) = &r.error {
+        writeln!(o, "stopped: {e}")?;
+    }
+    Ok(())
+}

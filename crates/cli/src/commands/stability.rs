@@ -1,0 +1,233 @@
+//! `flapwing stability`: averaged-model modes (Sun and Xiong 2005's method) beside the
+//! Floquet exponents of the full time-periodic system, and a plot of the eigenvalues.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use flapsim::stability::{ModeInfo, StabilityReport};
+use plotters::prelude::*;
+
+use crate::vehicle::{build_vehicle, read_vehicle, sim_error};
+
+/// Arguments of `flapwing stability`.
+#[derive(Debug, clap::Args)]
+pub struct StabilityArgs {
+    /// Vehicle model: a TOML file or a built-in name (drosophila, robobee, bumblebee).
+    #[arg(long, value_name = "FILE|NAME")]
+    pub model: Option<String>,
+    /// Skip the Floquet analysis (full simulations over one wingbeat).
+    #[arg(long = "no-floquet")]
+    pub no_floquet: bool,
+    /// Write a plot of the eigenvalues in the complex plane (SVG, or PNG by extension).
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Replace the --plot file if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// Print one JSON document on stdout instead of the text report.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs the command.
+pub fn run(args: StabilityArgs) -> Result<()> {
+    let src = read_vehicle(args.model.as_deref())?;
+    let vehicle = build_vehicle(&src)?;
+    if let Some(p) = &args.plot {
+        // Fail before the analysis if the plot cannot be written.
+        drop(crate::output::create_output_file(p, args.force, "plot")?);
+    }
+    let report = flapsim::stability::analyze(&vehicle, !args.no_floquet).map_err(sim_error)?;
+    if let Some(p) = &args.plot {
+        plot(&report, p, &vehicle.name)?;
+    }
+    if args.json {
+        return crate::output::print_json(&report);
+    }
+    let mut o = std::io::stdout().lock();
+    let t = &report.trim;
+    writeln!(
+        o,
+        "hover stability of {} about its trim (pitch {:.2} deg, amplitude offset {:+.3} deg, mean stroke offset {:+.3} deg)",
+        src.origin,
+        t.pitch_rad.to_degrees(),
+        t.controls.amplitude_rad.to_degrees(),
+        t.controls.mean_stroke_rad.to_degrees()
+    )?;
+    writeln!(
+        o,
+        "averaged model, longitudinal (states {}):",
+        report.longitudinal_states.join(", ")
+    )?;
+    for m in &report.longitudinal_modes {
+        writeln!(o, "  {}", describe(m))?;
+    }
+    if !report.floquet_longitudinal.is_empty() {
+        writeln!(
+            o,
+            "Floquet exponents of the full periodic system, longitudinal:"
+        )?;
+        for f in &report.floquet_longitudinal {
+            writeln!(
+                o,
+                "  {:+.4} {:+.4}i 1/s   (multiplier {:.6} {:+.6}i)",
+                f.exponent.0, f.exponent.1, f.multiplier.0, f.multiplier.1
+            )?;
+        }
+    }
+    writeln!(
+        o,
+        "averaged model, lateral (states {}):",
+        report.lateral_states.join(", ")
+    )?;
+    for m in &report.lateral_modes {
+        writeln!(o, "  {}", describe(m))?;
+    }
+    writeln!(o, "longitudinal system matrix:")?;
+    for row in &report.a_longitudinal {
+        writeln!(
+            o,
+            "  {}",
+            row.iter()
+                .map(|x| format!("{x:>12.4e}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        )?;
+    }
+    Ok(())
+}
+
+fn describe(m: &ModeInfo) -> String {
+    let timing = if m.stable {
+        format!("half time {:.4} s", m.time_to_half_or_double_s)
+    } else {
+        format!("doubling time {:.4} s", m.time_to_half_or_double_s)
+    };
+    let period = m
+        .period_s
+        .map(|p| format!(", period {p:.4} s"))
+        .unwrap_or_default();
+    let big: Vec<String> = m
+        .eigenvector
+        .iter()
+        .filter(|(_, x)| *x > 0.3)
+        .map(|(n, x)| format!("{n} {x:.2}"))
+        .collect();
+    format!(
+        "{:<22} lambda = {:+.4} {:+.4}i 1/s, {timing}{period}  [{}]",
+        m.description,
+        m.re_per_s,
+        m.im_rad_s,
+        big.join(", ")
+    )
+}
+
+fn plot(r: &StabilityReport, path: &Path, name: &str) -> Result<()> {
+    let mut pts: Vec<(f64, f64, u8)> = Vec::new();
+    for m in &r.longitudinal_modes {
+        pts.push((m.re_per_s, m.im_rad_s, 0));
+        pts.push((m.re_per_s, -m.im_rad_s, 0));
+    }
+    for m in &r.lateral_modes {
+        pts.push((m.re_per_s, m.im_rad_s, 1));
+        pts.push((m.re_per_s, -m.im_rad_s, 1));
+    }
+    for f in &r.floquet_longitudinal {
+        pts.push((f.exponent.0, f.exponent.1, 2));
+    }
+    let xmax = pts.iter().map(|p| p.0.abs()).fold(1.0, f64::max) * 1.1;
+    let ymax = pts.iter().map(|p| p.1.abs()).fold(1.0, f64::max) * 1.2;
+    if path.extension().and_then(|e| e.to_str()) == Some("png") {
+        draw(
+            BitMapBackend::new(path, (800, 600)).into_drawing_area(),
+            &pts,
+            xmax,
+            ymax,
+            name,
+        )
+    } else {
+        draw(
+            SVGBackend::new(path, (800, 600)).into_drawing_area(),
+            &pts,
+            xmax,
+            ymax,
+            name,
+        )
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: DrawingArea<DB, plotters::coord::Shift>,
+    pts: &[(f64, f64, u8)],
+    xmax: f64,
+    ymax: f64,
+    name: &str,
+) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("cannot draw the plot: {x}");
+    root.fill(&WHITE).map_err(e)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(format!("{name}: hover eigenvalues"), ("sans-serif", 20))
+        .margin(15)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(-xmax..xmax, -ymax..ymax)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc("Re [1/s]")
+        .y_desc("Im [rad/s]")
+        .draw()
+        .map_err(e)?;
+    let styles = [
+        ("averaged, longitudinal", BLUE),
+        ("averaged, lateral", GREEN),
+        ("Floquet, longitudinal", RED),
+    ];
+    for (k, (label, color)) in styles.iter().enumerate() {
+        let c = *color;
+        let series: Vec<(f64, f64)> = pts
+            .iter()
+            .filter(|p| p.2 as usize == k)
+            .map(|p| (p.0, p.1))
+            .collect();
+        if k == 2 {
+            chart
+                .draw_series(
+                    series
+                        .iter()
+                        .map(|&(x, y)| Cross::new((x, y), 7, c.stroke_width(2))),
+                )
+                .map_err(e)?
+                .label(*label)
+                .legend(move |(x, y)| Cross::new((x, y), 5, c.stroke_width(2)));
+        } else {
+            chart
+                .draw_series(
+                    series
+                        .iter()
+                        .map(|&(x, y)| Circle::new((x, y), 4, c.filled())),
+                )
+                .map_err(e)?
+                .label(*label)
+                .legend(move |(x, y)| Circle::new((x, y), 4, c.filled()));
+        }
+    }
+    chart
+        .draw_series(std::iter::once(PathElement::new(
+            vec![(0.0, -ymax), (0.0, ymax)],
+            BLACK.mix(0.4),
+        )))
+        .map_err(e)?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(e)?;
+    root.present().map_err(e)?;
+    Ok(())
+}

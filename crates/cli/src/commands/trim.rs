@@ -1,0 +1,129 @@
+//! `flapwing trim`: the kinematics and body pitch at which the cycle-averaged forces and
+//! moments balance in hover.
+
+use std::io::Write;
+
+use anyhow::Result;
+use serde::Serialize;
+
+use crate::vehicle::{build_vehicle, read_vehicle, sim_error};
+
+/// Arguments of `flapwing trim`.
+#[derive(Debug, clap::Args)]
+pub struct TrimArgs {
+    /// Vehicle model: a TOML file or a built-in name (drosophila, robobee, bumblebee).
+    #[arg(long, value_name = "FILE|NAME")]
+    pub model: Option<String>,
+    /// Write the trimmed model (controls and initial attitude set) to this TOML file.
+    #[arg(long, value_name = "OUT.toml")]
+    pub write: Option<std::path::PathBuf>,
+    /// Replace the --write file if it exists.
+    #[arg(long)]
+    pub force: bool,
+    /// Print one JSON document on stdout instead of the text report.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    model: &'a str,
+    amplitude_deg: f64,
+    amplitude_offset_deg: f64,
+    mean_stroke_offset_deg: f64,
+    pitch_deg: f64,
+    residual_fx_over_weight: f64,
+    residual_fz_over_weight: f64,
+    residual_my_over_weight_length: f64,
+    iterations: usize,
+}
+
+/// Runs the command.
+pub fn run(args: TrimArgs) -> Result<()> {
+    let src = read_vehicle(args.model.as_deref())?;
+    let vehicle = build_vehicle(&src)?;
+    let out_file = match &args.write {
+        Some(p) => Some(crate::output::create_output_file(
+            p,
+            args.force,
+            "trimmed model",
+        )?),
+        None => None,
+    };
+    let t = flapsim::trim::trim(&vehicle).map_err(sim_error)?;
+    let report = Report {
+        model: &src.origin,
+        amplitude_deg: (vehicle.base_kinematics[0].amplitude_rad + t.controls.amplitude_rad)
+            .to_degrees(),
+        amplitude_offset_deg: t.controls.amplitude_rad.to_degrees(),
+        mean_stroke_offset_deg: t.controls.mean_stroke_rad.to_degrees(),
+        pitch_deg: t.pitch_rad.to_degrees(),
+        residual_fx_over_weight: t.residual_fx_over_weight,
+        residual_fz_over_weight: t.residual_fz_over_weight,
+        residual_my_over_weight_length: t.residual_my_over_weight_length,
+        iterations: t.iterations,
+    };
+    if let (Some(mut f), Some(path)) = (out_file, &args.write) {
+        let mut doc: toml::Value = toml::from_str(&src.text)?;
+        let table = doc
+            .as_table_mut()
+            .ok_or_else(|| anyhow::anyhow!("model is not a TOML table"))?;
+        let controls = table
+            .entry("controls")
+            .or_insert_with(|| toml::Value::Table(Default::default()));
+        if let Some(c) = controls.as_table_mut() {
+            c.insert(
+                "amplitude_deg".into(),
+                toml::Value::Float(report.amplitude_offset_deg),
+            );
+            c.insert(
+                "mean_stroke_deg".into(),
+                toml::Value::Float(report.mean_stroke_offset_deg),
+            );
+        }
+        let initial = table
+            .entry("initial")
+            .or_insert_with(|| toml::Value::Table(Default::default()));
+        if let Some(i) = initial.as_table_mut() {
+            i.insert(
+                "attitude_deg".into(),
+                toml::Value::Array(vec![0.0.into(), report.pitch_deg.into(), 0.0.into()]),
+            );
+        }
+        let text = format!(
+            "# Trimmed by `flapwing trim` from {}.\n{}",
+            src.origin,
+            toml::to_string_pretty(&doc)?
+        );
+        f.write_all(text.as_bytes())?;
+        eprintln!("wrote {}", path.display());
+    }
+    if args.json {
+        return crate::output::print_json(&report);
+    }
+    let mut o = std::io::stdout().lock();
+    writeln!(
+        o,
+        "hover trim of {} ({} Newton iterations)",
+        src.origin, t.iterations
+    )?;
+    writeln!(
+        o,
+        "  stroke amplitude   {:.4} deg (offset {:+.4} deg)",
+        report.amplitude_deg, report.amplitude_offset_deg
+    )?;
+    writeln!(
+        o,
+        "  mean stroke offset {:+.4} deg",
+        report.mean_stroke_offset_deg
+    )?;
+    writeln!(o, "  body pitch         {:.4} deg", report.pitch_deg)?;
+    writeln!(
+        o,
+        "residuals: Fx/W {:.2e}, Fz/W - 1 {:.2e}, My/(W R) {:.2e}",
+        report.residual_fx_over_weight,
+        report.residual_fz_over_weight,
+        report.residual_my_over_weight_length
+    )?;
+    Ok(())
+}

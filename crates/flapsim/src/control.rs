@@ -1,0 +1,306 @@
+//! Hover control: a linear-quadratic regulator designed on the averaged model, discretised
+//! over one wingbeat, that sets the kinematics once per wingbeat (mean stroke angle for
+//! pitch, amplitude for height, left-right amplitude difference for roll, left-right pitch
+//! bias difference for yaw), with an optional sensor delay in whole wingbeats.
+
+use std::collections::VecDeque;
+
+use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::linear::{AveragedModel, N_CONTROLS, N_STATES, controls_with};
+use crate::model::{Controls, Vehicle};
+use crate::sim::{Mode, Simulation, State, StepOutput};
+use crate::trim::Trim;
+
+/// LQR weights as the largest acceptable excursions (Bryson's rule: weight = 1/max^2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LqrWeights {
+    /// Position error, in body lengths.
+    pub position_body_lengths: f64,
+    /// Velocity error, body lengths per wingbeat.
+    pub velocity_body_lengths_per_wingbeat: f64,
+    /// Attitude error, rad.
+    pub attitude_rad: f64,
+    /// Angular rate, rad per wingbeat.
+    pub rate_rad_per_wingbeat: f64,
+    /// Control excursion, rad.
+    pub control_rad: f64,
+}
+
+impl Default for LqrWeights {
+    fn default() -> Self {
+        Self {
+            position_body_lengths: 0.3,
+            velocity_body_lengths_per_wingbeat: 0.05,
+            attitude_rad: 2f64.to_radians(),
+            rate_rad_per_wingbeat: 1f64.to_radians(),
+            control_rad: 10f64.to_radians(),
+        }
+    }
+}
+
+/// A per-wingbeat hover controller.
+#[derive(Debug, Clone)]
+pub struct HoverController {
+    gain: DMatrix<f64>,
+    trim_controls: Controls,
+    q_trim: UnitQuaternion<f64>,
+    reference_m: Vector3<f64>,
+    delay_wingbeats: usize,
+    history: VecDeque<DVector<f64>>,
+    limit_rad: f64,
+}
+
+/// Discrete-time algebraic Riccati equation by fixed-point iteration; returns the gain K of
+/// u = -K x for x+ = A x + B u with costs Q, R.
+pub fn dlqr(
+    a: &DMatrix<f64>,
+    b: &DMatrix<f64>,
+    q: &DMatrix<f64>,
+    r: &DMatrix<f64>,
+) -> Result<DMatrix<f64>> {
+    let mut p = q.clone();
+    for _ in 0..100_000 {
+        let btp = b.transpose() * &p;
+        let s = r + &btp * b;
+        let Some(s_inv) = s.try_inverse() else {
+            return Err(Error::Analysis("LQR: singular R + B'PB".into()));
+        };
+        let k = &s_inv * &btp * a;
+        let next = q + a.transpose() * &p * a - a.transpose() * &p * b * &k;
+        let diff = (&next - &p).amax();
+        p = next;
+        if diff <= 1e-12 * p.amax() {
+            return Ok(k);
+        }
+    }
+    Err(Error::Analysis("LQR: the Riccati iteration did not converge (the hover may not be stabilisable with these controls)".into()))
+}
+
+/// Zero-order-hold discretisation over `t_s`: (A_d, B_d) = (exp(A t), int_0^t exp(A s) ds B).
+pub fn discretize(a: &DMatrix<f64>, b: &DMatrix<f64>, t_s: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+    let (n, m) = (a.nrows(), b.ncols());
+    let mut aug = DMatrix::zeros(n + m, n + m);
+    aug.view_mut((0, 0), (n, n)).copy_from(&(a * t_s));
+    aug.view_mut((0, n), (n, m)).copy_from(&(b * t_s));
+    let e = aug.exp();
+    (
+        e.view((0, 0), (n, n)).into_owned(),
+        e.view((0, n), (n, m)).into_owned(),
+    )
+}
+
+impl HoverController {
+    /// Designs the controller for a trimmed `vehicle` (controls and attitude at `trim`).
+    pub fn design(
+        vehicle: &Vehicle,
+        trim: &Trim,
+        weights: &LqrWeights,
+        delay_wingbeats: usize,
+    ) -> Result<Self> {
+        let model = AveragedModel::new(vehicle, trim.attitude(), trim.controls, 100);
+        let (a, b) = model.linearize(&DVector::zeros(N_STATES));
+        let period = 1.0 / vehicle.freq_hz();
+        let (ad, bd) = discretize(&a, &b, period);
+        let l = vehicle.length_m;
+        let w = weights;
+        let qd = [
+            l * w.position_body_lengths,
+            l * w.position_body_lengths,
+            l * w.position_body_lengths,
+            l * w.velocity_body_lengths_per_wingbeat / period,
+            l * w.velocity_body_lengths_per_wingbeat / period,
+            l * w.velocity_body_lengths_per_wingbeat / period,
+            w.attitude_rad,
+            w.attitude_rad,
+            w.attitude_rad,
+            w.rate_rad_per_wingbeat / period,
+            w.rate_rad_per_wingbeat / period,
+            w.rate_rad_per_wingbeat / period,
+        ];
+        let q = DMatrix::from_diagonal(&DVector::from_iterator(
+            N_STATES,
+            qd.iter().map(|x| 1.0 / (x * x)),
+        ));
+        let r = DMatrix::identity(N_CONTROLS, N_CONTROLS) / (w.control_rad * w.control_rad);
+        let gain = dlqr(&ad, &bd, &q, &r)?;
+        Ok(Self {
+            gain,
+            trim_controls: trim.controls,
+            q_trim: trim.attitude(),
+            reference_m: vehicle.initial_position_m,
+            delay_wingbeats,
+            history: VecDeque::new(),
+            limit_rad: 3.0 * w.control_rad,
+        })
+    }
+
+    /// The LQR gain (controls x states).
+    pub fn gain(&self) -> &DMatrix<f64> {
+        &self.gain
+    }
+
+    /// Sets the position to hold, world, m.
+    pub fn set_reference(&mut self, p: Vector3<f64>) {
+        self.reference_m = p;
+    }
+
+    /// The error state of `s` (see [`crate::linear`]).
+    pub fn error_state(&self, s: &State) -> DVector<f64> {
+        let d = (self.q_trim.inverse() * s.world_from_body).scaled_axis();
+        let p = s.position_m - self.reference_m;
+        DVector::from_iterator(
+            N_STATES,
+            p.iter()
+                .chain(s.velocity_m_s.iter())
+                .chain(d.iter())
+                .chain(s.angular_velocity_body_rad_s.iter())
+                .copied(),
+        )
+    }
+
+    /// Controls for the next wingbeat given the state measured now (delayed by the sensor
+    /// delay), saturated at three times the design excursion.
+    pub fn update(&mut self, s: &State) -> Controls {
+        self.history.push_back(self.error_state(s));
+        while self.history.len() > self.delay_wingbeats + 1 {
+            self.history.pop_front();
+        }
+        let x = &self.history[0];
+        let u = -(&self.gain * x);
+        let lim = self.limit_rad;
+        let u: Vec<f64> = u.iter().map(|v| v.clamp(-lim, lim)).collect();
+        controls_with(&self.trim_controls, &u)
+    }
+}
+
+/// A disturbance for a hover run.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct Disturbance {
+    /// Initial pitch perturbation, deg (nose up).
+    pub pitch_deg: f64,
+    /// Initial roll perturbation, deg.
+    pub roll_deg: f64,
+    /// Initial velocity, world, m/s.
+    pub velocity_m_s: [f64; 3],
+    /// Gust (wind) velocity, world, m/s, blowing from `gust_start_s` for `gust_duration_s`.
+    pub gust_m_s: [f64; 3],
+    /// Gust start, s.
+    pub gust_start_s: f64,
+    /// Gust duration, s.
+    pub gust_duration_s: f64,
+}
+
+/// How a hover run went.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HoverOutcome {
+    /// Closed loop (true) or open loop.
+    pub closed_loop: bool,
+    /// Simulated time, s.
+    pub duration_s: f64,
+    /// Largest distance from the hover point, m.
+    pub max_position_error_m: f64,
+    /// Same, in body lengths.
+    pub max_position_error_body_lengths: f64,
+    /// Largest attitude error from trim, deg.
+    pub max_attitude_error_deg: f64,
+    /// Position error at the end, m.
+    pub final_position_error_m: f64,
+    /// Attitude error at the end, deg.
+    pub final_attitude_error_deg: f64,
+    /// First time after which the vehicle stayed within 1 body length and 2 deg to the end, s.
+    pub recovery_time_s: Option<f64>,
+    /// The run stopped early: attitude error beyond 90 deg, or the simulation diverged.
+    pub diverged: Option<String>,
+}
+
+/// Flies a hover from the trim with a disturbance, closed loop (with `controller`) or open
+/// loop (trim controls held), calling `observer` after every step.
+pub fn run_hover(
+    vehicle: &Vehicle,
+    trim: &Trim,
+    mut controller: Option<HoverController>,
+    disturbance: &Disturbance,
+    duration_s: f64,
+    mut observer: impl FnMut(&StepOutput),
+) -> Result<HoverOutcome> {
+    let mut v = vehicle.clone();
+    v.apply_controls(&trim.controls)?;
+    let q_trim = trim.attitude();
+    let start_q = q_trim
+        * UnitQuaternion::from_scaled_axis(Vector3::new(
+            disturbance.roll_deg.to_radians(),
+            -disturbance.pitch_deg.to_radians(),
+            0.0,
+        ));
+    v.initial_attitude = start_q;
+    v.initial_velocity_m_s = Vector3::from(disturbance.velocity_m_s);
+    v.initial_angular_velocity_rad_s = Vector3::zeros();
+    let reference = v.initial_position_m;
+    let length = v.length_m;
+    let mut sim = Simulation::new(v, Mode::Free);
+    let n = (duration_s / sim.dt_s()).round() as u64;
+    let mut max_p: f64 = 0.0;
+    let mut max_a: f64 = 0.0;
+    let mut last_bad_t = 0.0;
+    let mut diverged = None;
+    let mut last_cycle = -1i64;
+    let closed = controller.is_some();
+    let (mut final_p, mut final_a) = (0.0, 0.0);
+    for _ in 0..n {
+        let t = sim.time_s();
+        let gust_on = t >= disturbance.gust_start_s
+            && t < disturbance.gust_start_s + disturbance.gust_duration_s;
+        sim.set_wind(if gust_on {
+            Vector3::from(disturbance.gust_m_s)
+        } else {
+            Vector3::zeros()
+        });
+        let cycle = sim.phase().floor() as i64;
+        if cycle != last_cycle {
+            last_cycle = cycle;
+            if let Some(c) = controller.as_mut() {
+                let u = c.update(&sim.state());
+                sim.set_controls(u);
+            }
+        }
+        let out = match sim.step() {
+            Ok(o) => o,
+            Err(e) => {
+                diverged = Some(e.to_string());
+                break;
+            }
+        };
+        observer(&out);
+        let s = out.state;
+        let pe = (s.position_m - reference).norm();
+        let ae = (q_trim.inverse() * s.world_from_body).angle().to_degrees();
+        max_p = max_p.max(pe);
+        max_a = max_a.max(ae);
+        (final_p, final_a) = (pe, ae);
+        if pe > length || ae > 2.0 {
+            last_bad_t = out.t_s + sim.dt_s();
+        }
+        if ae > 90.0 {
+            diverged = Some(format!(
+                "attitude error {ae:.1} deg exceeds 90 deg at t = {:.4} s",
+                out.t_s
+            ));
+            break;
+        }
+    }
+    let end = sim.time_s();
+    Ok(HoverOutcome {
+        closed_loop: closed,
+        duration_s: end,
+        max_position_error_m: max_p,
+        max_position_error_body_lengths: max_p / length,
+        max_attitude_error_deg: max_a,
+        final_position_error_m: final_p,
+        final_attitude_error_deg: final_a,
+        recovery_time_s: (diverged.is_none() && last_bad_t < end).then_some(last_bad_t),
+        diverged,
+    })
+}

@@ -1,0 +1,169 @@
+//! The cycle-averaged vehicle as a nonlinear ODE and its linearisation about a state.
+//!
+//! State (12): world position (3), world velocity (3), attitude error delta (3, a rotation
+//! vector in the body frame: world_from_body = q_ref * exp(delta)), body angular velocity (3).
+//! Controls (4): mean stroke angle (pitch), amplitude (height), left-minus-right amplitude
+//! (roll), left-minus-right pitch bias (yaw), all in radians, as offsets on a reference.
+//! Loads are cycle averages at the frozen state (the averaged model of Sun and Xiong 2005).
+
+use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
+
+use crate::averaged::{FrozenState, mean_loads};
+use crate::model::{Controls, Vehicle};
+
+/// Number of states.
+pub const N_STATES: usize = 12;
+/// Number of control inputs.
+pub const N_CONTROLS: usize = 4;
+/// State names (with units).
+pub const STATE_NAMES: [&str; N_STATES] = [
+    "x_m",
+    "y_m",
+    "z_m",
+    "vx_m_s",
+    "vy_m_s",
+    "vz_m_s",
+    "roll_err_rad",
+    "pitch_err_rad",
+    "yaw_err_rad",
+    "p_rad_s",
+    "q_rad_s",
+    "r_rad_s",
+];
+/// Control names.
+pub const CONTROL_NAMES: [&str; N_CONTROLS] = [
+    "mean_stroke_rad",
+    "amplitude_rad",
+    "diff_amplitude_rad",
+    "diff_pitch_bias_rad",
+];
+
+/// Indices of the longitudinal states: vx, vz, pitch error, pitch rate.
+pub const LONGITUDINAL: [usize; 4] = [3, 5, 7, 10];
+/// Indices of the lateral states: vy, roll error, yaw error, roll rate, yaw rate.
+pub const LATERAL: [usize; 5] = [4, 6, 8, 9, 11];
+
+/// Adds the 4 control inputs to a base set of controls.
+pub fn controls_with(base: &Controls, u: &[f64]) -> Controls {
+    let mut c = *base;
+    c.mean_stroke_rad += u[0];
+    c.amplitude_rad += u[1];
+    c.diff_amplitude_rad += u[2];
+    c.diff_pitch_bias_rad += u[3];
+    c
+}
+
+/// The averaged model about a reference attitude and controls.
+#[derive(Debug, Clone)]
+pub struct AveragedModel {
+    vehicle: Vehicle,
+    q_ref: UnitQuaternion<f64>,
+    base_controls: Controls,
+    samples: usize,
+}
+
+impl AveragedModel {
+    /// A model of `vehicle` about attitude `q_ref` and `controls`, averaging `samples` phases.
+    pub fn new(
+        vehicle: &Vehicle,
+        q_ref: UnitQuaternion<f64>,
+        controls: Controls,
+        samples: usize,
+    ) -> Self {
+        Self {
+            vehicle: vehicle.clone(),
+            q_ref,
+            base_controls: controls,
+            samples,
+        }
+    }
+
+    /// The reference attitude.
+    pub fn q_ref(&self) -> UnitQuaternion<f64> {
+        self.q_ref
+    }
+
+    /// dx/dt for state `x` and control offsets `u`.
+    pub fn rhs(&self, x: &DVector<f64>, u: &[f64]) -> DVector<f64> {
+        let mut v = self.vehicle.clone();
+        if u.iter().any(|&x| x != 0.0) || v.controls != self.base_controls {
+            // Control changes keep the vehicle valid for small offsets; an invalid one
+            // (e.g. zero amplitude) leaves the controls unchanged and shows as no effect.
+            let _ = v.apply_controls(&controls_with(&self.base_controls, u));
+        }
+        let delta = Vector3::new(x[6], x[7], x[8]);
+        let q = self.q_ref * UnitQuaternion::from_scaled_axis(delta);
+        let vel_w = Vector3::new(x[3], x[4], x[5]);
+        let w_b = Vector3::new(x[9], x[10], x[11]);
+        let loads = mean_loads(
+            &v,
+            &FrozenState {
+                world_from_body: q,
+                velocity_body_m_s: q.inverse() * vel_w,
+                angular_velocity_body_rad_s: w_b,
+            },
+            self.samples,
+        );
+        let acc = q * loads.total.force_n / v.mass_kg - Vector3::new(0.0, 0.0, v.gravity_m_s2);
+        let i = &v.inertia_kg_m2;
+        let i_inv = i.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
+        let wdot = i_inv * (loads.total.moment_nm - w_b.cross(&(i * w_b)));
+        // Attitude error rate: d/dt exp(delta) = exp(delta) [omega] to first order in delta.
+        let ddot = w_b + 0.5 * delta.cross(&w_b);
+        DVector::from_iterator(
+            N_STATES,
+            vel_w
+                .iter()
+                .chain(acc.iter())
+                .chain(ddot.iter())
+                .chain(wdot.iter())
+                .copied(),
+        )
+    }
+
+    /// Jacobians (A, B) at state `x0` and zero control offset by central differences.
+    pub fn linearize(&self, x0: &DVector<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
+        let v = &self.vehicle;
+        let l = v.length_m;
+        let speed = v.wings[0].v_ref_m_s();
+        // Perturbation sizes scaled to the vehicle (small, but well above round-off).
+        let hx = [
+            l * 1e-3,
+            l * 1e-3,
+            l * 1e-3,
+            speed * 1e-4,
+            speed * 1e-4,
+            speed * 1e-4,
+            1e-5,
+            1e-5,
+            1e-5,
+            1e-3,
+            1e-3,
+            1e-3,
+        ];
+        let mut a = DMatrix::zeros(N_STATES, N_STATES);
+        for j in 0..N_STATES {
+            let mut xp = x0.clone();
+            let mut xm = x0.clone();
+            xp[j] += hx[j];
+            xm[j] -= hx[j];
+            let col = (self.rhs(&xp, &[0.0; 4]) - self.rhs(&xm, &[0.0; 4])) / (2.0 * hx[j]);
+            a.set_column(j, &col);
+        }
+        let mut b = DMatrix::zeros(N_STATES, N_CONTROLS);
+        for j in 0..N_CONTROLS {
+            let mut up = [0.0; 4];
+            let mut um = [0.0; 4];
+            up[j] = 1e-5;
+            um[j] = -1e-5;
+            let col = (self.rhs(x0, &up) - self.rhs(x0, &um)) / 2e-5;
+            b.set_column(j, &col);
+        }
+        (a, b)
+    }
+}
+
+/// A sub-matrix of `a` on the given state indices.
+pub fn submatrix(a: &DMatrix<f64>, idx: &[usize]) -> DMatrix<f64> {
+    DMatrix::from_fn(idx.len(), idx.len(), |i, j| a[(idx[i], idx[j])])
+}

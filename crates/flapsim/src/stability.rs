@@ -1,0 +1,243 @@
+//! Hover stability: the averaged model's system matrices, eigenvalues, eigenvectors and
+//! modes (the method of Sun and Xiong 2005), and a Floquet analysis of the full
+//! time-periodic system (the monodromy matrix over one wingbeat by finite differences of
+//! full simulations) to compare with.
+
+use nalgebra::{Complex, DMatrix, DVector, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::linear::{AveragedModel, LATERAL, LONGITUDINAL, N_STATES, STATE_NAMES, submatrix};
+use crate::model::Vehicle;
+use crate::sim::{Mode as SimMode, Simulation, State};
+use crate::trim::{Trim, trim, trimmed_vehicle};
+
+/// How a mode behaves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModeKind {
+    /// Complex pair.
+    Oscillatory,
+    /// Real eigenvalue (a subsidence if stable, a divergence if not).
+    Real,
+}
+
+/// One mode (a real eigenvalue or one member of a complex pair with Im > 0).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModeInfo {
+    /// Oscillatory or real.
+    pub kind: ModeKind,
+    /// Real part, 1/s.
+    pub re_per_s: f64,
+    /// Imaginary part, rad/s.
+    pub im_rad_s: f64,
+    /// Re < 0.
+    pub stable: bool,
+    /// Period 2 pi / Im, s (oscillatory only).
+    pub period_s: Option<f64>,
+    /// ln 2 / |Re|, s: time to half (stable) or to double (unstable).
+    pub time_to_half_or_double_s: f64,
+    /// Eigenvector magnitudes normalised to the largest, one per state, with names.
+    pub eigenvector: Vec<(String, f64)>,
+    /// Words: e.g. "unstable oscillatory", "stable subsidence".
+    pub description: String,
+}
+
+/// A Floquet multiplier and exponent.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FloquetMode {
+    /// Multiplier mu (real, imaginary).
+    pub multiplier: (f64, f64),
+    /// Exponent ln(mu) / T: (real 1/s, imaginary rad/s).
+    pub exponent: (f64, f64),
+}
+
+/// The full stability analysis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StabilityReport {
+    /// The hover trim analysed.
+    pub trim: Trim,
+    /// Longitudinal state names.
+    pub longitudinal_states: Vec<String>,
+    /// Longitudinal system matrix, row-major.
+    pub a_longitudinal: Vec<Vec<f64>>,
+    /// Lateral state names.
+    pub lateral_states: Vec<String>,
+    /// Lateral system matrix, row-major.
+    pub a_lateral: Vec<Vec<f64>>,
+    /// Longitudinal modes of the averaged model.
+    pub longitudinal_modes: Vec<ModeInfo>,
+    /// Lateral modes of the averaged model.
+    pub lateral_modes: Vec<ModeInfo>,
+    /// Longitudinal Floquet multipliers and exponents (when computed).
+    pub floquet_longitudinal: Vec<FloquetMode>,
+    /// Dimensional derivatives of the averaged longitudinal model, d(accel)/d(state).
+    pub derivatives: Vec<(String, f64)>,
+}
+
+fn rows(a: &DMatrix<f64>) -> Vec<Vec<f64>> {
+    (0..a.nrows())
+        .map(|i| a.row(i).iter().copied().collect())
+        .collect()
+}
+
+/// Eigenvector of `a` for eigenvalue `l` (null vector of a - l I by SVD).
+fn eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> DVector<f64> {
+    let n = a.nrows();
+    let m = DMatrix::from_fn(n, n, |i, j| {
+        Complex::new(a[(i, j)], 0.0) - if i == j { l } else { Complex::new(0.0, 0.0) }
+    });
+    let svd = m.svd(false, true);
+    let Some(vt) = svd.v_t else {
+        return DVector::zeros(n);
+    };
+    let k = svd
+        .singular_values
+        .iter()
+        .enumerate()
+        .fold(0, |best, (i, s)| {
+            if *s < svd.singular_values[best] {
+                i
+            } else {
+                best
+            }
+        });
+    let v: Vec<f64> = vt.row(k).iter().map(|c| c.norm()).collect();
+    let max = v.iter().cloned().fold(0.0, f64::max).max(1e-300);
+    DVector::from_iterator(n, v.into_iter().map(|x| x / max))
+}
+
+/// Modes of a real matrix with state names.
+pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
+    let eig = a.complex_eigenvalues();
+    let mut out: Vec<ModeInfo> = Vec::new();
+    for l in eig.iter() {
+        if l.im < -1e-9 * l.norm().max(1e-12) {
+            continue; // keep one of each pair
+        }
+        let oscillatory = l.im.abs() > 1e-9 * l.norm().max(1e-12);
+        let stable = l.re < 0.0;
+        let t = std::f64::consts::LN_2 / l.re.abs().max(1e-300);
+        let ev = eigenvector(a, *l);
+        out.push(ModeInfo {
+            kind: if oscillatory {
+                ModeKind::Oscillatory
+            } else {
+                ModeKind::Real
+            },
+            re_per_s: l.re,
+            im_rad_s: if oscillatory { l.im } else { 0.0 },
+            stable,
+            period_s: oscillatory.then(|| 2.0 * std::f64::consts::PI / l.im),
+            time_to_half_or_double_s: t,
+            eigenvector: names
+                .iter()
+                .zip(ev.iter())
+                .map(|(n, x)| (n.to_string(), *x))
+                .collect(),
+            description: match (oscillatory, stable) {
+                (true, true) => "stable oscillatory".into(),
+                (true, false) => "unstable oscillatory".into(),
+                (false, true) => "stable subsidence".into(),
+                (false, false) => "unstable divergence".into(),
+            },
+        });
+    }
+    out.sort_by(|a, b| b.re_per_s.total_cmp(&a.re_per_s));
+    out
+}
+
+/// Trims `vehicle`, linearises the averaged model and classifies the modes; with
+/// `floquet`, also computes the longitudinal monodromy matrix from full simulations.
+pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
+    let t = trim(vehicle)?;
+    let v = trimmed_vehicle(vehicle, &t)?;
+    let model = AveragedModel::new(&v, t.attitude(), t.controls, 200);
+    let (a, _) = model.linearize(&DVector::zeros(N_STATES));
+    let lon_names: Vec<&str> = LONGITUDINAL.iter().map(|&i| STATE_NAMES[i]).collect();
+    let lat_names: Vec<&str> = LATERAL.iter().map(|&i| STATE_NAMES[i]).collect();
+    let a_lon = submatrix(&a, &LONGITUDINAL);
+    let a_lat = submatrix(&a, &LATERAL);
+    let mut derivatives = Vec::new();
+    for (i, ni) in lon_names.iter().enumerate() {
+        for (j, nj) in lon_names.iter().enumerate() {
+            derivatives.push((format!("d({ni})/dt / d({nj})"), a_lon[(i, j)]));
+        }
+    }
+    let floquet_longitudinal = if floquet {
+        floquet_longitudinal(&v, &t)?
+    } else {
+        Vec::new()
+    };
+    Ok(StabilityReport {
+        trim: t,
+        longitudinal_states: lon_names.iter().map(|s| s.to_string()).collect(),
+        a_longitudinal: rows(&a_lon),
+        lateral_states: lat_names.iter().map(|s| s.to_string()).collect(),
+        a_lateral: rows(&a_lat),
+        longitudinal_modes: modes(&a_lon, &lon_names),
+        lateral_modes: modes(&a_lat, &lat_names),
+        floquet_longitudinal,
+        derivatives,
+    })
+}
+
+/// Longitudinal state (vx, vz, pitch error, q) of a simulation state relative to trim.
+fn lon_state(s: &State, q_trim: &UnitQuaternion<f64>) -> [f64; 4] {
+    let delta = (q_trim.inverse() * s.world_from_body).scaled_axis();
+    [
+        s.velocity_m_s.x,
+        s.velocity_m_s.z,
+        delta.y,
+        s.angular_velocity_body_rad_s.y,
+    ]
+}
+
+/// One wingbeat of the full simulation (longitudinal degrees of freedom) from a
+/// longitudinal perturbation `y` of the trim state.
+fn one_wingbeat(v: &Vehicle, q_trim: &UnitQuaternion<f64>, y: &[f64; 4]) -> Result<[f64; 4]> {
+    let mut sim = Simulation::new(v.clone(), SimMode::LONGITUDINAL);
+    let s = State {
+        position_m: Vector3::zeros(),
+        world_from_body: q_trim * UnitQuaternion::from_scaled_axis(Vector3::new(0.0, y[2], 0.0)),
+        velocity_m_s: Vector3::new(y[0], 0.0, y[1]),
+        angular_velocity_body_rad_s: Vector3::new(0.0, y[3], 0.0),
+    };
+    sim.set_state(&s);
+    for _ in 0..v.sim.steps_per_wingbeat {
+        sim.step()?;
+    }
+    Ok(lon_state(&sim.state(), q_trim))
+}
+
+/// Floquet multipliers and exponents of the longitudinal motion about the trim.
+pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
+    let q = t.attitude();
+    let speed = v.wings[0].v_ref_m_s();
+    let eps = [speed * 1e-4, speed * 1e-4, 1e-5, 1e-3];
+    let mut phi = DMatrix::zeros(4, 4);
+    for j in 0..4 {
+        let mut yp = [0.0; 4];
+        let mut ym = [0.0; 4];
+        yp[j] = eps[j];
+        ym[j] = -eps[j];
+        let (p, m) = (one_wingbeat(v, &q, &yp)?, one_wingbeat(v, &q, &ym)?);
+        for i in 0..4 {
+            phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);
+        }
+    }
+    let period = 1.0 / v.freq_hz();
+    let mut out: Vec<FloquetMode> = phi
+        .complex_eigenvalues()
+        .iter()
+        .map(|mu| {
+            let ln = mu.ln();
+            FloquetMode {
+                multiplier: (mu.re, mu.im),
+                exponent: (ln.re / period, ln.im / period),
+            }
+        })
+        .collect();
+    out.sort_by(|a, b| b.exponent.0.total_cmp(&a.exponent.0));
+    Ok(out)
+}

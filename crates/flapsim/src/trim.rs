@@ -1,0 +1,169 @@
+//! Hover trim: the stroke amplitude (weight support), mean stroke angle (pitch-moment
+//! balance) and body pitch (no net horizontal force) at which the cycle-averaged forces and
+//! moments balance, found by Newton's method with finite-difference Jacobians.
+
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::averaged::{FrozenState, mean_loads};
+use crate::error::{Error, Result};
+use crate::model::{Controls, Vehicle};
+
+/// Phases averaged per evaluation.
+pub const TRIM_SAMPLES: usize = 200;
+
+/// A hover trim.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Trim {
+    /// Controls at trim (amplitude and mean stroke offsets from the model's base kinematics).
+    pub controls: Controls,
+    /// Body pitch at trim, rad (positive nose up).
+    pub pitch_rad: f64,
+    /// Residual horizontal force over weight.
+    pub residual_fx_over_weight: f64,
+    /// Residual vertical force minus weight, over weight.
+    pub residual_fz_over_weight: f64,
+    /// Residual pitch moment over (weight x wing length).
+    pub residual_my_over_weight_length: f64,
+    /// Newton iterations used.
+    pub iterations: usize,
+}
+
+impl Trim {
+    /// world_from_body at trim.
+    pub fn attitude(&self) -> UnitQuaternion<f64> {
+        attitude_for_pitch(self.pitch_rad)
+    }
+    /// Largest residual (all non-dimensional).
+    pub fn max_residual(&self) -> f64 {
+        self.residual_fx_over_weight
+            .abs()
+            .max(self.residual_fz_over_weight.abs())
+            .max(self.residual_my_over_weight_length.abs())
+    }
+}
+
+/// world_from_body for a body pitched up by `pitch_rad` (no roll or yaw).
+pub fn attitude_for_pitch(pitch_rad: f64) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_euler_angles(0.0, -pitch_rad, 0.0)
+}
+
+fn residual(vehicle: &Vehicle, x: &Vector3<f64>) -> Option<Vector3<f64>> {
+    let mut v = vehicle.clone();
+    let mut c = vehicle.controls;
+    c.amplitude_rad += x[0];
+    c.mean_stroke_rad += x[1];
+    v.apply_controls(&c).ok()?;
+    let q = attitude_for_pitch(x[2]);
+    let m = mean_loads(
+        &v,
+        &FrozenState {
+            world_from_body: q,
+            velocity_body_m_s: Vector3::zeros(),
+            angular_velocity_body_rad_s: Vector3::zeros(),
+        },
+        TRIM_SAMPLES,
+    );
+    let f = q * m.total.force_n;
+    let w = v.weight_n();
+    let r_wing = v.wings[0].geometry().r_tip_m;
+    Some(Vector3::new(
+        f.x / w,
+        f.z / w - 1.0,
+        m.total.moment_nm.y / (w * r_wing),
+    ))
+}
+
+/// Finds the hover trim of `vehicle`, starting from its current controls and initial pitch.
+pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
+    let (_, p0, _) = vehicle.initial_attitude.euler_angles();
+    let mut x = Vector3::new(0.0, 0.0, -p0);
+    let fail =
+        |why: String| Error::Analysis(format!("no hover trim for `{}`: {why}", vehicle.name));
+    let mut r =
+        residual(vehicle, &x).ok_or_else(|| fail("the starting kinematics are invalid".into()))?;
+    for it in 0..40 {
+        if r.amax() < 1e-10 {
+            return Ok(finish(vehicle, x, r, it));
+        }
+        let h = 1e-6;
+        let mut jac = Matrix3::zeros();
+        for j in 0..3 {
+            let mut xp = x;
+            let mut xm = x;
+            xp[j] += h;
+            xm[j] -= h;
+            let (Some(rp), Some(rm)) = (residual(vehicle, &xp), residual(vehicle, &xm)) else {
+                return Err(fail(
+                    "the kinematics left the allowed range during the search".into(),
+                ));
+            };
+            jac.set_column(j, &((rp - rm) / (2.0 * h)));
+        }
+        let Some(step) = jac.lu().solve(&(-r)) else {
+            return Err(fail(
+                "the trim Jacobian is singular (the controls do not affect the balance)".into(),
+            ));
+        };
+        // Damped step: halve until the residual falls.
+        let mut lambda = 1.0;
+        loop {
+            let cand = x + lambda * step;
+            if let Some(rc) = residual(vehicle, &cand) {
+                if rc.norm() < r.norm() || lambda < 1e-3 {
+                    x = cand;
+                    r = rc;
+                    break;
+                }
+            }
+            lambda *= 0.5;
+            if lambda < 1e-4 {
+                return Err(fail(format!(
+                    "Newton stalled with residual {:.3e}",
+                    r.norm()
+                )));
+            }
+        }
+        let amp = vehicle.base_kinematics[0].amplitude_rad + vehicle.controls.amplitude_rad + x[0];
+        if !(0.0..=std::f64::consts::PI).contains(&amp) || x[1].abs() > 1.0 || x[2].abs() > 1.5 {
+            return Err(fail(format!(
+                "the search left the allowed range (amplitude {:.1} deg of (0, 180], mean stroke offset {:.1} deg of [-57, 57], pitch {:.1} deg of [-86, 86])",
+                amp.to_degrees(),
+                x[1].to_degrees(),
+                x[2].to_degrees()
+            )));
+        }
+        let _ = it;
+    }
+    if r.amax() < 1e-7 {
+        return Ok(finish(vehicle, x, r, 40));
+    }
+    Err(fail(format!(
+        "Newton did not converge in 40 iterations (residual {:.3e})",
+        r.amax()
+    )))
+}
+
+fn finish(vehicle: &Vehicle, x: Vector3<f64>, r: Vector3<f64>, iterations: usize) -> Trim {
+    let mut c = vehicle.controls;
+    c.amplitude_rad += x[0];
+    c.mean_stroke_rad += x[1];
+    Trim {
+        controls: c,
+        pitch_rad: x[2],
+        residual_fx_over_weight: r[0],
+        residual_fz_over_weight: r[1],
+        residual_my_over_weight_length: r[2],
+        iterations,
+    }
+}
+
+/// The vehicle at trim: trimmed controls applied and the initial attitude set to the trim pitch.
+pub fn trimmed_vehicle(vehicle: &Vehicle, t: &Trim) -> Result<Vehicle> {
+    let mut v = vehicle.clone();
+    v.apply_controls(&t.controls)?;
+    v.initial_attitude = t.attitude();
+    v.initial_velocity_m_s = Vector3::zeros();
+    v.initial_angular_velocity_rad_s = Vector3::zeros();
+    Ok(v)
+}
