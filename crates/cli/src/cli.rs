@@ -70,7 +70,7 @@ pub struct ForcesArgs {
     /// Number of wingbeats to evaluate; the means are those of the last one.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub cycles: u32,
-    /// Time steps per wingbeat.
+    /// Time steps per wingbeat (forces are sampled at the middle of each step).
     #[arg(long = "steps-per-cycle", default_value_t = 1000,
           value_parser = clap::value_parser!(u32).range(2..=10_000_000))]
     pub steps_per_cycle: u32,

@@ -112,7 +112,13 @@ fn csv_has_the_header_and_one_row_per_step() {
         rows.iter()
             .all(|r| r.len() == 16 && r.iter().all(|x| x.is_finite()))
     );
-    assert_eq!(rows[0][0], 0.0);
+    // Samples sit mid-step: t = (i + 1/2) T / K.
+    let period = 1.0
+        / flapwing(&["forces", "--json"]).json()["freq_hz"]
+            .as_f64()
+            .unwrap();
+    assert!((rows[0][0] - 0.5 * period / 50.0).abs() < 1e-12);
+    assert!((rows[99][0] - 99.5 * period / 50.0).abs() < 1e-9);
     assert_eq!((rows[49][1], rows[50][1]), (0.0, 1.0), "cycle column");
     assert_eq!(
         (rows[24][3], rows[25][3], rows[99][3]),
@@ -227,4 +233,16 @@ fn non_finite_forces_fail_the_run() {
         run.stderr
     );
     assert!(!run.stderr.contains("panicked"));
+}
+
+#[test]
+fn every_wingbeat_has_the_same_mean() {
+    // A fixed mount has no memory: the last wingbeat's means do not depend on how many came
+    // before (the mid-step samples never land on the pitch-acceleration jumps of the flip).
+    let one = flapwing(&["forces", "--json", "--cycles", "1"]).json();
+    let five = flapwing(&["forces", "--json", "--cycles", "5"]).json();
+    for term in TERMS {
+        assert!((c_l(&one, term) - c_l(&five, term)).abs() < 1e-12, "{term}");
+        assert!((c_d(&one, term) - c_d(&five, term)).abs() < 1e-12, "{term}");
+    }
 }

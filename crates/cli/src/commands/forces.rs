@@ -216,9 +216,14 @@ fn build_wing(args: &ForcesArgs) -> anyhow::Result<(Wing, LoadedSpec)> {
     Ok((wing, loaded))
 }
 
-/// Evaluates `cycles` wingbeats at `steps` phases each (the rectangle rule, spectrally
-/// accurate for these smooth periodic forces), writing every step to `csv`; returns the mean
-/// over the last wingbeat.
+/// Evaluates `cycles` wingbeats at `steps` phases each, writing every step to `csv`; returns
+/// the mean over the last wingbeat.
+///
+/// The samples sit at the middle of each step, phase (i + 1/2) / steps (the midpoint rule).
+/// The trapezoidal family's pitch acceleration jumps where a flip starts and ends (phases like
+/// 0.5 - dtau_D, usually on the k / steps grid); sampling exactly there would add about
+/// jump / steps to the mean, and rounding would decide per wingbeat which side of the jump a
+/// sample falls on, so the wingbeats' means would differ in the fourth decimal.
 fn evaluate(
     wing: &Wing,
     cycles: u32,
@@ -235,9 +240,8 @@ fn evaluate(
     let weight = 1.0 / f64::from(steps);
     let mut mean = CycleMean::default();
     for index in 0..total {
-        // Phase in wingbeats; a division, so exact at the start of every wingbeat.
         let cycle = index / u64::from(steps);
-        let phase = index as f64 / f64::from(steps);
+        let phase = (index as f64 + 0.5) / f64::from(steps);
         let forces = wing.evaluate(phase, &body);
         if cycle + 1 == u64::from(cycles) {
             mean.accumulate(&forces, weight);
