@@ -17,6 +17,7 @@ pub mod linear;
 pub mod model;
 pub mod sim;
 pub mod stability;
+pub mod study;
 pub mod summary;
 pub mod trim;
 

@@ -156,13 +156,21 @@ mod tests {
 
         let bad = Table::parse("x,y\n1,abc\n", "t.csv").unwrap();
         let e = bad.numbers(1).unwrap_err().to_string();
-        assert_eq!(e, "t.csv, line 2, column `y` (2): `abc` is not a finite number");
+        assert_eq!(
+            e,
+            "t.csv, line 2, column `y` (2): `abc` is not a finite number"
+        );
         let e = Table::parse("x,y\n1\n", "t.csv").unwrap_err().to_string();
         assert_eq!(e, "t.csv, line 2: 1 fields, but the header has 2 columns");
         let e = bad.require("z").unwrap_err().to_string();
         assert!(e.starts_with("t.csv, line 1, column `z`: required column is missing"));
         assert!(Table::parse("# only\n", "t.csv").is_err());
         assert!(Table::parse("x,x\n", "t.csv").is_err());
-        assert!(Table::parse("x,y\nnan,1\n", "t.csv").unwrap().numbers(0).is_err());
+        assert!(
+            Table::parse("x,y\nnan,1\n", "t.csv")
+                .unwrap()
+                .numbers(0)
+                .is_err()
+        );
     }
 }

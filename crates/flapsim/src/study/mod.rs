@@ -1,0 +1,28 @@
+//! Parameter studies and the statistics behind them.
+//!
+//! - [`fit_wake`]: refit the seed paper's wake-capture regressions (eq 17-19) to a table of
+//!   runs and write the result as a `wingforce::WakeCaptureModel`;
+//! - [`taguchi`]: the L9, L18 (the paper's Table 2) and L27 orthogonal arrays, the SNR of
+//!   eq 15 and its companions, main effects;
+//! - [`regression`] and [`stats`]: the full second-order regression of eq 16 with standard
+//!   errors, t values and p-values (Student's t via the regularized incomplete beta);
+//! - [`spec`], [`responses`], [`sweep`]: study files, tethered hover responses of each case
+//!   (no rigid-body simulation: [`crate::averaged::mean_loads`] and the wings' cycle means),
+//!   parallel sweeps with deterministic CSV output, shards and their merge.
+
+pub mod error;
+pub mod fit_wake;
+pub mod regression;
+pub mod responses;
+pub mod spec;
+pub mod stats;
+pub mod sweep;
+pub mod table;
+pub mod taguchi;
+
+pub use error::{StudyError, StudyResult};
+pub use fit_wake::{WakeCaptureData, WakeCaptureFit, fit_wake_capture};
+pub use responses::{HoverResponses, Response, hover_responses};
+pub use spec::{DesignKind, Study, StudySpec};
+pub use sweep::{CaseResult, merge_csv};
+pub use taguchi::{OrthogonalArray, SnrKind};
