@@ -32,6 +32,8 @@ pub enum Command {
     Stability(crate::commands::stability::StabilityArgs),
     /// The main job: trimmed, controlled hover from a disturbance (or open loop).
     Hover(crate::commands::hover::HoverArgs),
+    /// Refit the paper's wake-capture regressions (eq 17-19) to a CSV of runs.
+    FitWake(crate::commands::fit_wake::FitWakeArgs),
 }
 
 /// Arguments of `flapwing wake-capture`.

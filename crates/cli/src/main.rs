@@ -28,6 +28,7 @@ fn main() -> ExitCode {
         Command::Trim(args) => commands::trim::run(args),
         Command::Stability(args) => commands::stability::run(args),
         Command::Hover(args) => commands::hover::run(args),
+        Command::FitWake(args) => commands::fit_wake::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
