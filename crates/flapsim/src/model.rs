@@ -233,6 +233,9 @@ pub struct Vehicle {
     pub initial_velocity_m_s: Vector3<f64>,
     /// Initial angular velocity, body, rad/s.
     pub initial_angular_velocity_rad_s: Vector3<f64>,
+    /// Both wings have identical kinematics now (set by [`Vehicle::apply_controls`]), so the
+    /// right wing can be evaluated as the mirror image of the left.
+    pub mirror_symmetric: bool,
 }
 
 impl VehicleSpec {
@@ -393,6 +396,7 @@ impl VehicleSpec {
             ),
             initial_velocity_m_s: vel,
             initial_angular_velocity_rad_s: rate.map(f64::to_radians),
+            mirror_symmetric: false,
         };
         vehicle.apply_controls(&controls).map_err(|e| match e {
             crate::Error::Model(m) => crate::Error::Model(m),
@@ -456,6 +460,7 @@ impl Vehicle {
             self.wings[i].set_kinematics(k);
         }
         self.controls = *c;
+        self.mirror_symmetric = self.wings[0].kinematics() == self.wings[1].kinematics();
         Ok(())
     }
 

@@ -11,7 +11,7 @@ use rapier3d_f64::na::Unit;
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
 use wingforce::wing::WingFrame;
-use wingforce::{BodyMotion, Term, WingForces};
+use wingforce::{BodyMotion, Term, Wing, WingForces};
 
 use crate::error::{Error, Result};
 use crate::frames::{from_glam, quat_from_glam, quat_to_glam, to_glam};
@@ -308,10 +308,12 @@ impl Simulation {
             velocity_m_s: body_from_world * (state.velocity_m_s - self.wind_world_m_s),
             angular_velocity_rad_s: state.angular_velocity_body_rad_s,
         };
-        let wings = [
-            self.vehicle.wings[0].evaluate(phase, &motion),
-            self.vehicle.wings[1].evaluate(phase, &motion),
-        ];
+        let [l, r] = &self.vehicle.wings;
+        let wings = if self.vehicle.mirror_symmetric {
+            Wing::evaluate_mirrored_pair(l, r, phase, &motion)
+        } else {
+            [l.evaluate(phase, &motion), r.evaluate(phase, &motion)]
+        };
         let mut terms = [BodyLoad::default(); 4];
         let mut total = BodyLoad::default();
         for (w, f) in self.vehicle.wings.iter().zip(&wings) {

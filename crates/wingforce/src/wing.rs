@@ -426,10 +426,46 @@ impl Wing {
 
     /// Forces and moments of all four terms at wingbeat `phase` with the body moving as given.
     pub fn evaluate(&self, phase: f64, body: &BodyMotion) -> WingForces {
-        let c = &self.cache;
         let a = self.kinematics.angles(phase);
         let sp = self.kinematics.stroke_phase(phase);
         let frame = WingFrame::new(&a, self.mount.side);
+        self.evaluate_in(&a, &sp, &frame, body)
+    }
+
+    /// Both wings of a mirror-symmetric pair (left, right) whose kinematics are identical:
+    /// the angles are computed once and the right wing's frame is the mirror image of the
+    /// left's. The caller guarantees identical kinematics (checked in debug builds).
+    pub fn evaluate_mirrored_pair(
+        left: &Wing,
+        right: &Wing,
+        phase: f64,
+        body: &BodyMotion,
+    ) -> [WingForces; 2] {
+        debug_assert!(
+            left.kinematics == right.kinematics
+                && left.mount.side == Side::Left
+                && right.mount.side == Side::Right
+        );
+        let a = left.kinematics.angles(phase);
+        let sp = left.kinematics.stroke_phase(phase);
+        let fl = WingFrame::new(&a, Side::Left);
+        let fr = fl.mirrored();
+        [
+            left.evaluate_in(&a, &sp, &fl, body),
+            right.evaluate_in(&a, &sp, &fr, body),
+        ]
+    }
+
+    /// The evaluation proper, for given angles, stroke phase and frame (see [`Wing::evaluate`]).
+    pub fn evaluate_in(
+        &self,
+        a: &WingAngles,
+        sp: &StrokePhase,
+        frame: &WingFrame,
+        body: &BodyMotion,
+    ) -> WingForces {
+        let c = &self.cache;
+        let (a, sp) = (*a, *sp);
         let z = Vector3::z();
 
         // Body motion in the stroke frame; velocity of the hinge relative to the air.
@@ -448,27 +484,52 @@ impl Wing {
         let (mut f_le, mut f_n, mut rf_le, mut rf_n, mut xf_n) = (0.0, 0.0, 0.0, 0.0, 0.0);
         match self.options.translational {
             TranslationalModel::Lee2016 => {
-                for s in &c.strips {
+                // In the (e_le, n) plane with u = (u_le, u_n): |V|^2 sin(2 alpha) along the
+                // lift direction is 2 u_le u_n (u_n, -u_le)/|V|, and sin^2(alpha) is
+                // u_n^2/|V|^2, so no trigonometry is needed per strip. Branch-free: a strip
+                // at rest has u = 0 and gets zero force from the same expressions.
+                let (kl2, cd0, kd2) = (c.kl2, c.cd0, c.kd2);
+                let strip = |s: &StripK| {
                     let u_le = a_le + s.r_m * b_le;
                     let u_n = a_n + s.r_m * b_n;
-                    let v2 = u_le * u_le + u_n * u_n;
-                    if v2 <= 0.0 {
-                        continue;
+                    let v2 = (u_le * u_le + u_n * u_n).max(f64::MIN_POSITIVE);
+                    let inv = 1.0 / v2.sqrt();
+                    let lift = kl2 * u_n * u_le * inv;
+                    let drag = (cd0 + kd2 * u_n * u_n * inv * inv) * (v2 * inv);
+                    (
+                        s.half_rho_area * (lift * u_n - drag * u_le),
+                        s.half_rho_area * (-(lift * u_le) - drag * u_n),
+                    )
+                };
+                // Two independent accumulator sets keep both FP pipelines busy.
+                let mut acc = [[0.0f64; 5]; 2];
+                let pairs = c.strips.chunks_exact(2);
+                let rest = pairs.remainder();
+                for pair in pairs {
+                    for (k, s) in pair.iter().enumerate() {
+                        let (fl, fn_) = strip(s);
+                        let a = &mut acc[k];
+                        a[0] += fl;
+                        a[1] += fn_;
+                        a[2] += s.r_m * fl;
+                        a[3] += s.r_m * fn_;
+                        a[4] += s.x_cp_m * fn_;
                     }
-                    let vm = v2.sqrt();
-                    // In the (e_le, n) plane with u = (u_le, u_n): |V|^2 sin(2 alpha) along the
-                    // lift direction is 2 u_le u_n (u_n, -u_le)/|V|, and sin^2(alpha) is
-                    // u_n^2/|V|^2, so no trigonometry is needed per strip.
-                    let lift = c.kl2 * u_n * u_le / vm;
-                    let drag = (c.cd0 + c.kd2 * u_n * u_n / v2) * vm;
-                    let fl = s.half_rho_area * (lift * u_n - drag * u_le);
-                    let fn_ = s.half_rho_area * (-lift * u_le - drag * u_n);
-                    f_le += fl;
-                    f_n += fn_;
-                    rf_le += s.r_m * fl;
-                    rf_n += s.r_m * fn_;
-                    xf_n += s.x_cp_m * fn_;
                 }
+                for s in rest {
+                    let (fl, fn_) = strip(s);
+                    let a = &mut acc[0];
+                    a[0] += fl;
+                    a[1] += fn_;
+                    a[2] += s.r_m * fl;
+                    a[3] += s.r_m * fn_;
+                    a[4] += s.x_cp_m * fn_;
+                }
+                f_le = acc[0][0] + acc[1][0];
+                f_n = acc[0][1] + acc[1][1];
+                rf_le = acc[0][2] + acc[1][2];
+                rf_n = acc[0][3] + acc[1][3];
+                xf_n = acc[0][4] + acc[1][4];
             }
             TranslationalModel::Dickinson1999 => {
                 for s in &c.strips {
@@ -592,7 +653,11 @@ impl WingFrame {
     pub fn new(a: &WingAngles, side: Side) -> Self {
         let s = side.sign();
         let (sf, cf) = a.phi.sin_cos();
-        let (se, ce) = a.eta.sin_cos();
+        let (se, ce) = if a.eta == 0.0 {
+            (0.0, 1.0)
+        } else {
+            a.eta.sin_cos()
+        };
         let (st, ct) = a.theta.sin_cos();
         let z = Vector3::z();
         let h = Vector3::new(sf, s * cf, 0.0);
@@ -619,6 +684,22 @@ impl WingFrame {
             n,
             omega,
             alpha,
+        }
+    }
+
+    /// The mirror image in the body's x-z plane (left wing to right wing with the same
+    /// angles): polar vectors flip y, the angular velocity and acceleration (pseudovectors)
+    /// flip x and z.
+    pub fn mirrored(&self) -> Self {
+        let m = |v: &Vector3<f64>| Vector3::new(v.x, -v.y, v.z);
+        let p = |v: &Vector3<f64>| Vector3::new(-v.x, v.y, -v.z);
+        Self {
+            e_span: m(&self.e_span),
+            t: m(&self.t),
+            e_le: m(&self.e_le),
+            n: m(&self.n),
+            omega: p(&self.omega),
+            alpha: p(&self.alpha),
         }
     }
 
