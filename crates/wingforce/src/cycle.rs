@@ -28,9 +28,13 @@ fn scale_add(acc: &mut TermForce, t: &TermForce, w: f64) {
     acc.c_d += w * t.c_d;
 }
 
-/// The mean over one wingbeat starting at `start_phase`, sampled at `steps` equally spaced
-/// phases (the rectangle rule, spectrally accurate for smooth periodic integrands).
+/// The mean over one wingbeat starting at `start_phase`, sampled at `steps` (at least 1)
+/// equally spaced phases: the rectangle rule, spectrally accurate for smooth periodic
+/// integrands. The trapezoidal family's pitch flip has jumps in theta_ddot (so in the
+/// added-mass force) at the ends of each flip, which lie on the grid k/steps when
+/// `start_phase` is 0; pass `0.5 / steps` to sample mid-step and halve that error.
 pub fn cycle_mean(wing: &Wing, body: &BodyMotion, start_phase: f64, steps: usize) -> CycleMean {
+    let steps = steps.max(1);
     let mut mean = CycleMean::default();
     let w = 1.0 / steps as f64;
     for k in 0..steps {

@@ -104,6 +104,39 @@ impl AeroSpec {
             1.0,
         )?;
         if let Some(m) = &self.wake_capture_model {
+            let f = |name: &str| format!("{field}.wake_capture_model.{name}");
+            let coeffs = [
+                ("dcl.c0", m.dcl.c0),
+                ("dcl.c1", m.dcl.c1),
+                ("dcl.c2", m.dcl.c2),
+                ("dcl.c3", m.dcl.c3),
+                ("dcl.c4", m.dcl.c4),
+                ("dcd.c0", m.dcd.c0),
+                ("dcd.c1", m.dcd.c1),
+                ("dcd.c2", m.dcd.c2),
+                ("dcd.c3", m.dcd.c3),
+                ("dcd.c4", m.dcd.c4),
+                ("mu_star.m0", m.mu_star.m0),
+                ("mu_star.m1", m.mu_star.m1),
+                ("mu_star.m2", m.mu_star.m2),
+            ];
+            for (name, x) in coeffs {
+                v.finite(&f(name), x)?;
+            }
+            // mu* sets the Gaussian's centre and width: it must be positive over the whole
+            // fitted range (it is linear in ln Re and dtau_A, so the corners suffice).
+            for re in [m.re_range.min, m.re_range.max] {
+                for da in [m.dtau_a_range.min, m.dtau_a_range.max] {
+                    let mu = m.mu_star.eval(re, da);
+                    if !(mu > 0.0 && re > 0.0) {
+                        return Err(v.invalid(
+                            &f("mu_star"),
+                            format!("mu* = {mu} at Re = {re}, dtau_A = {da}"),
+                            "a model with mu* > 0 (and Re > 0) everywhere in its fitted range",
+                        ));
+                    }
+                }
+            }
             for (name, r) in [
                 ("re_range", m.re_range),
                 ("dtau_a_range", m.dtau_a_range),

@@ -94,3 +94,32 @@ fn non_monotonic_times_are_rejected() {
         "{s}"
     );
 }
+
+#[test]
+fn refitted_wake_model_must_be_finite_with_positive_mu_star() {
+    let model = toml::to_string(&wingforce::WakeCaptureModel::paper()).unwrap();
+    let table = |m: &str| format!("{GOOD}\n[aero.wake_capture_model]\n{m}");
+    // The paper's own model, written out and read back, is accepted.
+    let ok = table(
+        &model
+            .replace("[dcl]", "[aero.wake_capture_model.dcl]")
+            .replace("[dcd]", "[aero.wake_capture_model.dcd]")
+            .replace("[mu_star]", "[aero.wake_capture_model.mu_star]")
+            .replace("[re_range]", "[aero.wake_capture_model.re_range]")
+            .replace("[dtau_a_range]", "[aero.wake_capture_model.dtau_a_range]")
+            .replace("[dtau_d_range]", "[aero.wake_capture_model.dtau_d_range]"),
+    );
+    load(&ok).unwrap();
+    let nan = ok.replacen("c0 = 0.94839", "c0 = nan", 1);
+    let s = load(&nan).unwrap_err().to_string();
+    assert!(
+        s.contains("aero.wake_capture_model.dcl.c0") && s.contains("NaN"),
+        "{s}"
+    );
+    let neg = ok.replacen("m0 = 0.04195", "m0 = -1.0", 1);
+    let s = load(&neg).unwrap_err().to_string();
+    assert!(
+        s.contains("aero.wake_capture_model.mu_star") && s.contains("mu* > 0"),
+        "{s}"
+    );
+}

@@ -211,7 +211,7 @@ fn build_wing(args: &ForcesArgs) -> anyhow::Result<(Wing, LoadedSpec)> {
     };
     let mut wing = loaded.spec.build(&origin)?;
     if let Some(re) = args.re {
-        wing.set_reynolds(re);
+        wing.set_reynolds(re)?;
     }
     Ok((wing, loaded))
 }
