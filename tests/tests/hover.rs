@@ -24,7 +24,10 @@ fn trim_residuals_are_below_one_millionth() {
         let t = trim(&builtin(name)).unwrap();
         assert!(t.residual_fx_over_weight.abs() < 1e-6, "{name}: {t:?}");
         assert!(t.residual_fz_over_weight.abs() < 1e-6, "{name}: {t:?}");
-        assert!(t.residual_my_over_weight_length.abs() < 1e-6, "{name}: {t:?}");
+        assert!(
+            t.residual_my_over_weight_length.abs() < 1e-6,
+            "{name}: {t:?}"
+        );
     }
 }
 
@@ -32,7 +35,10 @@ fn trim_residuals_are_below_one_millionth() {
 fn bumblebee_longitudinal_modes_match_sun_and_xiong() {
     let r = analyze(&builtin("bumblebee"), true).unwrap();
     let modes = &r.longitudinal_modes;
-    let osc: Vec<_> = modes.iter().filter(|m| m.kind == ModeKind::Oscillatory).collect();
+    let osc: Vec<_> = modes
+        .iter()
+        .filter(|m| m.kind == ModeKind::Oscillatory)
+        .collect();
     let real: Vec<_> = modes.iter().filter(|m| m.kind == ModeKind::Real).collect();
     // Structure (Sun & Xiong 2005): one unstable oscillatory pair, two stable real modes.
     assert_eq!(osc.len(), 1, "{modes:#?}");
@@ -46,14 +52,28 @@ fn bumblebee_longitudinal_modes_match_sun_and_xiong() {
     assert!((0.05..0.2).contains(&osc[0].time_to_half_or_double_s));
     let mut halves: Vec<f64> = real.iter().map(|m| m.time_to_half_or_double_s).collect();
     halves.sort_by(f64::total_cmp);
-    assert!((0.012..0.048).contains(&halves[0]), "fast subsidence {}", halves[0]);
-    assert!((0.185..0.74).contains(&halves[1]), "slow subsidence {}", halves[1]);
+    assert!(
+        (0.012..0.048).contains(&halves[0]),
+        "fast subsidence {}",
+        halves[0]
+    );
+    assert!(
+        (0.185..0.74).contains(&halves[1]),
+        "slow subsidence {}",
+        halves[1]
+    );
     // Floquet exponents of the full periodic system agree with the averaged unstable pair
     // to 1% (measured: about 0.2%).
     let f = &r.floquet_longitudinal[0];
     let rel_re = (f.exponent.0 - osc[0].re_per_s).abs() / osc[0].re_per_s.abs();
     let rel_im = (f.exponent.1.abs() - osc[0].im_rad_s.abs()).abs() / osc[0].im_rad_s.abs();
-    assert!(rel_re < 0.01 && rel_im < 0.01, "Floquet {:?} vs averaged {} {}", f.exponent, osc[0].re_per_s, osc[0].im_rad_s);
+    assert!(
+        rel_re < 0.01 && rel_im < 0.01,
+        "Floquet {:?} vs averaged {} {}",
+        f.exponent,
+        osc[0].re_per_s,
+        osc[0].im_rad_s
+    );
 }
 
 #[test]
@@ -61,9 +81,15 @@ fn open_loop_diverges_and_closed_loop_recovers_from_5_deg_pitch() {
     let v = builtin("drosophila");
     let t = trim(&v).unwrap();
     let tv = trimmed_vehicle(&v, &t).unwrap();
-    let d = Disturbance { pitch_deg: 5.0, ..Default::default() };
+    let d = Disturbance {
+        pitch_deg: 5.0,
+        ..Default::default()
+    };
     let open = run_hover(&tv, &t, None, &d, 1.0, |_| {}).unwrap();
-    assert!(open.diverged.is_some() || open.max_attitude_error_deg > 45.0, "{open:?}");
+    assert!(
+        open.diverged.is_some() || open.max_attitude_error_deg > 45.0,
+        "{open:?}"
+    );
     // Closed loop: back within 1 body length and 2 deg within 0.3 s and staying there for 2 s
     // (the bar; flies recover from 40 deg in about 30 ms, Whitehead et al. 2015).
     let c = HoverController::design(&tv, &t, &LqrWeights::default(), 0).unwrap();
@@ -71,5 +97,8 @@ fn open_loop_diverges_and_closed_loop_recovers_from_5_deg_pitch() {
     assert!(closed.diverged.is_none(), "{closed:?}");
     let rec = closed.recovery_time_s.expect("recovered");
     assert!(rec <= 0.3, "recovery after {rec} s");
-    assert!(closed.final_attitude_error_deg < 2.0 && closed.final_position_error_m < v.length_m, "{closed:?}");
+    assert!(
+        closed.final_attitude_error_deg < 2.0 && closed.final_position_error_m < v.length_m,
+        "{closed:?}"
+    );
 }
