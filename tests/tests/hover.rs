@@ -85,7 +85,7 @@ fn open_loop_diverges_and_closed_loop_recovers_from_5_deg_pitch() {
         pitch_deg: 5.0,
         ..Default::default()
     };
-    let open = run_hover(&tv, &t, None, &d, 1.0, |_| {}).unwrap();
+    let open = run_hover(&tv, &t, None, &d, 1.0, |_| true).unwrap();
     assert!(
         open.diverged.is_some() || open.max_attitude_error_deg > 45.0,
         "{open:?}"
@@ -93,7 +93,7 @@ fn open_loop_diverges_and_closed_loop_recovers_from_5_deg_pitch() {
     // Closed loop: back within 1 body length and 2 deg within 0.3 s and staying there for 2 s
     // (the bar; flies recover from 40 deg in about 30 ms, Whitehead et al. 2015).
     let c = HoverController::design(&tv, &t, &LqrWeights::default(), 0).unwrap();
-    let closed = run_hover(&tv, &t, Some(c), &d, 2.3, |_| {}).unwrap();
+    let closed = run_hover(&tv, &t, Some(c), &d, 2.3, |_| true).unwrap();
     assert!(closed.diverged.is_none(), "{closed:?}");
     let rec = closed.recovery_time_s.expect("recovered");
     assert!(rec <= 0.3, "recovery after {rec} s");

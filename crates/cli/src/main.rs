@@ -6,6 +6,7 @@ mod cli;
 mod commands;
 mod error;
 mod input;
+mod interrupt;
 mod output;
 mod progress;
 mod vehicle;
@@ -20,6 +21,7 @@ use crate::cli::{Cli, Command};
 fn main() -> ExitCode {
     // Bad flags: clap prints its own `error: ...` with usage and exits with 2.
     let cli = Cli::parse();
+    interrupt::install();
     let result = match cli.command {
         Command::WakeCapture(args) => commands::wake_capture::run(args),
         Command::Forces(args) => commands::forces::run(args),
@@ -29,6 +31,8 @@ fn main() -> ExitCode {
         Command::Stability(args) => commands::stability::run(args),
         Command::Hover(args) => commands::hover::run(args),
         Command::FitWake(args) => commands::fit_wake::run(args),
+        Command::Sweep(args) => commands::sweep::run(args),
+        Command::Replay(args) => commands::replay::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -214,17 +214,20 @@ pub struct HoverOutcome {
     pub recovery_time_s: Option<f64>,
     /// The run stopped early: attitude error beyond 90 deg, or the simulation diverged.
     pub diverged: Option<String>,
+    /// The observer stopped the run early (e.g. Ctrl-C).
+    pub interrupted: bool,
 }
 
 /// Flies a hover from the trim with a disturbance, closed loop (with `controller`) or open
-/// loop (trim controls held), calling `observer` after every step.
+/// loop (trim controls held), calling `observer` after every step; the run ends early when
+/// the observer returns false (e.g. on Ctrl-C).
 pub fn run_hover(
     vehicle: &Vehicle,
     trim: &Trim,
     mut controller: Option<HoverController>,
     disturbance: &Disturbance,
     duration_s: f64,
-    mut observer: impl FnMut(&StepOutput),
+    mut observer: impl FnMut(&StepOutput) -> bool,
 ) -> Result<HoverOutcome> {
     let mut v = vehicle.clone();
     v.apply_controls(&trim.controls)?;
@@ -246,6 +249,7 @@ pub fn run_hover(
     let mut max_a: f64 = 0.0;
     let mut last_bad_t = 0.0;
     let mut diverged = None;
+    let mut interrupted = false;
     let mut last_cycle = -1i64;
     let closed = controller.is_some();
     let (mut final_p, mut final_a) = (0.0, 0.0);
@@ -273,7 +277,10 @@ pub fn run_hover(
                 break;
             }
         };
-        observer(&out);
+        if !observer(&out) {
+            interrupted = true;
+            break;
+        }
         let s = out.state;
         let pe = (s.position_m - reference).norm();
         let ae = (q_trim.inverse() * s.world_from_body).angle().to_degrees();
@@ -300,7 +307,9 @@ pub fn run_hover(
         max_attitude_error_deg: max_a,
         final_position_error_m: final_p,
         final_attitude_error_deg: final_a,
-        recovery_time_s: (diverged.is_none() && last_bad_t < end).then_some(last_bad_t),
+        recovery_time_s: (diverged.is_none() && !interrupted && last_bad_t < end)
+            .then_some(last_bad_t),
         diverged,
+        interrupted,
     })
 }

@@ -421,6 +421,23 @@ impl Simulation {
         Ok(())
     }
 
+    /// Like [`Simulation::run_for`], but stops early (returning `Ok(false)`) as soon as
+    /// `observer` returns false, e.g. on Ctrl-C; `Ok(true)` when the whole duration ran.
+    pub fn run_while(
+        &mut self,
+        duration_s: f64,
+        mut observer: impl FnMut(&StepOutput) -> bool,
+    ) -> Result<bool> {
+        let n = (duration_s / self.dt_s).round() as u64;
+        for _ in 0..n {
+            let out = self.step()?;
+            if !observer(&out) {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
     /// Runs for `duration_s` (rounded to whole steps), calling `observer` after every step.
     /// On divergence the observer has seen every step up to the failing one.
     pub fn run_for(
@@ -428,11 +445,10 @@ impl Simulation {
         duration_s: f64,
         mut observer: impl FnMut(&StepOutput),
     ) -> Result<()> {
-        let n = (duration_s / self.dt_s).round() as u64;
-        for _ in 0..n {
-            let out = self.step()?;
-            observer(&out);
-        }
-        Ok(())
+        self.run_while(duration_s, |o| {
+            observer(o);
+            true
+        })
+        .map(|_| ())
     }
 }

@@ -128,6 +128,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
             if out.step % 1024 == 0 {
                 bar.set_position(out.step);
             }
+            !crate::interrupt::requested()
         },
     )
     .map_err(sim_error)?;
@@ -141,10 +142,23 @@ pub fn run(args: HoverArgs) -> Result<()> {
         delay_wingbeats: args.delay_wingbeats,
         outcome: &outcome,
     };
+    let interrupted = outcome.interrupted;
     if args.json {
-        return crate::output::print_json(&report);
+        crate::output::print_json(&report)?;
+    } else {
+        print_text(&src.origin, &args.disturbance, &report)?;
     }
-    let o = &outcome;
+    if interrupted {
+        return Err(anyhow::anyhow!(
+            "interrupted by Ctrl-C after {:.4} s",
+            outcome.duration_s
+        ));
+    }
+    Ok(())
+}
+
+fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()> {
+    let o = report.outcome;
     let mut w = std::io::stdout().lock();
     writeln!(
         w,
@@ -154,9 +168,9 @@ pub fn run(args: HoverArgs) -> Result<()> {
         } else {
             "open-loop"
         },
-        src.origin,
+        origin,
         o.duration_s,
-        args.disturbance
+        disturbance
     )?;
     writeln!(
         w,
@@ -173,6 +187,9 @@ pub fn run(args: HoverArgs) -> Result<()> {
         "at the end: position error {:.3e} m, attitude error {:.3} deg",
         o.final_position_error_m, o.final_attitude_error_deg
     )?;
+    if o.interrupted {
+        writeln!(w, "interrupted by Ctrl-C")?;
+    }
     match (&o.diverged, o.recovery_time_s) {
         (Some(why), _) => writeln!(w, "diverged: {why}")?,
         (None, Some(t)) => writeln!(

@@ -67,15 +67,20 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let n = (duration_s / dt).round() as u64;
     let bar = crate::progress::progress_bar(n, "simulating");
     let mut summary = SummaryBuilder::new(weight);
-    let result = sim.run_for(duration_s, |out| {
+    let result = sim.run_while(duration_s, |out| {
         summary.observe(out, dt);
         if out.step % 1024 == 0 {
             bar.set_position(out.step);
         }
+        !crate::interrupt::requested()
     });
     bar.finish_and_clear();
     let s = summary.finish(sim.state());
-    let error = result.as_ref().err().map(|e| e.to_string());
+    let error = match &result {
+        Err(e) => Some(e.to_string()),
+        Ok(false) => Some("interrupted (Ctrl-C)".to_owned()),
+        Ok(true) => None,
+    };
     let report = Report {
         model: &src.origin,
         mode: mode_name,
@@ -90,7 +95,13 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     } else {
         print_text(&name, &report)?;
     }
-    result.map_err(sim_error)
+    match result.map_err(sim_error)? {
+        true => Ok(()),
+        false => Err(anyhow::anyhow!(
+            "interrupted by Ctrl-C after {:.4} s",
+            s.duration_s
+        )),
+    }
 }
 
 fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
