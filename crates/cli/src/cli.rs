@@ -34,6 +34,8 @@ pub enum Command {
     Hover(crate::commands::hover::HoverArgs),
     /// Refit the paper's wake-capture regressions (eq 17-19) to a CSV of runs.
     FitWake(crate::commands::fit_wake::FitWakeArgs),
+    /// Run a parameter study (full factorial, Latin hypercube or Taguchi) in parallel to CSV.
+    Sweep(crate::commands::sweep::SweepArgs),
 }
 
 /// Arguments of `flapwing wake-capture`.

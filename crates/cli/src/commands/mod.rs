@@ -5,6 +5,7 @@ pub mod forces;
 pub mod hover;
 pub mod simulate;
 pub mod stability;
+pub mod sweep;
 pub mod trim;
 pub mod validate;
 pub mod wake_capture;

@@ -1,0 +1,182 @@
+//! `flapwing sweep`: the shipped example studies, shards and their merge, bad input.
+//!
+//! The L18 check compares with the seed paper's Table 2 (shared/seeds/000_94b36197bfdef766.txt).
+
+mod common;
+
+use common::flapwing_in;
+
+const AMPLITUDE_AOA: &str = include_str!("../../../examples/studies/drosophila_amplitude_aoa.toml");
+const WAKE_L18: &str = include_str!("../../../examples/studies/wake_l18.toml");
+
+fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    dir
+}
+
+fn read(dir: &tempfile::TempDir, path: &str) -> String {
+    std::fs::read_to_string(dir.path().join(path)).unwrap()
+}
+
+#[test]
+fn merged_shards_equal_the_unsharded_run() {
+    let dir = dir_with(&[("study.toml", AMPLITUDE_AOA)]);
+    let run = flapwing_in(dir.path(), &["sweep", "study.toml", "--out", "whole"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    assert!(run.stdout.contains("20 of 20 cases"), "{run:?}");
+    let whole = read(&dir, "whole/drosophila_amplitude_aoa.csv");
+    assert_eq!(whole.lines().count(), 21);
+    assert!(whole.starts_with(
+        "case,kinematics.amplitude_deg,kinematics.mid_stroke_aoa_deg,lift_over_weight,"
+    ));
+    for k in 1..=3 {
+        let shard = format!("{k}/3");
+        let run = flapwing_in(
+            dir.path(),
+            &[
+                "sweep",
+                "study.toml",
+                "--out",
+                "parts",
+                "--shard",
+                &shard,
+                "--jobs",
+                "1",
+            ],
+        );
+        assert_eq!(run.code, 0, "{run:?}");
+    }
+    let shard1 = read(&dir, "parts/drosophila_amplitude_aoa-shard-1-of-3.csv");
+    assert_eq!(shard1.lines().count(), 1 + 6);
+    let run = flapwing_in(dir.path(), &["sweep", "merge", "parts"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    assert_eq!(read(&dir, "parts/drosophila_amplitude_aoa.csv"), whole);
+    // The flag form merges too (into a fresh directory copy).
+    std::fs::create_dir(dir.path().join("again")).unwrap();
+    for k in 1..=3 {
+        let name = format!("drosophila_amplitude_aoa-shard-{k}-of-3.csv");
+        std::fs::copy(
+            dir.path().join("parts").join(&name),
+            dir.path().join("again").join(&name),
+        )
+        .unwrap();
+    }
+    let run = flapwing_in(dir.path(), &["sweep", "--merge", "again"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    assert_eq!(read(&dir, "again/drosophila_amplitude_aoa.csv"), whole);
+    // Merging again refuses to overwrite without --force, and works with it.
+    flapwing_in(dir.path(), &["sweep", "merge", "parts"]).assert_bad_input();
+    let run = flapwing_in(dir.path(), &["sweep", "merge", "parts", "--force"]);
+    assert_eq!(run.code, 0, "{run:?}");
+}
+
+#[test]
+fn wake_l18_runs_table_2() {
+    // Table 2's (Re, dtau_D, dtau_A) level numbers, tests 1-18.
+    let table2: [[usize; 3]; 18] = [
+        [1, 1, 1],
+        [1, 2, 2],
+        [1, 3, 3],
+        [2, 1, 1],
+        [2, 2, 2],
+        [2, 3, 3],
+        [3, 1, 2],
+        [3, 2, 3],
+        [3, 3, 1],
+        [4, 1, 3],
+        [4, 2, 1],
+        [4, 3, 2],
+        [5, 1, 2],
+        [5, 2, 3],
+        [5, 3, 1],
+        [6, 1, 3],
+        [6, 2, 1],
+        [6, 3, 2],
+    ];
+    let dir = dir_with(&[("wake_l18.toml", WAKE_L18)]);
+    let run = flapwing_in(dir.path(), &["sweep", "wake_l18.toml"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    let csv = read(&dir, "wake_l18.csv");
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 18);
+    let mut nu: Vec<f64> = rows.iter().map(|r| r[1]).collect();
+    nu.sort_by(|a, b| b.total_cmp(a));
+    nu.dedup();
+    let dtau = [0.06, 0.12, 0.18];
+    for (row, want) in rows.iter().zip(table2) {
+        let level = |levels: &[f64], x: f64| levels.iter().position(|&l| l == x).unwrap() + 1;
+        // Re level 1 is the largest viscosity.
+        assert_eq!(
+            [
+                level(&nu, row[1]),
+                level(&dtau, row[2]),
+                level(&dtau, row[3])
+            ],
+            want
+        );
+    }
+    // At dtau_A + dtau_D = 0.24 the Reynolds numbers are the paper's Table 1 levels.
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let re_col = header.iter().position(|&h| h == "reynolds").unwrap();
+    for (row, level) in [
+        (1, 136.0),
+        (4, 272.0),
+        (8, 680.0),
+        (9, 1360.0),
+        (14, 2720.0),
+        (15, 6800.0),
+    ] {
+        let re = rows[row][re_col];
+        assert!(
+            (re - level).abs() / level < 2e-5,
+            "test {}: Re {re}",
+            row + 1
+        );
+    }
+}
+
+#[test]
+fn bad_studies_and_shards_exit_2() {
+    let bad = AMPLITUDE_AOA.replace("\"aero_power_w\"", "\"power\"");
+    let dir = dir_with(&[("bad.toml", &bad), ("ok.toml", AMPLITUDE_AOA)]);
+    let run = flapwing_in(dir.path(), &["sweep", "bad.toml"]);
+    run.assert_bad_input();
+    assert!(
+        run.stderr.contains("bad.toml") && run.stderr.contains("unknown response `power`"),
+        "{run:?}"
+    );
+
+    let run = flapwing_in(dir.path(), &["sweep", "ok.toml", "--shard", "4/3"]);
+    assert_eq!(run.code, 2, "{run:?}");
+    let run = flapwing_in(dir.path(), &["sweep", "missing.toml"]);
+    run.assert_bad_input();
+
+    // An incomplete set of shards is refused.
+    let run = flapwing_in(
+        dir.path(),
+        &["sweep", "ok.toml", "--out", "p", "--shard", "1/2"],
+    );
+    assert_eq!(run.code, 0, "{run:?}");
+    let run = flapwing_in(dir.path(), &["sweep", "merge", "p"]);
+    run.assert_bad_input();
+    assert!(run.stderr.contains("missing shard(s) 2"), "{run:?}");
+
+    // A level the model rejects names the factor.
+    let out_of_range = AMPLITUDE_AOA.replace("160.0]", "190.0]");
+    std::fs::write(dir.path().join("range.toml"), out_of_range).unwrap();
+    let run = flapwing_in(dir.path(), &["sweep", "range.toml"]);
+    run.assert_bad_input();
+    assert!(run.stderr.contains("`kinematics.amplitude_deg`"), "{run:?}");
+
+    // The output is never silently replaced.
+    let run = flapwing_in(dir.path(), &["sweep", "ok.toml"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    flapwing_in(dir.path(), &["sweep", "ok.toml"]).assert_bad_input();
+}
