@@ -27,16 +27,19 @@ pub struct LqrWeights {
     pub rate_rad_per_wingbeat: f64,
     /// Control excursion, rad.
     pub control_rad: f64,
+    /// Time scale of the position-error integral, s (its weight is 1/(position x this)^2).
+    pub integral_time_s: f64,
 }
 
 impl Default for LqrWeights {
     fn default() -> Self {
         Self {
-            position_body_lengths: 0.3,
+            position_body_lengths: 0.1,
             velocity_body_lengths_per_wingbeat: 0.05,
             attitude_rad: 2f64.to_radians(),
             rate_rad_per_wingbeat: 1f64.to_radians(),
             control_rad: 10f64.to_radians(),
+            integral_time_s: 0.1,
         }
     }
 }
@@ -51,6 +54,9 @@ pub struct HoverController {
     delay_wingbeats: usize,
     history: VecDeque<DVector<f64>>,
     limit_rad: f64,
+    /// Integral of the position error, m s.
+    integral: Vector3<f64>,
+    period_s: f64,
 }
 
 /// Discrete-time algebraic Riccati equation by fixed-point iteration; returns the gain K of
@@ -120,12 +126,29 @@ impl HoverController {
             w.rate_rad_per_wingbeat / period,
             w.rate_rad_per_wingbeat / period,
         ];
+        // Integral action on the position error (3 extra states z += T p) removes the
+        // steady offset left by the small difference between the averaged trim and the
+        // time-stepped periodic hover.
+        let n = N_STATES + 3;
+        let mut a_aug = DMatrix::zeros(n, n);
+        a_aug.view_mut((0, 0), (N_STATES, N_STATES)).copy_from(&ad);
+        for i in 0..3 {
+            a_aug[(N_STATES + i, i)] = period;
+            a_aug[(N_STATES + i, N_STATES + i)] = 1.0;
+        }
+        let mut b_aug = DMatrix::zeros(n, N_CONTROLS);
+        b_aug
+            .view_mut((0, 0), (N_STATES, N_CONTROLS))
+            .copy_from(&bd);
+        let zmax = l * w.position_body_lengths * w.integral_time_s;
         let q = DMatrix::from_diagonal(&DVector::from_iterator(
-            N_STATES,
-            qd.iter().map(|x| 1.0 / (x * x)),
+            n,
+            qd.iter()
+                .map(|x| 1.0 / (x * x))
+                .chain(std::iter::repeat_n(1.0 / (zmax * zmax), 3)),
         ));
         let r = DMatrix::identity(N_CONTROLS, N_CONTROLS) / (w.control_rad * w.control_rad);
-        let gain = dlqr(&ad, &bd, &q, &r)?;
+        let gain = dlqr(&a_aug, &b_aug, &q, &r)?;
         Ok(Self {
             gain,
             trim_controls: trim.controls,
@@ -134,10 +157,12 @@ impl HoverController {
             delay_wingbeats,
             history: VecDeque::new(),
             limit_rad: 3.0 * w.control_rad,
+            integral: Vector3::zeros(),
+            period_s: period,
         })
     }
 
-    /// The LQR gain (controls x states).
+    /// The LQR gain (controls x (states + 3 position integrals)).
     pub fn gain(&self) -> &DMatrix<f64> {
         &self.gain
     }
@@ -169,7 +194,13 @@ impl HoverController {
             self.history.pop_front();
         }
         let x = &self.history[0];
-        let u = -(&self.gain * x);
+        let p = Vector3::new(x[0], x[1], x[2]);
+        let aug = DVector::from_iterator(
+            N_STATES + 3,
+            x.iter().copied().chain(self.integral.iter().copied()),
+        );
+        self.integral += self.period_s * p;
+        let u = -(&self.gain * aug);
         let lim = self.limit_rad;
         let u: Vec<f64> = u.iter().map(|v| v.clamp(-lim, lim)).collect();
         controls_with(&self.trim_controls, &u)
