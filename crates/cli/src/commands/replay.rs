@@ -1,0 +1,142 @@
+//! `flapwing replay`: summarize, convert, export or re-check an MCAP log written by
+//! `simulate --mcap` (or any flapwing command that records).
+//!
+//! Exit codes: 0 ok (and `--check` matched), 1 `--check` found a difference or a conversion
+//! failed while running, 2 bad input (missing file, not MCAP, not a flapwing log, unknown
+//! channel, a log that cannot be re-run, an existing output without --force).
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use flightlog::check::{CheckOutcome, check_log};
+use flightlog::replay;
+
+use crate::error::input_error;
+use crate::output::{create_output_file, print_json, print_stdout};
+
+/// Arguments of `flapwing replay`.
+#[derive(Debug, clap::Args)]
+pub struct ReplayArgs {
+    /// The MCAP log (a truncated log from a killed run is read up to its last complete chunk).
+    #[arg(value_name = "FILE.mcap")]
+    pub file: PathBuf,
+    /// Print the summary as one JSON document on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Convert the log to a Rerun recording.
+    #[arg(long, value_name = "OUT.rrd")]
+    pub rrd: Option<PathBuf>,
+    /// Export one channel's messages as CSV (one column per field, dotted paths), e.g.
+    /// `--csv /vehicle/state state.csv`.
+    #[arg(long, num_args = 2, value_names = ["CHANNEL", "OUT.csv"])]
+    pub csv: Option<Vec<String>>,
+    /// Re-run the simulation from the embedded model and settings and compare the trajectory
+    /// bit for bit; exit 1 on a difference, 2 if the log cannot be re-run.
+    #[arg(long)]
+    pub check: bool,
+    /// Replace existing --rrd / --csv output files.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// flightlog's bad-input errors become the CLI's bad input (exit 2).
+fn classify(e: flightlog::Error) -> anyhow::Error {
+    if e.is_bad_input() {
+        input_error(e.to_string())
+    } else {
+        anyhow::Error::new(e)
+    }
+}
+
+/// Runs the command.
+pub fn run(args: ReplayArgs) -> Result<()> {
+    if !args.file.exists() {
+        return Err(input_error(format!(
+            "cannot read `{}`: no such file",
+            args.file.display()
+        )));
+    }
+    let mut did_something = false;
+    if let Some(csv) = &args.csv {
+        let [channel, out] = csv.as_slice() else {
+            return Err(input_error("--csv takes a channel and an output file"));
+        };
+        let out = PathBuf::from(out);
+        // Fail on bad input before touching the output.
+        replay::read_summary(&args.file).map_err(classify)?;
+        drop(create_output_file(&out, args.force, "CSV file")?);
+        let stats = replay::export_csv(&args.file, channel, &out).map_err(|e| {
+            let _ = std::fs::remove_file(&out);
+            classify(e)
+        })?;
+        if !args.json {
+            let skipped = if stats.skipped > 0 {
+                format!(" ({} unreadable messages skipped)", stats.skipped)
+            } else {
+                String::new()
+            };
+            print_stdout(&format!(
+                "wrote {} rows x {} columns of {channel} to {}{skipped}\n",
+                stats.rows,
+                stats.columns,
+                out.display()
+            ))?;
+        }
+        did_something = true;
+    }
+    if let Some(out) = &args.rrd {
+        replay::read_summary(&args.file).map_err(classify)?;
+        drop(create_output_file(out, args.force, "Rerun recording")?);
+        let stats = replay::to_rrd(&args.file, out).map_err(classify)?;
+        if !args.json {
+            print_stdout(&format!(
+                "wrote {} samples and {} events to {}\n",
+                stats.frames,
+                stats.events,
+                out.display()
+            ))?;
+        }
+        did_something = true;
+    }
+    if args.check {
+        let outcome = check_log(&args.file).map_err(classify)?;
+        if args.json {
+            print_json(&outcome)?;
+        }
+        return match outcome {
+            CheckOutcome::Match { samples, note } => {
+                if !args.json {
+                    let note = note.map(|n| format!(" ({n})")).unwrap_or_default();
+                    print_stdout(&format!("match: {samples} samples identical{note}\n"))?;
+                }
+                Ok(())
+            }
+            CheckOutcome::Mismatch {
+                samples_matched,
+                detail,
+            } => {
+                if !args.json {
+                    print_stdout(&format!(
+                        "mismatch after {samples_matched} identical samples: {detail}\n"
+                    ))?;
+                }
+                Err(anyhow::anyhow!(
+                    "the re-run does not reproduce the log: {detail}"
+                ))
+            }
+            CheckOutcome::NotCheckable { reason } => Err(input_error(format!(
+                "cannot check `{}`: {reason}",
+                args.file.display()
+            ))),
+        };
+    }
+    if !did_something || args.json {
+        let summary = replay::read_summary(&args.file).map_err(classify)?;
+        if args.json {
+            print_json(&summary)?;
+        } else {
+            print_stdout(&summary.to_string())?;
+        }
+    }
+    Ok(())
+}

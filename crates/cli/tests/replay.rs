@@ -1,0 +1,177 @@
+//! `flapwing replay`: summary, JSON, CSV, Rerun conversion, `--check` and exit codes.
+
+use std::path::Path;
+use std::process::Command;
+
+use flapsim::{Mode, Simulation, Vehicle};
+use flightlog::{LogOptions, Recorder, RunInfo, SimSettings};
+
+struct Out {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn flapwing(args: &[&str]) -> Out {
+    let out = Command::new(env!("CARGO_BIN_EXE_flapwing"))
+        .args(args)
+        .output()
+        .expect("run flapwing");
+    Out {
+        code: out.status.code().expect("exit code"),
+        stdout: String::from_utf8(out.stdout).unwrap(),
+        stderr: String::from_utf8(out.stderr).unwrap(),
+    }
+}
+
+/// Records a free drosophila flight as `flapwing simulate` would, with `embedded` as the
+/// model text written into the log (the real model is always the built-in drosophila).
+fn record(path: &Path, command: &str, embedded: &str, wingbeats: f64) -> u64 {
+    let toml = flapsim::DROSOPHILA_TOML;
+    let vehicle = Vehicle::from_toml(toml, "drosophila").unwrap();
+    let duration = wingbeats / vehicle.freq_hz();
+    let settings = SimSettings::new(Mode::Free, duration, Some(2000.0), [0.0; 3]);
+    let info = RunInfo::new(
+        command,
+        format!("flapwing {command}"),
+        embedded,
+        "drosophila",
+        settings.to_json(),
+    );
+    let opts = LogOptions {
+        mcap: Some(path.to_owned()),
+        log_rate_hz: Some(2000.0),
+        ..LogOptions::default()
+    };
+    let mut rec = Recorder::create(&opts, &info, &vehicle).unwrap();
+    let mut sim = Simulation::new(vehicle, Mode::Free);
+    sim.run_for(duration, |out| rec.record(out).unwrap())
+        .unwrap();
+    rec.finish().unwrap().samples
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn assert_bad_input(o: &Out) {
+    assert_eq!(o.code, 2, "{}{}", o.stdout, o.stderr);
+    assert!(o.stderr.starts_with("error:"), "{}", o.stderr);
+    assert!(!o.stderr.contains("panicked"), "{}", o.stderr);
+}
+
+#[test]
+fn summary_json_csv_rrd_and_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("run.mcap");
+    let samples = record(&log, "simulate", flapsim::DROSOPHILA_TOML, 4.0);
+
+    let o = flapwing(&["replay", s(&log)]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains("/vehicle/state"), "{}", o.stdout);
+    assert!(o.stdout.contains("foxglove.PoseInFrame"), "{}", o.stdout);
+    assert!(o.stdout.contains("complete"), "{}", o.stdout);
+
+    let o = flapwing(&["replay", s(&log), "--json"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    assert_eq!(v["samples"], samples);
+    assert_eq!(v["complete"], true);
+    assert_eq!(v["metadata"]["command"], "simulate");
+
+    let o = flapwing(&["replay", s(&log), "--check"]);
+    assert_eq!(o.code, 0, "{}{}", o.stdout, o.stderr);
+    assert!(
+        o.stdout
+            .starts_with(&format!("match: {samples} samples identical")),
+        "{}",
+        o.stdout
+    );
+
+    let csv = dir.path().join("state.csv");
+    let o = flapwing(&["replay", s(&log), "--csv", "/vehicle/state", s(&csv)]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("log_time_ns,"), "{text}");
+    assert_eq!(text.lines().count() as u64, samples + 1);
+    // No silent overwrite; unknown channel is bad input.
+    assert_bad_input(&flapwing(&[
+        "replay",
+        s(&log),
+        "--csv",
+        "/vehicle/state",
+        s(&csv),
+    ]));
+    let o = flapwing(&[
+        "replay",
+        s(&log),
+        "--csv",
+        "/vehicle/state",
+        s(&csv),
+        "--force",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let o = flapwing(&[
+        "replay",
+        s(&log),
+        "--csv",
+        "/nope",
+        s(&dir.path().join("n.csv")),
+    ]);
+    assert_bad_input(&o);
+    assert!(o.stderr.contains("/vehicle/state"), "{}", o.stderr);
+    assert!(!dir.path().join("n.csv").exists());
+
+    let rrd = dir.path().join("run.rrd");
+    let o = flapwing(&["replay", s(&log), "--rrd", s(&rrd)]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(
+        o.stdout.contains(&format!("wrote {samples} samples")),
+        "{}",
+        o.stdout
+    );
+    assert!(std::fs::metadata(&rrd).unwrap().len() > 1000);
+
+    // A truncated copy still replays and says what was lost.
+    let bytes = std::fs::read(&log).unwrap();
+    let cut = dir.path().join("cut.mcap");
+    std::fs::write(&cut, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    let o = flapwing(&["replay", s(&cut)]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(
+        o.stdout.contains("DAMAGED") && o.stdout.contains("truncated"),
+        "{}",
+        o.stdout
+    );
+}
+
+#[test]
+fn check_fails_on_an_edited_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("edited.mcap");
+    let edited = flapsim::DROSOPHILA_TOML.replace("mass_kg = 1.0e-6", "mass_kg = 1.05e-6");
+    assert_ne!(edited, flapsim::DROSOPHILA_TOML);
+    record(&log, "simulate", &edited, 3.0);
+    let o = flapwing(&["replay", s(&log), "--check"]);
+    assert_eq!(o.code, 1, "{}{}", o.stdout, o.stderr);
+    assert!(o.stdout.starts_with("mismatch"), "{}", o.stdout);
+    assert!(o.stderr.starts_with("error:"), "{}", o.stderr);
+}
+
+#[test]
+fn bad_input_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_bad_input(&flapwing(&["replay", s(&dir.path().join("missing.mcap"))]));
+    let text = dir.path().join("text.mcap");
+    std::fs::write(&text, "hello").unwrap();
+    let o = flapwing(&["replay", s(&text)]);
+    assert_bad_input(&o);
+    assert!(o.stderr.contains("not an MCAP file"), "{}", o.stderr);
+    assert_bad_input(&flapwing(&["replay", s(&text), "--check"]));
+    // A hover log cannot be re-run.
+    let hover = dir.path().join("hover.mcap");
+    record(&hover, "hover", flapsim::DROSOPHILA_TOML, 1.0);
+    let o = flapwing(&["replay", s(&hover), "--check"]);
+    assert_bad_input(&o);
+    assert!(o.stderr.contains("only `simulate` logs"), "{}", o.stderr);
+}

@@ -1,0 +1,227 @@
+//! Re-running a `simulate` log and comparing its trajectory bit for bit.
+//!
+//! [`check_log`] rebuilds the vehicle from the embedded model text
+//! (`flapsim::Vehicle::from_toml(model_toml, model_origin)`), runs
+//! `flapsim::Simulation::new(vehicle, mode)` with `set_wind(wind_world_m_s)` for
+//! `round(duration_s / dt)` steps with no controller (exactly what `flapwing simulate`
+//! does), picks samples with the same [`crate::Decimator`], and compares every logged
+//! `/vehicle/state` sample: position, velocity, attitude quaternion and body rates, as f64
+//! bits (numbers are read back from their JSON text with a correctly rounded parser, so
+//! they survive the round trip exactly). A log that ends early (a stopped or truncated run)
+//! is compared as far as it goes.
+
+use std::path::Path;
+
+use nalgebra::Vector3;
+use serde::Serialize;
+
+use crate::json::Json;
+use crate::messages::Fin;
+use crate::replay::{parse_msg, read_log};
+use crate::schema::TOPIC_STATE;
+use crate::{Decimator, Error, Result, SimSettings};
+
+/// The verdict of [`check_log`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "result", rename_all = "snake_case")]
+pub enum CheckOutcome {
+    /// Every logged sample equals the re-run bit for bit.
+    Match {
+        /// Samples compared.
+        samples: u64,
+        /// A remark (e.g. the log ends before the run's duration).
+        note: Option<String>,
+    },
+    /// The first difference.
+    Mismatch {
+        /// Samples that matched before it.
+        samples_matched: u64,
+        /// What differs, with both values.
+        detail: String,
+    },
+    /// The log cannot be re-run (another command, an unsupported mode, no samples).
+    NotCheckable {
+        /// Why.
+        reason: String,
+    },
+}
+
+const FIELDS: [&str; 13] = [
+    "position_m.x",
+    "position_m.y",
+    "position_m.z",
+    "velocity_m_s.x",
+    "velocity_m_s.y",
+    "velocity_m_s.z",
+    "attitude.x",
+    "attitude.y",
+    "attitude.z",
+    "attitude.w",
+    "body_rates_rad_s.x",
+    "body_rates_rad_s.y",
+    "body_rates_rad_s.z",
+];
+
+fn logged_values(v: &Json) -> Option<(u64, [f64; 13])> {
+    let step = v.get("step")?.as_u64()?;
+    let mut out = [0.0; 13];
+    for (o, f) in out.iter_mut().zip(FIELDS) {
+        *o = v.f64_at(f)?;
+    }
+    Some((step, out))
+}
+
+fn rerun_values(s: &flapsim::State) -> [f64; 13] {
+    let mut fin = Fin::default();
+    let v = |fin: &mut Fin, x: &Vector3<f64>| [fin.f(x.x), fin.f(x.y), fin.f(x.z)];
+    let p = v(&mut fin, &s.position_m);
+    let u = v(&mut fin, &s.velocity_m_s);
+    let q = fin.q(&s.world_from_body);
+    let w = v(&mut fin, &s.angular_velocity_body_rad_s);
+    [
+        p[0], p[1], p[2], u[0], u[1], u[2], q.x, q.y, q.z, q.w, w[0], w[1], w[2],
+    ]
+}
+
+/// Re-runs a `simulate` log and compares it (see the module docs). Errors: the file cannot
+/// be read or is not a flapwing log, the embedded settings are not valid, the embedded
+/// model does not load.
+pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
+    let log = read_log(path.as_ref())?;
+    let md = log.run_metadata();
+    let command = md.get("command").map(String::as_str).unwrap_or("");
+    if command != "simulate" {
+        return Ok(CheckOutcome::NotCheckable {
+            reason: format!(
+                "the log was written by `flapwing {command}`; only `simulate` logs can be re-run"
+            ),
+        });
+    }
+    let settings = SimSettings::from_json(md.get("settings").map(String::as_str).unwrap_or(""))?;
+    if settings.mode == "locked" {
+        return Ok(CheckOutcome::NotCheckable {
+            reason: "the run used a custom locked mode, which the settings do not describe".into(),
+        });
+    }
+    let mode = settings.mode_value()?;
+    if !(settings.duration_s.is_finite() && settings.duration_s >= 0.0) {
+        return Err(Error::Embedded(format!(
+            "the settings' duration {} s is not a finite time >= 0",
+            settings.duration_s
+        )));
+    }
+    let origin = md
+        .get("model_origin")
+        .map(String::as_str)
+        .unwrap_or("model");
+    let toml = md.get("model_toml").map(String::as_str).unwrap_or("");
+    let vehicle = flapsim::Vehicle::from_toml(toml, origin)?;
+    // The rate the recorder actually used (it writes it itself), else the settings'.
+    let rate = match md.get("log_rate_hz").map(String::as_str) {
+        Some("every step") => None,
+        Some(r) => match r.parse::<f64>() {
+            Ok(r) => Some(r),
+            Err(_) => settings.log_rate_hz,
+        },
+        None => settings.log_rate_hz,
+    };
+
+    let mut logged = Vec::new();
+    for (i, m) in log.on(TOPIC_STATE).enumerate() {
+        match parse_msg(m).as_ref().and_then(logged_values) {
+            Some(v) => logged.push(v),
+            None => {
+                return Ok(CheckOutcome::Mismatch {
+                    samples_matched: i as u64,
+                    detail: format!(
+                        "/vehicle/state message {i} (log time {} ns) is not a readable state",
+                        m.log_time
+                    ),
+                });
+            }
+        }
+    }
+    if logged.is_empty() {
+        return Ok(CheckOutcome::NotCheckable {
+            reason: "the log holds no /vehicle/state sample".into(),
+        });
+    }
+
+    let mut sim = flapsim::Simulation::new(vehicle, mode);
+    sim.set_wind(Vector3::from(settings.wind_world_m_s));
+    let n = (settings.duration_s / sim.dt_s()).round() as u64;
+    let mut decimator = Decimator::new(rate);
+    let mut idx = 0usize;
+    for _ in 0..n {
+        if idx == logged.len() {
+            break;
+        }
+        let out = match sim.step() {
+            Ok(out) => out,
+            Err(e) => {
+                return Ok(CheckOutcome::Mismatch {
+                    samples_matched: idx as u64,
+                    detail: format!(
+                        "the re-run stopped ({e}) but the log has samples up to step {}",
+                        logged[logged.len() - 1].0
+                    ),
+                });
+            }
+        };
+        if !decimator.take(out.t_s) {
+            continue;
+        }
+        let (step, values) = &logged[idx];
+        if *step != out.step {
+            return Ok(CheckOutcome::Mismatch {
+                samples_matched: idx as u64,
+                detail: format!(
+                    "sample {idx}: the log has step {step}, the re-run logs step {}",
+                    out.step
+                ),
+            });
+        }
+        let again = rerun_values(&out.state);
+        for (k, (a, b)) in values.iter().zip(&again).enumerate() {
+            if a.to_bits() != b.to_bits() {
+                return Ok(CheckOutcome::Mismatch {
+                    samples_matched: idx as u64,
+                    detail: format!(
+                        "step {step} (t = {:.9} s): {} logged {a:e}, re-run {b:e}",
+                        out.t_s, FIELDS[k]
+                    ),
+                });
+            }
+        }
+        idx += 1;
+    }
+    if idx < logged.len() {
+        return Ok(CheckOutcome::Mismatch {
+            samples_matched: idx as u64,
+            detail: format!(
+                "the log has {} samples but the re-run of {} steps logs only {idx}",
+                logged.len(),
+                n
+            ),
+        });
+    }
+    let last = logged[logged.len() - 1].0;
+    // Would the run have logged more samples after the last one in the file?
+    let dt = sim.dt_s();
+    let more = (sim.steps()..n).any(|k| decimator.take(k as f64 * dt));
+    let note = if !log.complete {
+        Some(format!(
+            "the log is truncated: compared up to step {last} of {n}"
+        ))
+    } else if more {
+        Some(format!(
+            "the log ends at step {last} of {n}: the run stopped early"
+        ))
+    } else {
+        None
+    };
+    Ok(CheckOutcome::Match {
+        samples: idx as u64,
+        note,
+    })
+}

@@ -1,0 +1,965 @@
+//! Reading flapwing MCAP logs: summaries, CSV export and (feature `rerun`) conversion to a
+//! Rerun recording.
+//!
+//! Files are scanned record by record from the start, the way a killed run left them: each
+//! chunk is decompressed and CRC-checked whole and kept only if all of it is good, and the
+//! scan stops at the first incomplete or damaged record. A complete file (summary section
+//! and closing magic present) is read the same way. A truncated file therefore yields every
+//! message of every complete chunk before the cut, and [`ReplaySummary::damage`] says what
+//! was lost. A file that is not MCAP, or MCAP without the `flapwing` metadata record, is an
+//! error. Nothing here panics on any input.
+
+use std::collections::{BTreeMap, HashMap};
+use std::fmt;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use mcap::records::{Metadata, Record};
+use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
+use serde::Serialize;
+
+use crate::json::{self, Json};
+use crate::schema::{self, TOPIC_EVENTS, TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT, TOPIC_STATE};
+use crate::{Error, Level, Result, SimSettings};
+
+/// Largest uncompressed chunk accepted, bytes (a guard against corrupt headers).
+const MAX_CHUNK_BYTES: u64 = 256 << 20;
+
+/// One channel of a log.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct ChannelSummary {
+    /// Topic.
+    pub topic: String,
+    /// Schema name (empty for none).
+    pub schema_name: String,
+    /// Schema encoding (`jsonschema`).
+    pub schema_encoding: String,
+    /// Message encoding (`json`).
+    pub message_encoding: String,
+    /// Messages read.
+    pub message_count: u64,
+}
+
+/// An attachment of a log.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct AttachmentSummary {
+    /// File name.
+    pub name: String,
+    /// Media type.
+    pub media_type: String,
+    /// Size, bytes.
+    pub bytes: u64,
+}
+
+/// A run event (from /events).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EventSummary {
+    /// Simulation time, s.
+    pub t_s: f64,
+    /// Level name (DEBUG, INFO, WARNING, ERROR, FATAL; UNKNOWN otherwise).
+    pub level: String,
+    /// The message.
+    pub message: String,
+}
+
+/// Cycle-mean loads over the complete wingbeats of the log.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CycleMean {
+    /// Complete wingbeats averaged (the one in progress at the end is left out, as in
+    /// flapsim's `SummaryBuilder`).
+    pub wingbeats: u64,
+    /// Mean of both wings' total aerodynamic force, body frame, N (from /wing/*/forces).
+    pub force_body_n: [f64; 3],
+    /// Mean of their moment about the centre of mass, body frame, N m.
+    pub moment_body_nm: [f64; 3],
+    /// Mean world-vertical applied force over the weight (from /vehicle/state).
+    pub lift_over_weight: Option<f64>,
+}
+
+/// What a log holds.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReplaySummary {
+    /// The file.
+    pub path: PathBuf,
+    /// Its size, bytes.
+    pub file_bytes: u64,
+    /// True when the file is whole: data end, summary section and closing magic present.
+    pub complete: bool,
+    /// What was lost, for a truncated or damaged file.
+    pub damage: Option<String>,
+    /// Messages read (all channels).
+    pub message_count: u64,
+    /// First and last message time, s.
+    pub start_s: f64,
+    /// Last message time, s.
+    pub end_s: f64,
+    /// `end_s - start_s`.
+    pub duration_s: f64,
+    /// Every channel, by topic.
+    pub channels: Vec<ChannelSummary>,
+    /// The `flapwing` metadata record (version, command, command_line, model_toml,
+    /// model_origin, settings, ...).
+    pub metadata: BTreeMap<String, String>,
+    /// The `flapwing.end` record written by `Recorder::finish` (absent if the run was killed).
+    pub end_metadata: Option<BTreeMap<String, String>>,
+    /// Attachments.
+    pub attachments: Vec<AttachmentSummary>,
+    /// Run events, in time order.
+    pub events: Vec<EventSummary>,
+    /// /vehicle/state samples.
+    pub samples: u64,
+    /// Cycle means (`None` without a complete wingbeat).
+    pub cycle_mean: Option<CycleMean>,
+    /// Largest distance from the first logged position, m.
+    pub max_excursion_m: f64,
+    /// Last logged position, m.
+    pub final_position_m: Option<[f64; 3]>,
+}
+
+impl ReplaySummary {
+    /// The settings of a `simulate` run, if the metadata holds them.
+    pub fn settings(&self) -> Option<SimSettings> {
+        self.metadata
+            .get("settings")
+            .and_then(|s| SimSettings::from_json(s).ok())
+    }
+}
+
+impl fmt::Display for ReplaySummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let md = |k: &str| self.metadata.get(k).map(String::as_str).unwrap_or("?");
+        writeln!(f, "log        {}", self.path.display())?;
+        writeln!(
+            f,
+            "written by flapwing {} `{}` ({})",
+            md("version"),
+            md("command"),
+            md("command_line")
+        )?;
+        writeln!(
+            f,
+            "model      {} ({}, {} lines, attached)",
+            md("vehicle"),
+            md("model_origin"),
+            md("model_toml").lines().count()
+        )?;
+        writeln!(f, "settings   {}", md("settings"))?;
+        let rate = md("log_rate_hz");
+        let unit = if rate.parse::<f64>().is_ok() {
+            " Hz"
+        } else {
+            ""
+        };
+        writeln!(f, "log rate   {rate}{unit}")?;
+        match &self.damage {
+            None => writeln!(f, "file       {} bytes, complete", self.file_bytes)?,
+            Some(d) => writeln!(f, "file       {} bytes, DAMAGED: {d}", self.file_bytes)?,
+        }
+        if self.end_metadata.is_none() {
+            writeln!(
+                f,
+                "           no `flapwing.end` record: the run did not finish its log"
+            )?;
+        }
+        writeln!(
+            f,
+            "time       {:.6} s to {:.6} s ({:.6} s), {} samples, {} messages",
+            self.start_s, self.end_s, self.duration_s, self.samples, self.message_count
+        )?;
+        writeln!(f, "channels")?;
+        for c in &self.channels {
+            writeln!(
+                f,
+                "  {:<24} {:<26} {:>8} messages",
+                c.topic, c.schema_name, c.message_count
+            )?;
+        }
+        for a in &self.attachments {
+            writeln!(
+                f,
+                "attachment {} ({}, {} bytes)",
+                a.name, a.media_type, a.bytes
+            )?;
+        }
+        match &self.cycle_mean {
+            Some(m) => {
+                writeln!(
+                    f,
+                    "cycle mean over {} wingbeats (both wings, body frame)",
+                    m.wingbeats
+                )?;
+                writeln!(
+                    f,
+                    "  force  N    [{:+.6e}, {:+.6e}, {:+.6e}]",
+                    m.force_body_n[0], m.force_body_n[1], m.force_body_n[2]
+                )?;
+                writeln!(
+                    f,
+                    "  moment N m  [{:+.6e}, {:+.6e}, {:+.6e}]",
+                    m.moment_body_nm[0], m.moment_body_nm[1], m.moment_body_nm[2]
+                )?;
+                if let Some(l) = m.lift_over_weight {
+                    writeln!(f, "  lift / weight {l:.4}")?;
+                }
+            }
+            None => writeln!(f, "cycle mean (no complete wingbeat logged)")?,
+        }
+        writeln!(
+            f,
+            "excursion  {:.6e} m max from the start",
+            self.max_excursion_m
+        )?;
+        if self.events.is_empty() {
+            writeln!(f, "events     none")?;
+        } else {
+            writeln!(f, "events")?;
+            for e in &self.events {
+                writeln!(f, "  {:>10.6} s {:<7} {}", e.t_s, e.level, e.message)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One message as read.
+#[derive(Debug, Clone)]
+pub(crate) struct RawMessage {
+    pub channel_id: u16,
+    pub log_time: u64,
+    pub data: Vec<u8>,
+}
+
+/// Everything read from a file.
+#[derive(Debug, Clone)]
+pub(crate) struct LogFile {
+    pub path: PathBuf,
+    pub file_bytes: u64,
+    pub channels: BTreeMap<u16, ChannelSummary>,
+    pub messages: Vec<RawMessage>,
+    pub metadata: Vec<Metadata>,
+    pub attachments: Vec<AttachmentSummary>,
+    pub complete: bool,
+    pub damage: Option<String>,
+}
+
+impl LogFile {
+    /// The `flapwing` metadata record.
+    pub fn run_metadata(&self) -> &BTreeMap<String, String> {
+        // read_log guarantees it exists.
+        static EMPTY: BTreeMap<String, String> = BTreeMap::new();
+        self.metadata
+            .iter()
+            .find(|m| m.name == schema::METADATA_RUN)
+            .map_or(&EMPTY, |m| &m.metadata)
+    }
+
+    fn channel_id(&self, topic: &str) -> Option<u16> {
+        self.channels
+            .iter()
+            .find(|(_, c)| c.topic == topic)
+            .map(|(id, _)| *id)
+    }
+
+    /// Messages of a topic, in file order.
+    pub fn on<'a>(&'a self, topic: &str) -> impl Iterator<Item = &'a RawMessage> + 'a {
+        let id = self.channel_id(topic);
+        self.messages
+            .iter()
+            .filter(move |m| Some(m.channel_id) == id)
+    }
+
+    fn topics(&self) -> String {
+        self.channels
+            .values()
+            .map(|c| c.topic.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+#[derive(Default)]
+struct Scan {
+    schemas: HashMap<u16, (String, String)>,
+    channels: BTreeMap<u16, ChannelSummary>,
+    messages: Vec<RawMessage>,
+}
+
+impl Scan {
+    fn apply(&mut self, rec: Record<'_>, at: u64) -> std::result::Result<(), String> {
+        match rec {
+            Record::Schema { header, .. } => {
+                if header.id == 0 {
+                    return Err(format!("schema with id 0 at byte {at}"));
+                }
+                self.schemas
+                    .insert(header.id, (header.name, header.encoding));
+            }
+            Record::Channel(c) => {
+                let (schema_name, schema_encoding) = if c.schema_id == 0 {
+                    (String::new(), String::new())
+                } else {
+                    self.schemas.get(&c.schema_id).cloned().ok_or_else(|| {
+                        format!(
+                            "channel `{}` at byte {at} uses unknown schema {}",
+                            c.topic, c.schema_id
+                        )
+                    })?
+                };
+                self.channels.insert(
+                    c.id,
+                    ChannelSummary {
+                        topic: c.topic,
+                        schema_name,
+                        schema_encoding,
+                        message_encoding: c.message_encoding,
+                        message_count: 0,
+                    },
+                );
+            }
+            Record::Message { header, data } => {
+                let ch = self.channels.get_mut(&header.channel_id).ok_or_else(|| {
+                    format!(
+                        "message at byte {at} on unknown channel {}",
+                        header.channel_id
+                    )
+                })?;
+                ch.message_count += 1;
+                self.messages.push(RawMessage {
+                    channel_id: header.channel_id,
+                    log_time: header.log_time,
+                    data: data.into_owned(),
+                });
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// The records of one chunk record (opcode, length and body), all or nothing: the chunk is
+/// decompressed whole and its CRC checked before any record is parsed, and no record may be
+/// longer than [`MAX_CHUNK_BYTES`] (so a corrupt length cannot ask for absurd memory).
+fn read_chunk(whole: &[u8]) -> mcap::McapResult<Vec<Record<'static>>> {
+    let limit = (MAX_CHUNK_BYTES as usize).max(whole.len());
+    let mut reader = LinearReader::new_with_options(
+        LinearReaderOptions::default()
+            .with_skip_start_magic(true)
+            .with_skip_end_magic(true)
+            .with_prevalidate_chunk_crcs(true)
+            .with_record_length_limit(limit),
+    );
+    let mut buf = whole;
+    let mut out = Vec::new();
+    while let Some(event) = reader.next_event() {
+        match event? {
+            LinearReadEvent::ReadRequest(need) => {
+                let n = need.min(buf.len());
+                reader.insert(n).copy_from_slice(&buf[..n]);
+                reader.notify_read(n);
+                buf = &buf[n..];
+            }
+            LinearReadEvent::Record { opcode, data } => {
+                out.push(mcap::parse_record(opcode, data)?.into_owned());
+            }
+        }
+    }
+    Ok(out)
+}
+
+fn u64_le(b: &[u8]) -> u64 {
+    let mut a = [0u8; 8];
+    a.copy_from_slice(&b[..8]);
+    u64::from_le_bytes(a)
+}
+
+/// Reads every intact record of a flapwing MCAP file.
+pub(crate) fn read_log(path: &Path) -> Result<LogFile> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io("cannot read", path, e))?;
+    parse_log(path, &bytes)
+}
+
+fn parse_log(path: &Path, bytes: &[u8]) -> Result<LogFile> {
+    let len = bytes.len() as u64;
+    if bytes.len() < mcap::MAGIC.len() || &bytes[..mcap::MAGIC.len()] != mcap::MAGIC {
+        let detail = if bytes.is_empty() {
+            "the file is empty".to_owned()
+        } else if mcap::MAGIC.starts_with(bytes) {
+            format!("the file is only {len} bytes, shorter than the MCAP magic")
+        } else {
+            let head: Vec<String> = bytes.iter().take(8).map(|b| format!("{b:02x}")).collect();
+            format!(
+                "it starts with bytes {} instead of the MCAP magic 89 4d 43 41 50 30 0d 0a",
+                head.join(" ")
+            )
+        };
+        return Err(Error::NotMcap {
+            path: path.to_owned(),
+            detail,
+        });
+    }
+    let mut scan = Scan::default();
+    let mut metadata = Vec::new();
+    let mut attachments = Vec::new();
+    let mut library = String::new();
+    let mut chunks = 0u64;
+    let mut pos = mcap::MAGIC.len();
+    let mut data_end = false;
+    // (byte offset, what is wrong)
+    let mut problem: Option<(u64, String)> = None;
+    let mut first = true;
+    while problem.is_none() {
+        let at = pos as u64;
+        let rest = &bytes[pos..];
+        if rest.is_empty() {
+            problem = Some((at, "the file ends before the data-end record".into()));
+            break;
+        }
+        if rest.len() < 9 {
+            problem = Some((at, "the file ends inside a record header".into()));
+            break;
+        }
+        let op = rest[0];
+        let rec_len = u64_le(&rest[1..9]);
+        if rec_len > (rest.len() - 9) as u64 {
+            problem = Some((
+                at,
+                format!(
+                    "the record there (opcode 0x{op:02x}) needs {} bytes but only {} remain",
+                    rec_len.saturating_add(9),
+                    rest.len()
+                ),
+            ));
+            break;
+        }
+        let body = &rest[9..9 + rec_len as usize];
+        let next = pos + 9 + rec_len as usize;
+        let rec = match mcap::parse_record(op, body) {
+            Ok(r) => r,
+            Err(e) => {
+                problem = Some((at, format!("the record there is corrupt: {e}")));
+                break;
+            }
+        };
+        if first {
+            first = false;
+            match &rec {
+                Record::Header(h) => library = h.library.clone(),
+                _ => {
+                    problem = Some((at, "the first record is not an MCAP header".into()));
+                    break;
+                }
+            }
+        }
+        match rec {
+            Record::Chunk { header, .. } => {
+                if header.uncompressed_size > MAX_CHUNK_BYTES {
+                    problem = Some((
+                        at,
+                        format!(
+                            "the chunk there claims {} bytes uncompressed (limit {MAX_CHUNK_BYTES})",
+                            header.uncompressed_size
+                        ),
+                    ));
+                    break;
+                }
+                let whole = &bytes[pos..next];
+                let records = match read_chunk(whole) {
+                    Ok(r) => r,
+                    Err(e) => {
+                        problem = Some((at, format!("the chunk there is damaged: {e}")));
+                        break;
+                    }
+                };
+                if problem.is_some() {
+                    break;
+                }
+                // All or nothing: apply to a copy, keep it only if every record is valid.
+                let mut trial = Scan {
+                    schemas: scan.schemas.clone(),
+                    channels: scan.channels.clone(),
+                    messages: Vec::new(),
+                };
+                for r in records {
+                    if let Err(e) = trial.apply(r, at) {
+                        problem = Some((at, format!("the chunk there is inconsistent: {e}")));
+                        break;
+                    }
+                }
+                if problem.is_some() {
+                    break;
+                }
+                scan.schemas = trial.schemas;
+                scan.channels = trial.channels;
+                scan.messages.append(&mut trial.messages);
+                chunks += 1;
+            }
+            Record::Metadata(m) => metadata.push(m),
+            Record::Attachment { header, data, .. } => attachments.push(AttachmentSummary {
+                name: header.name,
+                media_type: header.media_type,
+                bytes: data.len() as u64,
+            }),
+            Record::DataEnd(_) => {
+                data_end = true;
+                pos = next;
+                break;
+            }
+            Record::Footer(_) => {
+                problem = Some((at, "a footer before the data-end record".into()));
+                break;
+            }
+            r @ (Record::Schema { .. } | Record::Channel(_) | Record::Message { .. }) => {
+                if let Err(e) = scan.apply(r, at) {
+                    problem = Some((at, e));
+                    break;
+                }
+            }
+            _ => {}
+        }
+        pos = next;
+    }
+    let recovered = scan.messages.len();
+    let mut complete = false;
+    let damage = if let Some((at, why)) = problem {
+        Some(format!(
+            "file truncated or damaged at byte {at} of {len}: {why}; summary section missing; \
+             recovered {recovered} messages from {chunks} complete chunks"
+        ))
+    } else if data_end {
+        match mcap::Summary::read(bytes) {
+            Ok(_) if bytes.ends_with(mcap::MAGIC) => {
+                complete = true;
+                None
+            }
+            Ok(_) => Some(format!(
+                "the data section is whole but the file does not end with the MCAP magic \
+                 (byte {pos} of {len}); all {recovered} messages recovered"
+            )),
+            Err(e) => Some(format!(
+                "the data section is whole but the summary section after byte {pos} is damaged \
+                 ({e}); all {recovered} messages recovered"
+            )),
+        }
+    } else {
+        None
+    };
+    if !metadata.iter().any(|m| m.name == schema::METADATA_RUN) {
+        let who = if library.is_empty() {
+            String::new()
+        } else {
+            format!(" (written by `{library}`)")
+        };
+        let detail = match &damage {
+            Some(d) if !complete && metadata.is_empty() && recovered == 0 => {
+                format!("no `flapwing` metadata record could be read{who}: {d}")
+            }
+            _ => format!("the file has no `flapwing` metadata record{who}"),
+        };
+        return Err(Error::NotFlapwing {
+            path: path.to_owned(),
+            detail,
+        });
+    }
+    Ok(LogFile {
+        path: path.to_owned(),
+        file_bytes: len,
+        channels: scan.channels,
+        messages: scan.messages,
+        metadata,
+        attachments,
+        complete,
+        damage,
+    })
+}
+
+/// Parses a message; `None` if it is not JSON.
+pub(crate) fn parse_msg(m: &RawMessage) -> Option<Json> {
+    json::parse(&m.data).ok()
+}
+
+/// Mean over complete wingbeats of per-wingbeat means. `samples` are (phase, values) in
+/// time order; the wingbeat in progress at the end is left out.
+fn cycle_mean<const N: usize>(samples: &[(f64, [f64; N])]) -> Option<(u64, [f64; N])> {
+    let mut sum = [0.0; N];
+    let mut cycles = 0u64;
+    let mut current: Option<i64> = None;
+    let mut acc = [0.0; N];
+    let mut n = 0u64;
+    for (phase, v) in samples {
+        let c = phase.floor();
+        let c = if c.is_finite() { c as i64 } else { continue };
+        if current != Some(c) {
+            if current.is_some() && n > 0 {
+                for k in 0..N {
+                    sum[k] += acc[k] / n as f64;
+                }
+                cycles += 1;
+            }
+            current = Some(c);
+            acc = [0.0; N];
+            n = 0;
+        }
+        for k in 0..N {
+            acc[k] += v[k];
+        }
+        n += 1;
+    }
+    if cycles == 0 {
+        return None;
+    }
+    Some((cycles, sum.map(|s| s / cycles as f64)))
+}
+
+/// Reads a log and summarizes it (see the module docs for truncated files).
+pub fn read_summary(path: impl AsRef<Path>) -> Result<ReplaySummary> {
+    let log = read_log(path.as_ref())?;
+    Ok(summarize(&log))
+}
+
+fn summarize(log: &LogFile) -> ReplaySummary {
+    let (mut start, mut end) = (u64::MAX, 0u64);
+    for m in &log.messages {
+        start = start.min(m.log_time);
+        end = end.max(m.log_time);
+    }
+    if log.messages.is_empty() {
+        start = 0;
+    }
+    let mut events: Vec<EventSummary> = log
+        .on(TOPIC_EVENTS)
+        .filter_map(|m| {
+            let v = parse_msg(m)?;
+            let level = v
+                .get("level")
+                .and_then(Json::as_i64)
+                .and_then(Level::from_int)
+                .map_or("UNKNOWN", Level::name);
+            Some(EventSummary {
+                t_s: m.log_time as f64 * 1e-9,
+                level: level.to_owned(),
+                message: v
+                    .get("message")
+                    .and_then(Json::as_str)
+                    .unwrap_or("")
+                    .to_owned(),
+            })
+        })
+        .collect();
+    events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+
+    // States: excursion and lift over weight.
+    let mut first_pos: Option<[f64; 3]> = None;
+    let mut last_pos = None;
+    let mut max_exc = 0.0f64;
+    let mut lift = Vec::new();
+    let mut samples = 0u64;
+    for m in log.on(TOPIC_STATE) {
+        let Some(v) = parse_msg(m) else { continue };
+        samples += 1;
+        if let Some(p) = v.vec3_at("position_m") {
+            let p0 = *first_pos.get_or_insert(p);
+            let d =
+                ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2)).sqrt();
+            if d.is_finite() {
+                max_exc = max_exc.max(d);
+            }
+            last_pos = Some(p);
+        }
+        if let (Some(ph), Some(l)) = (v.f64_at("phase"), v.f64_at("lift_over_weight")) {
+            lift.push((ph, [l]));
+        }
+    }
+
+    // Forces: both wings' totals at each sample time.
+    let mut per_time: BTreeMap<u64, (f64, [f64; 6], u8)> = BTreeMap::new();
+    for (topic, bit) in [(TOPIC_FORCES_LEFT, 1u8), (TOPIC_FORCES_RIGHT, 2u8)] {
+        for m in log.on(topic) {
+            let Some(v) = parse_msg(m) else { continue };
+            let (Some(ph), Some(f), Some(mo)) = (
+                v.f64_at("phase"),
+                v.vec3_at("total.force_n"),
+                v.vec3_at("total.moment_nm"),
+            ) else {
+                continue;
+            };
+            let e = per_time.entry(m.log_time).or_insert((ph, [0.0; 6], 0));
+            if e.2 & bit == 0 {
+                for k in 0..3 {
+                    e.1[k] += f[k];
+                    e.1[3 + k] += mo[k];
+                }
+                e.2 |= bit;
+            }
+        }
+    }
+    let loads: Vec<(f64, [f64; 6])> = per_time
+        .values()
+        .filter(|(_, _, seen)| *seen == 3)
+        .map(|(ph, v, _)| (*ph, *v))
+        .collect();
+    let cycle = cycle_mean(&loads).map(|(n, v)| CycleMean {
+        wingbeats: n,
+        force_body_n: [v[0], v[1], v[2]],
+        moment_body_nm: [v[3], v[4], v[5]],
+        lift_over_weight: cycle_mean(&lift).map(|(_, l)| l[0]),
+    });
+
+    let end_metadata = log
+        .metadata
+        .iter()
+        .find(|m| m.name == schema::METADATA_END)
+        .map(|m| m.metadata.clone());
+    let start_s = start as f64 * 1e-9;
+    let end_s = end.max(start) as f64 * 1e-9;
+    ReplaySummary {
+        path: log.path.clone(),
+        file_bytes: log.file_bytes,
+        complete: log.complete,
+        damage: log.damage.clone(),
+        message_count: log.messages.len() as u64,
+        start_s,
+        end_s,
+        duration_s: end_s - start_s,
+        channels: log.channels.values().cloned().collect(),
+        metadata: log.run_metadata().clone(),
+        end_metadata,
+        attachments: log.attachments.clone(),
+        events,
+        samples,
+        cycle_mean: cycle,
+        max_excursion_m: max_exc,
+        final_position_m: last_pos,
+    }
+}
+
+/// What [`export_csv`] wrote.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct CsvStats {
+    /// Data rows (one per message).
+    pub rows: u64,
+    /// Columns, the first being `log_time_ns`.
+    pub columns: u64,
+    /// Messages that were not valid JSON and were left out.
+    pub skipped: u64,
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_owned()
+    }
+}
+
+/// Writes the messages of `topic` to a CSV file at `out` (replaced if it exists): one row
+/// per message, the first column `log_time_ns`, then one column per JSON leaf named by its
+/// dotted path (`pose.position.x`) in first-seen order. Numbers are written exactly as
+/// logged; booleans as true/false; a field missing from a message is left empty.
+pub fn export_csv(path: impl AsRef<Path>, topic: &str, out: impl AsRef<Path>) -> Result<CsvStats> {
+    let path = path.as_ref();
+    let out = out.as_ref();
+    let log = read_log(path)?;
+    if log.channel_id(topic).is_none() {
+        return Err(Error::UnknownTopic {
+            path: path.to_owned(),
+            topic: topic.to_owned(),
+            available: log.topics(),
+        });
+    }
+    let mut columns: Vec<String> = vec!["log_time_ns".into()];
+    let mut index: HashMap<String, usize> = HashMap::new();
+    let mut rows: Vec<Vec<(usize, String)>> = Vec::new();
+    let mut skipped = 0u64;
+    for m in log.on(topic) {
+        let Some(v) = parse_msg(m) else {
+            skipped += 1;
+            continue;
+        };
+        let mut flat = Vec::new();
+        v.flatten("", &mut flat);
+        let mut row = vec![(0, m.log_time.to_string())];
+        for (k, val) in flat {
+            let k = if k.is_empty() { "value".to_owned() } else { k };
+            let i = *index.entry(k.clone()).or_insert_with(|| {
+                columns.push(k);
+                columns.len() - 1
+            });
+            row.push((i, val));
+        }
+        rows.push(row);
+    }
+    let file = std::fs::File::create(out).map_err(|e| Error::io("cannot create", out, e))?;
+    let mut w = std::io::BufWriter::new(file);
+    let werr = |e| Error::io("cannot write", out, e);
+    let header: Vec<String> = columns.iter().map(|c| csv_field(c)).collect();
+    writeln!(w, "{}", header.join(",")).map_err(werr)?;
+    for row in &rows {
+        let mut cells = vec![String::new(); columns.len()];
+        for (i, v) in row {
+            cells[*i] = csv_field(v);
+        }
+        writeln!(w, "{}", cells.join(",")).map_err(werr)?;
+    }
+    w.flush().map_err(werr)?;
+    Ok(CsvStats {
+        rows: rows.len() as u64,
+        columns: columns.len() as u64,
+        skipped,
+    })
+}
+
+/// What [`to_rrd`] wrote.
+#[cfg(feature = "rerun")]
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct RrdStats {
+    /// Samples converted (times with a state, both wing transforms and both wings' forces).
+    pub frames: u64,
+    /// Events converted.
+    pub events: u64,
+}
+
+/// Converts a log to a Rerun recording at `out` (replaced if it exists), with the entities
+/// of a live recording. The wing meshes come from the embedded model.
+#[cfg(feature = "rerun")]
+pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats> {
+    use crate::messages::FrameData;
+    use crate::schema::{FORCE_PARTS, TOPIC_TF_WING_LEFT, TOPIC_TF_WING_RIGHT};
+
+    let path = path.as_ref();
+    let log = read_log(path)?;
+    let md = log.run_metadata();
+    let toml = md.get("model_toml").map(String::as_str).unwrap_or("");
+    let origin = md
+        .get("model_origin")
+        .map(String::as_str)
+        .unwrap_or("model");
+    let vehicle = flapsim::Vehicle::from_toml(toml, origin)
+        .map_err(|e| Error::Embedded(format!("the log's embedded model does not load: {e}")))?;
+
+    // Assemble samples by log time; bit flags say which parts arrived.
+    let mut frames: BTreeMap<u64, (FrameData, u8)> = BTreeMap::new();
+    fn slot(frames: &mut BTreeMap<u64, (FrameData, u8)>, t: u64) -> &mut (FrameData, u8) {
+        frames.entry(t).or_insert_with(|| {
+            (
+                FrameData {
+                    t_ns: t,
+                    ..FrameData::default()
+                },
+                0,
+            )
+        })
+    }
+    for m in log.on(TOPIC_STATE) {
+        let Some(v) = parse_msg(m) else { continue };
+        let (Some(p), Some(q)) = (v.vec3_at("position_m"), v.quat_at("attitude")) else {
+            continue;
+        };
+        let s = slot(&mut frames, m.log_time);
+        s.0.position = p;
+        s.0.attitude = q;
+        s.0.euler_deg = [
+            v.f64_at("euler_deg.roll").unwrap_or(0.0),
+            v.f64_at("euler_deg.pitch").unwrap_or(0.0),
+            v.f64_at("euler_deg.yaw").unwrap_or(0.0),
+        ];
+        s.0.lift_over_weight = v.f64_at("lift_over_weight").unwrap_or(0.0);
+        s.1 |= 1;
+    }
+    for (i, topic) in [TOPIC_TF_WING_LEFT, TOPIC_TF_WING_RIGHT].iter().enumerate() {
+        for m in log.on(topic) {
+            let Some(v) = parse_msg(m) else { continue };
+            let (Some(t), Some(q)) = (v.vec3_at("translation"), v.quat_at("rotation")) else {
+                continue;
+            };
+            let s = slot(&mut frames, m.log_time);
+            s.0.wing_hinge[i] = t;
+            s.0.wing_rotation[i] = q;
+            s.1 |= 2 << i;
+        }
+    }
+    for (i, topic) in [TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT].iter().enumerate() {
+        for m in log.on(topic) {
+            let Some(v) = parse_msg(m) else { continue };
+            let s = slot(&mut frames, m.log_time);
+            let mut ok = true;
+            for (j, part) in FORCE_PARTS.iter().enumerate() {
+                match (
+                    v.vec3_at(&format!("{part}.force_n")),
+                    v.f64_at(&format!("{part}.c_l")),
+                    v.f64_at(&format!("{part}.c_d")),
+                ) {
+                    (Some(f), Some(cl), Some(cd)) => {
+                        s.0.force_n[i][j] = f;
+                        s.0.c_l[i][j] = cl;
+                        s.0.c_d[i][j] = cd;
+                    }
+                    _ => ok = false,
+                }
+            }
+            if ok {
+                s.1 |= 8 << i;
+            }
+        }
+    }
+    let out = out.as_ref();
+    let stream = crate::rerun_sink::RerunSink::file_stream(out)?;
+    let sink = crate::rerun_sink::RerunSink::new(vec![stream], &vehicle)?;
+    let mut n = 0u64;
+    for (frame, seen) in frames.values() {
+        if *seen == 0b11111 {
+            sink.frame(frame)?;
+            n += 1;
+        }
+    }
+    let mut events = 0u64;
+    for m in log.on(TOPIC_EVENTS) {
+        let Some(v) = parse_msg(m) else { continue };
+        let level = v
+            .get("level")
+            .and_then(Json::as_i64)
+            .and_then(Level::from_int)
+            .unwrap_or(Level::Info);
+        sink.event(
+            m.log_time,
+            level,
+            v.get("message").and_then(Json::as_str).unwrap_or(""),
+        )?;
+        events += 1;
+    }
+    sink.finish()?;
+    Ok(RrdStats { frames: n, events })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cycle_mean_leaves_out_the_last_wingbeat() {
+        let s = [
+            (0.0, [1.0]),
+            (0.5, [3.0]),
+            (1.0, [10.0]),
+            (1.5, [20.0]),
+            (2.0, [100.0]),
+        ];
+        assert_eq!(cycle_mean(&s), Some((2, [(2.0 + 15.0) / 2.0])));
+        assert_eq!(cycle_mean(&s[..2]), None);
+    }
+
+    #[test]
+    fn garbage_is_not_mcap() {
+        let p = Path::new("x.mcap");
+        for bytes in [&b""[..], b"\x89MC", b"hello world, not mcap"] {
+            assert!(matches!(parse_log(p, bytes), Err(Error::NotMcap { .. })));
+        }
+        // The magic alone: MCAP, but nothing flapwing in it.
+        let e = parse_log(p, mcap::MAGIC).unwrap_err();
+        assert!(matches!(e, Error::NotFlapwing { .. }), "{e}");
+        // The magic and a header claiming an absurd length.
+        let mut b = mcap::MAGIC.to_vec();
+        b.push(0x01);
+        b.extend_from_slice(&u64::MAX.to_le_bytes());
+        assert!(matches!(parse_log(p, &b), Err(Error::NotFlapwing { .. })));
+    }
+}

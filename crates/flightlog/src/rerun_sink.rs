@@ -1,0 +1,318 @@
+//! Rerun output (feature `rerun`): a 3D view of the flapping vehicle, force arrows and
+//! time series, on the timeline `sim_time` (simulation time).
+//!
+//! Entities (world z up, `ViewCoordinates::RIGHT_HAND_Z_UP` on `world`):
+//! * `world/body`: Transform3D world_from_body; `world/body/axes`: the body axes (static).
+//! * `world/body/wing_left`, `world/body/wing_right`: Transform3D body_from_wing (the wing
+//!   frame of [`crate::schema::wing_frame_doc`]); `.../mesh`: the planform (static).
+//! * `world/body/forces/<term>` and `world/body/forces/total`: one arrow per wing from its
+//!   hinge, body frame, length = |F| / weight * body length (so an arrow as long as the body
+//!   is a force equal to the weight).
+//! * `plots/c_l/{left,right}`, `plots/c_d/{left,right}`: C_L and C_D of each term and the
+//!   total; `plots/lift_over_weight`; `plots/position_m` (x, y, z); `plots/attitude_deg`
+//!   (roll, pitch, yaw).
+//! * `events`: TextLog of the run events.
+//!
+//! The planform mesh is drawn from wingforce's blade-element strips (equal widths
+//! `dr = span / n`): at each strip's radius `r_m` the chord is `c = area / dr`, the leading
+//! edge lies at `x_cp + 0.25 c` (wingforce puts the translational centre of pressure a
+//! quarter chord behind the leading edge) and the trailing edge at `LE - c`; rows at the root
+//! and tip repeat the first and last strip.
+
+use std::net::{TcpStream, ToSocketAddrs};
+use std::time::Duration;
+
+use flapsim::Vehicle;
+use rerun::{RecordingStream, RecordingStreamBuilder};
+
+use crate::messages::FrameData;
+use crate::schema::FORCE_PARTS;
+use crate::{Error, Level, LogOptions, Result};
+
+const APP_ID: &str = "flapwing";
+const TIMELINE: &str = "sim_time";
+
+fn rr(e: impl std::fmt::Display) -> Error {
+    Error::Rerun(e.to_string())
+}
+
+/// Vertices and triangles of a wing planform in its wing frame (x chordwise towards the
+/// leading edge, y spanwise from the hinge).
+pub(crate) fn planform_mesh(g: &wingforce::Geometry) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    let n = g.strips.len().max(1);
+    let dr = g.span_m / n as f64;
+    let mut rows: Vec<(f64, f64, f64)> = Vec::with_capacity(n + 2); // (r, le, te)
+    for s in &g.strips {
+        let c = if dr > 0.0 { s.area_m2 / dr } else { 0.0 };
+        let le = s.x_cp_m + 0.25 * c;
+        rows.push((s.r_m, le, le - c));
+    }
+    if let (Some(&first), Some(&last)) = (rows.first(), rows.last()) {
+        rows.insert(0, (g.r_root_m, first.1, first.2));
+        rows.push((g.r_tip_m, last.1, last.2));
+    }
+    let mut verts = Vec::with_capacity(2 * rows.len());
+    for (r, le, te) in &rows {
+        verts.push([*le as f32, *r as f32, 0.0]);
+        verts.push([*te as f32, *r as f32, 0.0]);
+    }
+    let mut tris = Vec::new();
+    for i in 0..rows.len().saturating_sub(1) as u32 {
+        let (a, b, c, d) = (2 * i, 2 * i + 1, 2 * i + 2, 2 * i + 3);
+        tris.push([a, b, c]);
+        tris.push([b, d, c]);
+    }
+    (verts, tris)
+}
+
+fn f3(v: [f64; 3]) -> [f32; 3] {
+    v.map(|x| x as f32)
+}
+
+fn q4(q: [f64; 4]) -> rerun::Quaternion {
+    rerun::Quaternion::from_xyzw(q.map(|x| x as f32))
+}
+
+/// One or more Rerun streams fed the same data.
+pub(crate) struct RerunSink {
+    streams: Vec<RecordingStream>,
+    /// Arrow length per newton, m/N.
+    arrow_m_per_n: f64,
+}
+
+impl RerunSink {
+    /// The streams `options` ask for (`None` if none).
+    pub fn open(options: &LogOptions, vehicle: &Vehicle) -> Result<Option<Self>> {
+        let mut streams = Vec::new();
+        if options.rerun_spawn {
+            let rec = RecordingStreamBuilder::new(APP_ID)
+                .enabled(true)
+                .spawn()
+                .map_err(|e| {
+                    Error::Rerun(format!(
+                        "cannot spawn a Rerun viewer: {e}. Install the viewer so that `rerun` is \
+                         on PATH (e.g. `cargo install rerun-cli --version 0.36.3 --locked` or \
+                         `pip install rerun-sdk==0.36.3`), or write a file with --rrd instead"
+                    ))
+                })?;
+            streams.push(rec);
+        }
+        if let Some(url) = &options.rerun_connect {
+            probe_viewer(url)?;
+            let rec = RecordingStreamBuilder::new(APP_ID)
+                .enabled(true)
+                .connect_grpc_opts(url.clone())
+                .map_err(|e| {
+                    Error::Rerun(format!(
+                        "cannot connect to a Rerun viewer at `{url}`: {e} (the URL looks like \
+                         rerun+http://127.0.0.1:9876/proxy)"
+                    ))
+                })?;
+            streams.push(rec);
+        }
+        // The file last, so a viewer error leaves no file behind.
+        if let Some(path) = &options.rrd {
+            streams.push(Self::file_stream(path)?);
+        }
+        if streams.is_empty() {
+            return Ok(None);
+        }
+        Self::new(streams, vehicle).map(Some)
+    }
+
+    /// A stream writing an .rrd file (created now).
+    pub fn file_stream(path: &std::path::Path) -> Result<RecordingStream> {
+        RecordingStreamBuilder::new(APP_ID)
+            .enabled(true)
+            .save(path)
+            .map_err(|e| Error::Rerun(format!("cannot create `{}`: {e}", path.display())))
+    }
+
+    /// Logs the static scene (view coordinates, wing meshes, series names).
+    pub fn new(streams: Vec<RecordingStream>, vehicle: &Vehicle) -> Result<Self> {
+        let len = vehicle.length_m;
+        let arrow_m_per_n = len / vehicle.weight_n();
+        let sink = Self {
+            streams,
+            arrow_m_per_n,
+        };
+        let wing_colors = [
+            rerun::Rgba32::from_unmultiplied_rgba(90, 160, 255, 200),
+            rerun::Rgba32::from_unmultiplied_rgba(255, 150, 80, 200),
+        ];
+        for rec in &sink.streams {
+            rec.set_log_time_enabled(false);
+            rec.log_static("world", &rerun::ViewCoordinates::RIGHT_HAND_Z_UP())
+                .map_err(rr)?;
+            let h = 0.5 * len as f32;
+            rec.log_static(
+                "world/body/axes",
+                &rerun::Arrows3D::from_vectors([
+                    [h, 0.0, 0.0],
+                    [0.0, 0.4 * h, 0.0],
+                    [0.0, 0.0, 0.4 * h],
+                ])
+                .with_colors([
+                    rerun::Color::from_rgb(220, 40, 40),
+                    rerun::Color::from_rgb(40, 200, 40),
+                    rerun::Color::from_rgb(40, 80, 220),
+                ]),
+            )
+            .map_err(rr)?;
+            for (i, side) in ["wing_left", "wing_right"].iter().enumerate() {
+                let (verts, tris) = planform_mesh(vehicle.wings[i].geometry());
+                rec.log_static(
+                    format!("world/body/{side}/mesh"),
+                    &rerun::Mesh3D::new(verts)
+                        .with_triangle_indices(tris)
+                        .with_albedo_factor(wing_colors[i]),
+                )
+                .map_err(rr)?;
+            }
+            for kind in ["c_l", "c_d"] {
+                for side in ["left", "right"] {
+                    rec.log_static(
+                        format!("plots/{kind}/{side}"),
+                        &rerun::SeriesLines::new().with_names(FORCE_PARTS),
+                    )
+                    .map_err(rr)?;
+                }
+            }
+            rec.log_static(
+                "plots/position_m",
+                &rerun::SeriesLines::new().with_names(["x", "y", "z"]),
+            )
+            .map_err(rr)?;
+            rec.log_static(
+                "plots/attitude_deg",
+                &rerun::SeriesLines::new().with_names(["roll", "pitch", "yaw"]),
+            )
+            .map_err(rr)?;
+            rec.log_static(
+                "plots/lift_over_weight",
+                &rerun::SeriesLines::new().with_names(["lift / weight"]),
+            )
+            .map_err(rr)?;
+        }
+        Ok(sink)
+    }
+
+    fn set_time(rec: &RecordingStream, t_ns: u64) {
+        let ns = i64::try_from(t_ns).unwrap_or(i64::MAX);
+        rec.set_time(TIMELINE, rerun::TimeCell::from_duration_nanos(ns));
+    }
+
+    /// Logs one sample.
+    pub fn frame(&self, f: &FrameData) -> Result<()> {
+        let part_colors = [
+            rerun::Color::from_rgb(230, 60, 60),
+            rerun::Color::from_rgb(60, 180, 75),
+            rerun::Color::from_rgb(70, 120, 230),
+            rerun::Color::from_rgb(200, 80, 200),
+            rerun::Color::from_rgb(240, 240, 240),
+        ];
+        for rec in &self.streams {
+            Self::set_time(rec, f.t_ns);
+            rec.log(
+                "world/body",
+                &rerun::Transform3D::from_translation_rotation(f3(f.position), q4(f.attitude)),
+            )
+            .map_err(rr)?;
+            for (i, side) in ["wing_left", "wing_right"].iter().enumerate() {
+                rec.log(
+                    format!("world/body/{side}"),
+                    &rerun::Transform3D::from_translation_rotation(
+                        f3(f.wing_hinge[i]),
+                        q4(f.wing_rotation[i]),
+                    ),
+                )
+                .map_err(rr)?;
+            }
+            for (j, part) in FORCE_PARTS.iter().enumerate() {
+                let vecs = [0, 1].map(|i| f3(f.force_n[i][j].map(|x| x * self.arrow_m_per_n)));
+                rec.log(
+                    format!("world/body/forces/{part}"),
+                    &rerun::Arrows3D::from_vectors(vecs)
+                        .with_origins([f3(f.wing_hinge[0]), f3(f.wing_hinge[1])])
+                        .with_colors([part_colors[j], part_colors[j]]),
+                )
+                .map_err(rr)?;
+            }
+            for (i, side) in ["left", "right"].iter().enumerate() {
+                rec.log(format!("plots/c_l/{side}"), &rerun::Scalars::new(f.c_l[i]))
+                    .map_err(rr)?;
+                rec.log(format!("plots/c_d/{side}"), &rerun::Scalars::new(f.c_d[i]))
+                    .map_err(rr)?;
+            }
+            rec.log(
+                "plots/lift_over_weight",
+                &rerun::Scalars::single(f.lift_over_weight),
+            )
+            .map_err(rr)?;
+            rec.log("plots/position_m", &rerun::Scalars::new(f.position))
+                .map_err(rr)?;
+            rec.log("plots/attitude_deg", &rerun::Scalars::new(f.euler_deg))
+                .map_err(rr)?;
+        }
+        Ok(())
+    }
+
+    /// Logs a run event.
+    pub fn event(&self, t_ns: u64, level: Level, message: &str) -> Result<()> {
+        let lvl = match level {
+            Level::Debug => rerun::TextLogLevel::DEBUG,
+            Level::Info => rerun::TextLogLevel::INFO,
+            Level::Warning => rerun::TextLogLevel::WARN,
+            Level::Error => rerun::TextLogLevel::ERROR,
+            Level::Fatal => rerun::TextLogLevel::CRITICAL,
+        };
+        for rec in &self.streams {
+            Self::set_time(rec, t_ns);
+            rec.log("events", &rerun::TextLog::new(message).with_level(lvl))
+                .map_err(rr)?;
+        }
+        Ok(())
+    }
+
+    /// Flushes and closes every stream (the .rrd footer is written when the last handle of
+    /// a stream is dropped).
+    pub fn finish(self) -> Result<()> {
+        let mut first = None;
+        for rec in self.streams {
+            if let Err(e) = rec.flush_blocking()
+                && first.is_none()
+            {
+                first = Some(Error::Rerun(format!("flush failed: {e}")));
+            }
+            drop(rec);
+        }
+        first.map_or(Ok(()), Err)
+    }
+}
+
+/// Fails clearly when nothing listens at the viewer URL (gRPC connects lazily otherwise).
+fn probe_viewer(url: &str) -> Result<()> {
+    let Some((_, rest)) = url.split_once("://") else {
+        return Err(Error::Rerun(format!(
+            "`{url}` is not a Rerun viewer URL (expected e.g. rerun+http://127.0.0.1:9876/proxy)"
+        )));
+    };
+    let host_port = rest.split('/').next().unwrap_or(rest);
+    let addrs: Vec<_> = match host_port.to_socket_addrs() {
+        Ok(a) => a.collect(),
+        Err(e) => {
+            return Err(Error::Rerun(format!(
+                "cannot resolve the Rerun viewer address `{host_port}`: {e}"
+            )));
+        }
+    };
+    for a in &addrs {
+        if TcpStream::connect_timeout(a, Duration::from_secs(2)).is_ok() {
+            return Ok(());
+        }
+    }
+    Err(Error::Rerun(format!(
+        "no Rerun viewer is listening at `{url}`: start one with `rerun` (it listens on \
+         rerun+http://127.0.0.1:9876/proxy), or write a file with --rrd instead"
+    )))
+}

@@ -1,0 +1,126 @@
+//! `replay --check`: a fresh log re-runs bit for bit; an edited model does not.
+
+mod common;
+
+use common::{copy_with_metadata, mcap_opts, record, record_mode, wingbeats};
+use flightlog::check::{CheckOutcome, check_log};
+
+#[test]
+fn fresh_log_matches_and_edited_model_does_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run.mcap");
+    let run = record(&mcap_opts(&path, Some(2000.0)), "simulate", wingbeats(6.0));
+    match check_log(&path).unwrap() {
+        CheckOutcome::Match { samples, note } => {
+            assert_eq!(samples, run.stats.samples);
+            assert_eq!(note, None);
+        }
+        other => panic!("{other:?}"),
+    }
+    // The copy itself (unchanged) still matches: the copier is faithful.
+    let same = dir.path().join("same.mcap");
+    copy_with_metadata(&path, &same, |_| {});
+    assert!(matches!(
+        check_log(&same).unwrap(),
+        CheckOutcome::Match { .. }
+    ));
+    // Heavier vehicle: the trajectory differs.
+    let edited = dir.path().join("edited.mcap");
+    copy_with_metadata(&path, &edited, |md| {
+        let toml = md["model_toml"].replace("mass_kg = 1.0e-6", "mass_kg = 1.1e-6");
+        assert_ne!(toml, md["model_toml"], "the edit must change the model");
+        md.insert("model_toml".into(), toml);
+    });
+    match check_log(&edited).unwrap() {
+        CheckOutcome::Mismatch {
+            samples_matched,
+            detail,
+        } => {
+            // Step 0 is the initial state (identical); the change shows from step 1 on.
+            assert!(samples_matched >= 1, "{detail}");
+            assert!(samples_matched < run.stats.samples, "{detail}");
+            assert!(
+                detail.contains("logged") && detail.contains("re-run"),
+                "{detail}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    // A broken embedded model is an error, not a mismatch.
+    let broken = dir.path().join("broken.mcap");
+    copy_with_metadata(&path, &broken, |md| {
+        md.insert("model_toml".into(), "name = ".into());
+    });
+    let e = check_log(&broken).unwrap_err();
+    assert!(e.is_bad_input(), "{e}");
+}
+
+#[test]
+fn other_modes_and_commands() {
+    let dir = tempfile::tempdir().unwrap();
+    let tethered = dir.path().join("tethered.mcap");
+    let run = record_mode(
+        &mcap_opts(&tethered, None),
+        "simulate",
+        wingbeats(2.0),
+        flapsim::Mode::Tethered,
+    );
+    match check_log(&tethered).unwrap() {
+        CheckOutcome::Match { samples, .. } => assert_eq!(samples, run.stats.samples),
+        other => panic!("{other:?}"),
+    }
+    let long = dir.path().join("long.mcap");
+    record_mode(
+        &mcap_opts(&long, Some(3000.0)),
+        "simulate",
+        wingbeats(2.0),
+        flapsim::Mode::LONGITUDINAL,
+    );
+    assert!(matches!(
+        check_log(&long).unwrap(),
+        CheckOutcome::Match { .. }
+    ));
+    let hover = dir.path().join("hover.mcap");
+    record(&mcap_opts(&hover, Some(2000.0)), "hover", wingbeats(1.0));
+    match check_log(&hover).unwrap() {
+        CheckOutcome::NotCheckable { reason } => assert!(reason.contains("hover"), "{reason}"),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_run_stopped_early_matches_with_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("stopped.mcap");
+    let toml = flapsim::DROSOPHILA_TOML;
+    let vehicle = flapsim::Vehicle::from_toml(toml, common::ORIGIN).unwrap();
+    let duration = wingbeats(4.0);
+    let settings =
+        flightlog::SimSettings::new(flapsim::Mode::Free, duration, Some(2000.0), [0.0; 3]);
+    let info = flightlog::RunInfo::new(
+        "simulate",
+        "flapwing simulate",
+        toml,
+        common::ORIGIN,
+        settings.to_json(),
+    );
+    let mut rec =
+        flightlog::Recorder::create(&mcap_opts(&path, Some(2000.0)), &info, &vehicle).unwrap();
+    let mut sim = flapsim::Simulation::new(vehicle, flapsim::Mode::Free);
+    // Ctrl-C after half the run: the caller stops and finishes the log.
+    sim.run_while(duration, |out| {
+        rec.record(out).unwrap();
+        out.t_s < 0.5 * duration
+    })
+    .unwrap();
+    rec.event(sim.time_s(), flightlog::Level::Warning, "interrupted")
+        .unwrap();
+    let stats = rec.finish().unwrap();
+    match check_log(&path).unwrap() {
+        CheckOutcome::Match { samples, note } => {
+            assert_eq!(samples, stats.samples);
+            assert!(note.unwrap().contains("stopped early"));
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -1,0 +1,105 @@
+//! Short drosophila runs recorded with flightlog.
+
+#![allow(dead_code)] // each test file uses part of this module
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::io::BufWriter;
+use std::path::Path;
+
+use flapsim::{Mode, RunSummary, Simulation, StepOutput, SummaryBuilder, Vehicle};
+use flightlog::{LogOptions, LogStats, Recorder, RunInfo, SimSettings};
+
+pub const ORIGIN: &str = "drosophila.toml";
+
+/// One recorded run.
+pub struct Run {
+    pub outs: Vec<StepOutput>,
+    pub summary: RunSummary,
+    pub stats: LogStats,
+    pub vehicle: Vehicle,
+    pub settings: SimSettings,
+}
+
+/// Seconds in `wingbeats` drosophila wingbeats.
+pub fn wingbeats(n: f64) -> f64 {
+    let v = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, ORIGIN).unwrap();
+    n / v.freq_hz()
+}
+
+/// Records a free drosophila flight of `duration_s` exactly as `flapwing simulate` runs it.
+pub fn record(opts: &LogOptions, command: &str, duration_s: f64) -> Run {
+    record_mode(opts, command, duration_s, Mode::Free)
+}
+
+pub fn record_mode(opts: &LogOptions, command: &str, duration_s: f64, mode: Mode) -> Run {
+    let toml = flapsim::DROSOPHILA_TOML;
+    let vehicle = Vehicle::from_toml(toml, ORIGIN).unwrap();
+    let settings = SimSettings::new(mode, duration_s, opts.log_rate_hz, [0.0; 3]);
+    let info = RunInfo::new(
+        command,
+        format!("flapwing {command} --duration-s {duration_s}"),
+        toml,
+        ORIGIN,
+        settings.to_json(),
+    );
+    let mut rec = Recorder::create(opts, &info, &vehicle).unwrap();
+    let mut sim = Simulation::new(vehicle.clone(), mode);
+    let dt = sim.dt_s();
+    let mut sb = SummaryBuilder::new(vehicle.weight_n());
+    let mut outs = Vec::new();
+    let n = (duration_s / dt).round() as u64;
+    for _ in 0..n {
+        let out = sim.step().unwrap();
+        rec.record(&out).unwrap();
+        sb.observe(&out, dt);
+        outs.push(out);
+    }
+    let stats = rec.finish().unwrap();
+    Run {
+        outs,
+        summary: sb.finish(sim.state()),
+        stats,
+        vehicle,
+        settings,
+    }
+}
+
+pub fn mcap_opts(path: &Path, rate: Option<f64>) -> LogOptions {
+    LogOptions {
+        mcap: Some(path.to_owned()),
+        log_rate_hz: rate,
+        ..LogOptions::default()
+    }
+}
+
+/// Copies an MCAP file, changing the `flapwing` metadata with `edit`.
+pub fn copy_with_metadata(src: &Path, dst: &Path, edit: impl Fn(&mut BTreeMap<String, String>)) {
+    let bytes = std::fs::read(src).unwrap();
+    let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
+    let mut w = mcap::WriteOptions::new()
+        .compression_threads(0)
+        .create(BufWriter::new(std::fs::File::create(dst).unwrap()))
+        .unwrap();
+    let mut idx = summary.metadata_indexes.clone();
+    idx.sort_by_key(|i| i.offset);
+    for i in &idx {
+        let mut md = mcap::read::metadata(&bytes, i).unwrap();
+        if md.name == "flapwing" {
+            edit(&mut md.metadata);
+        }
+        w.write_metadata(&md).unwrap();
+    }
+    for i in &summary.attachment_indexes {
+        let a = mcap::read::attachment(&bytes, i).unwrap();
+        w.attach(&mcap::Attachment {
+            data: Cow::Owned(a.data.into_owned()),
+            ..a
+        })
+        .unwrap();
+    }
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        w.write(&m.unwrap()).unwrap();
+    }
+    w.finish().unwrap();
+}
