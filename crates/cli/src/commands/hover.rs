@@ -34,6 +34,9 @@ pub struct HoverArgs {
     /// Print one JSON document on stdout instead of the text report.
     #[arg(long)]
     pub json: bool,
+    /// Log outputs (hover writes an MCAP log and a Rerun recording under logs/ by default).
+    #[command(flatten)]
+    pub log: crate::logging::LogArgs,
 }
 
 /// Parses `--disturbance`.
@@ -115,6 +118,16 @@ pub fn run(args: HoverArgs) -> Result<()> {
             .map_err(sim_error)?,
         )
     };
+    let settings = serde_json::json!({
+        "duration_s": duration_s,
+        "disturbance": disturbance,
+        "open_loop": args.open_loop,
+        "delay_wingbeats": args.delay_wingbeats,
+        "trim": trim,
+    })
+    .to_string();
+    let mut rec = crate::logging::open(&args.log, "hover", &src, &trimmed, settings, true)?;
+    let mut log_error = None;
     let steps =
         (duration_s * vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64).round() as u64;
     let bar = crate::progress::progress_bar(steps, "hovering");
@@ -128,11 +141,31 @@ pub fn run(args: HoverArgs) -> Result<()> {
             if out.step % 1024 == 0 {
                 bar.set_position(out.step);
             }
+            if let Err(e) = crate::logging::record(&mut rec, out) {
+                log_error = Some(e);
+                return false;
+            }
             !crate::interrupt::requested()
         },
     )
     .map_err(sim_error)?;
     bar.finish_and_clear();
+    let end = match (
+        &outcome.diverged,
+        outcome.interrupted && log_error.is_none(),
+    ) {
+        (Some(why), _) => Some((outcome.duration_s, flightlog::Level::Error, why.clone())),
+        (None, true) => Some((
+            outcome.duration_s,
+            flightlog::Level::Warning,
+            "interrupted (Ctrl-C)".to_owned(),
+        )),
+        _ => None,
+    };
+    crate::logging::finish(rec, end)?;
+    if let Some(e) = log_error {
+        return Err(e.context("writing the log failed"));
+    }
     let report = Report {
         model: &src.origin,
         disturbance,

@@ -27,6 +27,9 @@ pub struct SimulateArgs {
     /// Print one JSON document on stdout instead of the text report.
     #[arg(long)]
     pub json: bool,
+    /// Log outputs.
+    #[command(flatten)]
+    pub log: crate::logging::LogArgs,
 }
 
 #[derive(Serialize)]
@@ -62,6 +65,14 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let weight = vehicle.weight_n();
     let steps_per_wingbeat = vehicle.sim.steps_per_wingbeat;
     let name = vehicle.name.clone();
+    let rate = if args.log.full_rate {
+        None
+    } else {
+        Some(args.log.log_rate_hz)
+    };
+    let settings = flightlog::SimSettings::new(mode, duration_s, rate, [0.0; 3]).to_json();
+    let mut rec = crate::logging::open(&args.log, "simulate", &src, &vehicle, settings, false)?;
+    let mut log_error = None;
     let mut sim = Simulation::new(vehicle, mode);
     let dt = sim.dt_s();
     let n = (duration_s / dt).round() as u64;
@@ -69,6 +80,10 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let mut summary = SummaryBuilder::new(weight);
     let result = sim.run_while(duration_s, |out| {
         summary.observe(out, dt);
+        if let Err(e) = crate::logging::record(&mut rec, out) {
+            log_error = Some(e);
+            return false;
+        }
         if out.step % 1024 == 0 {
             bar.set_position(out.step);
         }
@@ -76,6 +91,19 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     });
     bar.finish_and_clear();
     let s = summary.finish(sim.state());
+    let end = match &result {
+        Err(e) => Some((sim.time_s(), flightlog::Level::Error, e.to_string())),
+        Ok(false) if log_error.is_none() => Some((
+            sim.time_s(),
+            flightlog::Level::Warning,
+            "interrupted (Ctrl-C)".to_owned(),
+        )),
+        _ => None,
+    };
+    crate::logging::finish(rec, end)?;
+    if let Some(e) = log_error {
+        return Err(e.context("writing the log failed"));
+    }
     let error = match &result {
         Err(e) => Some(e.to_string()),
         Ok(false) => Some("interrupted (Ctrl-C)".to_owned()),

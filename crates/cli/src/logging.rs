@@ -1,0 +1,213 @@
+//! Log outputs of `simulate` and `hover`: the flags, the default file names under `logs/`,
+//! and opening the [`flightlog::Recorder`] before the simulation starts (so an unwritable
+//! path fails at once, with exit code 2).
+
+use std::path::{Path, PathBuf};
+
+use flightlog::{Level, LogOptions, Recorder, RunInfo};
+
+use crate::error::input_error;
+use crate::vehicle::VehicleSource;
+
+/// Log flags shared by the commands that fly a vehicle.
+#[derive(Debug, Clone, clap::Args)]
+pub struct LogArgs {
+    /// Write the MCAP log here (default: logs/<command>-<UTC timestamp>.mcap).
+    #[arg(long, value_name = "FILE")]
+    pub mcap: Option<PathBuf>,
+    /// Write a Rerun recording here (`hover` writes logs/hover-<timestamp>.rrd by default).
+    #[arg(long, value_name = "FILE")]
+    pub rrd: Option<PathBuf>,
+    /// Write no log files at all.
+    #[arg(long = "no-log", conflicts_with_all = ["mcap", "rrd"])]
+    pub no_log: bool,
+    /// Spawn a Rerun viewer (`rerun` on PATH) and stream the run to it.
+    #[arg(long)]
+    pub spawn: bool,
+    /// Stream to a running Rerun viewer at this gRPC URL (e.g. rerun+http://127.0.0.1:9876/proxy).
+    #[arg(long, value_name = "URL")]
+    pub connect: Option<String>,
+    /// Log samples per second of simulated time.
+    #[arg(
+        long = "log-rate-hz",
+        default_value_t = 2000.0,
+        conflicts_with = "full_rate"
+    )]
+    pub log_rate_hz: f64,
+    /// Log every simulation step.
+    #[arg(long = "full-rate")]
+    pub full_rate: bool,
+    /// Replace existing log files.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// A UTC timestamp `YYYYMMDD-HHMMSS` for default file names (civil-from-days, H. Hinnant).
+fn utc_stamp() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0) as i64;
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
+        rem / 3600,
+        rem % 3600 / 60,
+        rem % 60
+    )
+}
+
+/// A fresh default path `logs/<command>-<stamp>[-k].<ext>` (never an existing file).
+fn default_path(command: &str, ext: &str, stamp: &str) -> PathBuf {
+    let mut p = PathBuf::from(format!("logs/{command}-{stamp}.{ext}"));
+    let mut k = 1;
+    while p.exists() {
+        p = PathBuf::from(format!("logs/{command}-{stamp}-{k}.{ext}"));
+        k += 1;
+    }
+    p
+}
+
+fn check_target(path: &Path, force: bool) -> anyhow::Result<()> {
+    if path.is_dir() {
+        return Err(input_error(format!(
+            "log file `{}` is a directory; give a file name",
+            path.display()
+        )));
+    }
+    if path.exists() && !force {
+        return Err(input_error(format!(
+            "refusing to overwrite the existing log `{}` (pass --force to replace it)",
+            path.display()
+        )));
+    }
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| {
+            input_error(format!(
+                "cannot create the log folder `{}`: {e}",
+                dir.display()
+            ))
+        })?;
+    }
+    Ok(())
+}
+
+/// Opens the recorder for a run (or `None` with `--no-log`). `rrd_by_default` makes the
+/// command write a Rerun recording under `logs/` when `--rrd` is not given.
+pub fn open(
+    args: &LogArgs,
+    command: &str,
+    src: &VehicleSource,
+    vehicle: &flapsim::Vehicle,
+    settings_json: String,
+    rrd_by_default: bool,
+) -> anyhow::Result<Option<Recorder>> {
+    if args.no_log && !args.spawn && args.connect.is_none() {
+        return Ok(None);
+    }
+    let stamp = utc_stamp();
+    let mcap = if args.no_log {
+        None
+    } else {
+        Some(
+            args.mcap
+                .clone()
+                .unwrap_or_else(|| default_path(command, "mcap", &stamp)),
+        )
+    };
+    let rrd = match (&args.rrd, args.no_log, rrd_by_default) {
+        (Some(p), _, _) => Some(p.clone()),
+        (None, false, true) => Some(default_path(command, "rrd", &stamp)),
+        _ => None,
+    };
+    for p in mcap.iter().chain(rrd.iter()) {
+        check_target(p, args.force)?;
+    }
+    let options = LogOptions {
+        mcap,
+        rrd,
+        rerun_spawn: args.spawn,
+        rerun_connect: args.connect.clone(),
+        log_rate_hz: if args.full_rate {
+            None
+        } else {
+            Some(args.log_rate_hz)
+        },
+    };
+    if !(args.log_rate_hz.is_finite() && args.log_rate_hz > 0.0) {
+        return Err(input_error(format!(
+            "--log-rate-hz {} is not allowed: a rate > 0",
+            args.log_rate_hz
+        )));
+    }
+    let command_line = std::env::args().collect::<Vec<_>>().join(" ");
+    let info = RunInfo::new(
+        command,
+        command_line,
+        src.text.clone(),
+        src.origin.clone(),
+        settings_json,
+    );
+    let rec = Recorder::create(&options, &info, vehicle)
+        .map_err(|e| input_error(format!("cannot open the logs: {e}")))?;
+    // The recorder logs the same warnings as events (flagging the log); say them once here.
+    for w in range_warnings(vehicle) {
+        eprintln!("warning: {w}");
+    }
+    for p in options.mcap.iter().chain(options.rrd.iter()) {
+        eprintln!("logging to {}", p.display());
+    }
+    Ok(Some(rec))
+}
+
+/// Warnings about a model outside its coefficient models' fitted ranges (once per run).
+pub fn range_warnings(vehicle: &flapsim::Vehicle) -> Vec<String> {
+    let mut out = Vec::new();
+    for (w, side) in vehicle.wings.iter().zip(["left", "right"]) {
+        if let Some(p) = w.wake_capture() {
+            let f = p.flags;
+            if f.any() {
+                let (da, dd) = w.kinematics().acceleration_fractions();
+                out.push(format!(
+                    "{side} wing: wake-capture inputs outside the fitted range (Re {:.1}, dtau_A {:.3}, dtau_D {:.3}; fitted Re 136-6800, dtau 0.06-0.18): clamped{}{}{}",
+                    w.reynolds(),
+                    da,
+                    dd,
+                    if f.re_clamped { " Re" } else { "" },
+                    if f.dtau_a_clamped { " dtau_A" } else { "" },
+                    if f.dtau_d_clamped { " dtau_D" } else { "" },
+                ));
+            }
+        }
+    }
+    out.dedup_by(|a, b| a[a.find(':').unwrap_or(0)..] == b[b.find(':').unwrap_or(0)..]);
+    out
+}
+
+/// Records one step if there is a recorder.
+pub fn record(rec: &mut Option<Recorder>, out: &flapsim::StepOutput) -> anyhow::Result<()> {
+    if let Some(r) = rec.as_mut() {
+        r.record(out)?;
+    }
+    Ok(())
+}
+
+/// Records an event, finishes the files and reports where they are.
+pub fn finish(rec: Option<Recorder>, end: Option<(f64, Level, String)>) -> anyhow::Result<()> {
+    if let Some(mut r) = rec {
+        if let Some((t, level, msg)) = end {
+            r.event(t, level, &msg)?;
+        }
+        r.finish()?;
+    }
+    Ok(())
+}
