@@ -111,6 +111,10 @@ pub fn open(
     settings_json: String,
     rrd_by_default: bool,
 ) -> anyhow::Result<Option<Recorder>> {
+    // The recorder logs the same warnings as events (flagging the log); say them once here.
+    for w in range_warnings(vehicle) {
+        eprintln!("warning: {w}");
+    }
     if args.no_log && !args.spawn && args.connect.is_none() {
         return Ok(None);
     }
@@ -159,10 +163,6 @@ pub fn open(
     );
     let rec = Recorder::create(&options, &info, vehicle)
         .map_err(|e| input_error(format!("cannot open the logs: {e}")))?;
-    // The recorder logs the same warnings as events (flagging the log); say them once here.
-    for w in range_warnings(vehicle) {
-        eprintln!("warning: {w}");
-    }
     for p in options.mcap.iter().chain(options.rrd.iter()) {
         eprintln!("logging to {}", p.display());
     }
