@@ -642,7 +642,8 @@ pub struct WingFrame {
     pub t: Vector3<f64>,
     /// Leading-edge chord direction.
     pub e_le: Vector3<f64>,
-    /// Wing normal; (e_span, e_le, n) is right-handed.
+    /// Wing normal, n = d e_le / d theta; (e_span, e_le, n) is right-handed for the right
+    /// wing and left-handed for the left (mirror images), so use explicit cross products.
     pub n: Vector3<f64>,
     /// Angular velocity of the wing relative to the stroke frame, rad/s.
     pub omega: Vector3<f64>,

@@ -3,6 +3,7 @@
 pub mod fit_wake;
 pub mod forces;
 pub mod hover;
+pub mod replay;
 pub mod simulate;
 pub mod stability;
 pub mod sweep;
