@@ -180,3 +180,104 @@ fn bad_studies_and_shards_exit_2() {
     assert_eq!(run.code, 0, "{run:?}");
     flapwing_in(dir.path(), &["sweep", "ok.toml"]).assert_bad_input();
 }
+
+#[test]
+fn analyze_gives_snr_main_effects_regression_and_a_plot() {
+    let dir = dir_with(&[("wake_l18.toml", WAKE_L18)]);
+    let run = flapwing_in(dir.path(), &["sweep", "wake_l18.toml"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    let run = flapwing_in(
+        dir.path(),
+        &[
+            "sweep",
+            "analyze",
+            "wake_l18.csv",
+            "--response",
+            "cl_mean_wake_capture",
+            "--ln",
+            "fluid.kinematic_viscosity_m2_s",
+            "--plot",
+            "effects.svg",
+            "--json",
+        ],
+    );
+    assert_eq!(run.code, 0, "{run:?}");
+    let j = run.json();
+    assert_eq!(j["runs"], 18);
+    let effects = j["snr_main_effects"].as_array().unwrap();
+    let levels: Vec<usize> = effects
+        .iter()
+        .map(|e| e["levels"].as_array().unwrap().len())
+        .collect();
+    assert_eq!(levels, [6, 3, 3]);
+    // Eq 17: the dtau_D terms change dCL_bar by 0.39 between the 0.06 and 0.18 levels, more
+    // than the whole Re term can (|c1| = 0.195), so dtau_D has the largest effect.
+    assert_eq!(effects[1]["factor"], "kinematics.dtau_d");
+    assert_eq!(effects[1]["rank"], 1);
+    // The SNR main effect of dtau_D = 0.06 is the mean of eq 15 (n = 1: 20 log10 y) over
+    // the six runs at that level, recomputed here from the CSV.
+    let csv = read(&dir, "wake_l18.csv");
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|&h| h == "cl_mean_wake_capture")
+        .unwrap();
+    let snr_006: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|f| f[2] == "0.06")
+        .map(|f| 20.0 * f[col].parse::<f64>().unwrap().log10())
+        .collect();
+    assert_eq!(snr_006.len(), 6);
+    let by_hand = snr_006.iter().sum::<f64>() / 6.0;
+    let got = effects[1]["means"][0].as_f64().unwrap();
+    assert!((got - by_hand).abs() < 1e-12, "{got} vs {by_hand}");
+    // Eq 16's ten terms on 18 runs: 8 residual degrees of freedom.
+    let reg = &j["regression"];
+    assert_eq!(reg["names"].as_array().unwrap().len(), 10);
+    assert_eq!(reg["names"][1], "ln(fluid.kinematic_viscosity_m2_s)");
+    assert_eq!(reg["dof"], 8);
+    let svg = read(&dir, "effects.svg");
+    assert!(
+        svg.contains("<svg") && svg.contains("kinematics.dtau_d"),
+        "not an SVG plot"
+    );
+
+    let run = flapwing_in(
+        dir.path(),
+        &["sweep", "analyze", "wake_l18.csv", "--response", "lift"],
+    );
+    run.assert_bad_input();
+    assert!(
+        run.stderr.contains("`lift`") && run.stderr.contains("lift_over_weight"),
+        "{run:?}"
+    );
+    let run = flapwing_in(
+        dir.path(),
+        &[
+            "sweep",
+            "analyze",
+            "wake_l18.csv",
+            "--response",
+            "aero_power_w",
+            "--ln",
+            "nu",
+        ],
+    );
+    run.assert_bad_input();
+    let run = flapwing_in(
+        dir.path(),
+        &[
+            "sweep",
+            "analyze",
+            "wake_l18.csv",
+            "--response",
+            "aero_power_w",
+            "--snr",
+            "nominal",
+        ],
+    );
+    run.assert_bad_input();
+    assert!(run.stderr.contains("replicate"), "{run:?}");
+}
