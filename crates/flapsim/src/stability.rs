@@ -110,13 +110,16 @@ fn eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> DVector<f64> {
 /// Modes of a real matrix with state names.
 pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
     let eig = a.complex_eigenvalues();
+    let scale = eig.iter().map(|l| l.norm()).fold(0.0, f64::max);
     let mut out: Vec<ModeInfo> = Vec::new();
     for l in eig.iter() {
+        // Eigenvalues at round-off level are neutral (e.g. heading: nothing restores yaw).
+        let neutral = l.norm() <= 1e-9 * scale.max(1e-300);
         if l.im < -1e-9 * l.norm().max(1e-12) {
             continue; // keep one of each pair
         }
         let oscillatory = l.im.abs() > 1e-9 * l.norm().max(1e-12);
-        let stable = l.re < 0.0;
+        let stable = l.re < 0.0 && !neutral;
         let t = std::f64::consts::LN_2 / l.re.abs().max(1e-300);
         let ev = eigenvector(a, *l);
         out.push(ModeInfo {
@@ -136,6 +139,7 @@ pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
                 .map(|(n, x)| (n.to_string(), *x))
                 .collect(),
             description: match (oscillatory, stable) {
+                _ if neutral => "neutral".into(),
                 (true, true) => "stable oscillatory".into(),
                 (true, false) => "unstable oscillatory".into(),
                 (false, true) => "stable subsidence".into(),
