@@ -36,6 +36,8 @@ pub enum Command {
     FitWake(crate::commands::fit_wake::FitWakeArgs),
     /// Run a parameter study (full factorial, Latin hypercube or Taguchi) in parallel to CSV.
     Sweep(crate::commands::sweep::SweepArgs),
+    /// Maximize lift per aerodynamic power over a study's factors while supporting the weight.
+    Optimize(crate::commands::sweep::OptimizeArgs),
     /// Summarize an MCAP log; convert it (--rrd), export a channel (--csv) or re-run it (--check).
     Replay(crate::commands::replay::ReplayArgs),
 }

@@ -33,6 +33,7 @@ fn main() -> ExitCode {
         Command::Hover(args) => commands::hover::run(args),
         Command::FitWake(args) => commands::fit_wake::run(args),
         Command::Sweep(args) => commands::sweep::run(args),
+        Command::Optimize(args) => commands::sweep::run_optimize(args),
         Command::Replay(args) => commands::replay::run(args),
     };
     match result {

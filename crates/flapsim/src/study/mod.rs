@@ -8,10 +8,12 @@
 //!   errors, t values and p-values (Student's t via the regularized incomplete beta);
 //! - [`spec`], [`responses`], [`sweep`]: study files, tethered hover responses of each case
 //!   (no rigid-body simulation: [`crate::averaged::mean_loads`] and the wings' cycle means),
-//!   parallel sweeps with deterministic CSV output, shards and their merge.
+//!   parallel sweeps with deterministic CSV output, shards and their merge;
+//! - [`optimize`]: Nelder-Mead, and lift per power under a weight-support penalty.
 
 pub mod error;
 pub mod fit_wake;
+pub mod optimize;
 pub mod regression;
 pub mod responses;
 pub mod spec;

@@ -606,17 +606,38 @@ impl Study {
 
     /// The vehicle of case `i`.
     pub fn vehicle(&self, i: usize) -> StudyResult<Vehicle> {
+        self.vehicle_at(&self.cases[i])
+            .map_err(|source| StudyError::Case {
+                case: i,
+                settings: self.settings_text(i),
+                source,
+            })
+    }
+
+    /// The vehicle with the factors at `values` (one per factor, in order): the base model
+    /// edited at each factor's path, then validated.
+    pub fn vehicle_at(&self, values: &[f64]) -> crate::Result<Vehicle> {
+        assert_eq!(values.len(), self.factors.len(), "one value per factor");
         let mut t = self.base.clone();
-        let wrap = |source: crate::Error| StudyError::Case {
-            case: i,
-            settings: self.settings_text(i),
-            source,
-        };
-        for (f, &v) in self.factors.iter().zip(&self.cases[i]) {
+        for (f, &v) in self.factors.iter().zip(values) {
             set_path(&mut t, &f.steps, v)
-                .map_err(|m| wrap(crate::Error::Analysis(format!("factor `{}`: {m}", f.path))))?;
+                .map_err(|m| crate::Error::Analysis(format!("factor `{}`: {m}", f.path)))?;
         }
-        vehicle_from_table(t, &self.base_origin).map_err(wrap)
+        vehicle_from_table(t, &self.base_origin)
+    }
+
+    /// The interval a factor spans: its range, or its lowest and highest level.
+    pub fn factor_bounds(&self, f: usize) -> (f64, f64) {
+        let factor = &self.factors[f];
+        factor.range.unwrap_or_else(|| {
+            let lo = factor.levels.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = factor
+                .levels
+                .iter()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max);
+            (lo, hi)
+        })
     }
 
     /// The case indices of shard `k` of `n` (1-based k): contiguous blocks, sizes differing
