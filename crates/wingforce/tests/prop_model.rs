@@ -1075,6 +1075,7 @@ fn loaded_models_give_finite_forces() {
         }
     }
     assert!(tried > 1000, "only {tried} inputs");
+    eprintln!("loaded_models_give_finite_forces: {tried} inputs");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
