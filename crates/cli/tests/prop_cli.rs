@@ -333,14 +333,22 @@ fn vehicle_model() -> impl Strategy<Value = (Option<String>, bool)> {
 proptest! {
     #![proptest_config(config(24))]
 
-    /// Random simulate flags: exit 2 for a bad duration, model or the conflicting
-    /// --tethered --longitudinal; otherwise 0 (a 2 ms run of a shipped model does not diverge).
+    /// Random simulate flags: exit 2 for a bad duration, model, log rate, or conflicting
+    /// flags (--tethered with --longitudinal, --full-rate with --log-rate-hz); otherwise 0
+    /// (a 2 ms run of a shipped model does not diverge).
     #[test]
     fn simulate_flags(
         model in vehicle_model(),
         duration in duration_text(0.002),
         tethered in any::<bool>(),
         longitudinal in any::<bool>(),
+        log in prop_oneof![
+            Just(LogFlags::Default),
+            Just(LogFlags::NoLog),
+            Just(LogFlags::FullRate),
+            number_text().prop_map(LogFlags::Rate),
+            number_text().prop_map(LogFlags::RateAndFullRate),
+        ],
         json in any::<bool>(),
     ) {
         let dir = tempfile::tempdir().unwrap();
@@ -355,15 +363,45 @@ proptest! {
         if longitudinal {
             args.push("--longitudinal".into());
         }
+        let log_ok = match &log {
+            LogFlags::Default => true,
+            LogFlags::NoLog => {
+                args.push("--no-log".into());
+                true
+            }
+            LogFlags::FullRate => {
+                args.push("--full-rate".into());
+                true
+            }
+            LogFlags::Rate(r) => {
+                args.extend(flag("log-rate-hz", r, true));
+                r.parse::<f64>().is_ok_and(|x| x.is_finite() && x > 0.0)
+            }
+            LogFlags::RateAndFullRate(r) => {
+                args.extend(flag("log-rate-hz", r, true));
+                args.push("--full-rate".into());
+                false
+            }
+        };
         if json {
             args.push("--json".into());
         }
         let r = flapwing(dir.path(), &args);
         check_run(&r)?;
         check_json(&r, json)?;
-        let valid = model.1 && duration.1 && !(tethered && longitudinal);
+        let valid = model.1 && duration.1 && log_ok && !(tethered && longitudinal);
         prop_assert_eq!(r.code, if valid { 0 } else { 2 }, "{:?}\n{}", r.args, r.stderr);
     }
+}
+
+/// The log flags of `simulate` (never `--spawn` or `--connect`: no viewer in tests).
+#[derive(Debug, Clone)]
+enum LogFlags {
+    Default,
+    NoLog,
+    FullRate,
+    Rate(String),
+    RateAndFullRate(String),
 }
 
 // ---------------------------------------------------------------------------------------------

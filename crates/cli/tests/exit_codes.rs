@@ -1,0 +1,724 @@
+//! The documented exit codes (crate README): 0 ok, 1 the run failed, 2 bad input, driven
+//! through the real `flapwing` binary. Never 101 (a Rust panic), whatever stdout and stderr
+//! are connected to (a full disk, a closed pipe).
+//!
+//! Not property tests: fixed inputs, about 80 runs of the binary in all (under a second in
+//! release).
+
+use std::io::Read;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+const ROBOFLY: &str = include_str!("../../../models/robofly.toml");
+const DROSOPHILA: &str = include_str!("../../../models/drosophila.toml");
+
+#[derive(Debug)]
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+/// Where the child's stdout or stderr goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Sink {
+    /// Captured.
+    Pipe,
+    /// A pipe whose read end is closed at once (`flapwing ... | head -0`).
+    ClosedPipe,
+    /// `/dev/full`: every write fails with ENOSPC (Linux).
+    Full,
+}
+
+fn run_with(dir: &Path, args: &[&str], out: Sink, err: Sink) -> Run {
+    let stdio = |s: Sink| match s {
+        Sink::Pipe | Sink::ClosedPipe => Stdio::piped(),
+        Sink::Full => Stdio::from(
+            std::fs::OpenOptions::new()
+                .write(true)
+                .open("/dev/full")
+                .expect("/dev/full"),
+        ),
+    };
+    let mut child = Command::new(env!("CARGO_BIN_EXE_flapwing"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(stdio(out))
+        .stderr(stdio(err))
+        .spawn()
+        .expect("spawn flapwing");
+    let reader = |p: Option<Box<dyn Read + Send>>, sink: Sink| {
+        std::thread::spawn(move || {
+            let mut b = Vec::new();
+            if let Some(mut p) = p {
+                if sink == Sink::Pipe {
+                    let _ = p.read_to_end(&mut b);
+                }
+                // ClosedPipe: dropped here without reading.
+            }
+            b
+        })
+    };
+    let t_out = reader(
+        child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+        out,
+    );
+    let t_err = reader(
+        child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+        err,
+    );
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("wait") {
+            break s;
+        }
+        if start.elapsed() > Duration::from_secs(60) {
+            let _ = child.kill();
+            panic!("flapwing {args:?} did not finish within 60 s");
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    };
+    Run {
+        code: status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&t_out.join().unwrap()).into_owned(),
+        stderr: String::from_utf8_lossy(&t_err.join().unwrap()).into_owned(),
+    }
+}
+
+fn run_in(dir: &Path, args: &[&str]) -> Run {
+    run_with(dir, args, Sink::Pipe, Sink::Pipe)
+}
+
+fn run(args: &[&str]) -> Run {
+    let dir = tempfile::tempdir().unwrap();
+    run_in(dir.path(), args)
+}
+
+#[track_caller]
+fn assert_code(r: &Run, code: i32, what: &str) {
+    assert_eq!(r.code, code, "{what}: {r:?}");
+    assert!(!r.stderr.contains("panicked"), "{what}: {r:?}");
+    if code != 0 {
+        assert!(
+            r.stderr.contains("error"),
+            "{what}: no error message: {r:?}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 0: success.
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn success_exits_0() {
+    for args in [
+        &["--help"][..],
+        &["--version"],
+        &["wake-capture", "--help"],
+        &["validate"],
+        &[
+            "wake-capture",
+            "--re",
+            "408",
+            "--dtau-a",
+            "0.12",
+            "--dtau-d",
+            "0.03",
+        ],
+        &[
+            "forces",
+            "--cycles",
+            "1",
+            "--steps-per-cycle",
+            "50",
+            "--json",
+        ],
+        &["simulate", "--duration-s", "0.001", "--no-log"],
+        &[
+            "simulate",
+            "--model",
+            "robobee",
+            "--duration-s",
+            "0.001",
+            "--tethered",
+        ],
+    ] {
+        assert_code(&run(args), 0, &format!("{args:?}"));
+    }
+    let r = run(&["validate", "--json"]);
+    assert_code(&r, 0, "validate --json");
+    let v: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+    assert_eq!(v["all_passed"], true, "{}", r.stdout);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2: bad input.
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn bad_flags_exit_2() {
+    // No subcommand: clap prints the usage (no `error:` line) and exits 2.
+    let r = run(&[]);
+    assert_eq!(r.code, 2, "{r:?}");
+    assert!(r.stderr.contains("Usage"), "{r:?}");
+    for args in [
+        &["no-such-command"][..],
+        &["validate", "--no-such-flag"],
+        &[
+            "wake-capture",
+            "--re",
+            "-1",
+            "--dtau-a",
+            "0.1",
+            "--dtau-d",
+            "0.1",
+        ],
+        &[
+            "wake-capture",
+            "--re=-1",
+            "--dtau-a",
+            "0.1",
+            "--dtau-d",
+            "0.1",
+        ],
+        &[
+            "wake-capture",
+            "--re",
+            "0",
+            "--dtau-a",
+            "0.1",
+            "--dtau-d",
+            "0.1",
+        ],
+        &[
+            "wake-capture",
+            "--re",
+            "nan",
+            "--dtau-a",
+            "0.1",
+            "--dtau-d",
+            "0.1",
+        ],
+        &[
+            "wake-capture",
+            "--re",
+            "inf",
+            "--dtau-a",
+            "0.1",
+            "--dtau-d",
+            "0.1",
+        ],
+        &[
+            "wake-capture",
+            "--re",
+            "1e309",
+            "--dtau-a",
+            "0.1",
+            "--dtau-d",
+            "0.1",
+        ],
+        &[
+            "wake-capture",
+            "--re",
+            "100",
+            "--dtau-a",
+            "0.5",
+            "--dtau-d",
+            "0.1",
+        ],
+        &["wake-capture", "--re", "100", "--dtau-a", "0.1"],
+        &["forces", "--cycles", "0"],
+        &["forces", "--steps-per-cycle", "1"],
+        &["forces", "--re", "abc"],
+        &["simulate", "--duration-s", "nan"],
+        &["simulate", "--duration-s", "-1"],
+        &["simulate", "--duration-s=-1"],
+        &["simulate", "--duration-s", "0"],
+        &["simulate", "--duration-s", "3601"],
+        &["simulate", "--duration-s", "1e300"],
+        &["simulate", "--tethered", "--longitudinal"],
+        &["simulate", "--duration-s", "0.001", "--log-rate-hz", "nan"],
+        &["simulate", "--duration-s", "0.001", "--log-rate-hz", "0"],
+        &["simulate", "--model", "nonesuch"],
+        &[
+            "hover",
+            "--duration-s",
+            "0.001",
+            "--disturbance",
+            "pitch_deg=90",
+        ],
+        &[
+            "hover",
+            "--duration-s",
+            "0.001",
+            "--disturbance",
+            "pitch_deg=nan",
+        ],
+        &[
+            "hover",
+            "--duration-s",
+            "0.001",
+            "--disturbance",
+            "yaw_deg=1",
+        ],
+        &[
+            "hover",
+            "--duration-s",
+            "0.001",
+            "--disturbance",
+            "pitch_deg",
+        ],
+        &["hover", "--delay-wingbeats", "-1"],
+    ] {
+        let r = run(args);
+        assert_code(&r, 2, &format!("{args:?}"));
+        assert!(r.stdout.is_empty(), "{args:?}: {r:?}");
+    }
+}
+
+#[test]
+fn missing_model_file_exits_2_naming_it() {
+    for cmd in [
+        &["forces"][..],
+        &["simulate", "--duration-s", "0.001"],
+        &["trim"],
+        &["stability", "--no-floquet"],
+        &["hover", "--duration-s", "0.001"],
+    ] {
+        let mut args = cmd.to_vec();
+        args.extend(["--model", "no such model.toml"]);
+        let r = run(&args);
+        assert_code(&r, 2, &format!("{args:?}"));
+        assert!(r.stderr.contains("no such model.toml"), "{args:?}: {r:?}");
+    }
+    let r = run(&["replay", "no such log.mcap"]);
+    assert_code(&r, 2, "replay of a missing file");
+    assert!(r.stderr.contains("no such log.mcap"), "{r:?}");
+}
+
+#[test]
+fn invalid_model_files_exit_2_naming_file_and_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        std::fs::write(dir.path().join(name), text).unwrap();
+        name.to_owned()
+    };
+    let cases = [
+        (
+            "forces",
+            write(
+                "amp.toml",
+                &ROBOFLY.replace("amplitude_deg = 155.0", "amplitude_deg = 200.0"),
+            ),
+            "kinematics.amplitude_deg",
+        ),
+        (
+            "forces",
+            write(
+                "nan.toml",
+                &ROBOFLY.replace("density_kg_m3 = 1229.0", "density_kg_m3 = nan"),
+            ),
+            "fluid.density_kg_m3",
+        ),
+        (
+            "simulate",
+            write(
+                "mass.toml",
+                &DROSOPHILA.replace("mass_kg = 1.0e-6", "mass_kg = -1.0e-6"),
+            ),
+            "body.mass_kg",
+        ),
+        (
+            "trim",
+            write(
+                "freq.toml",
+                &DROSOPHILA.replace("freq_hz = 218.0", "freq_hz = 0.0"),
+            ),
+            "kinematics.freq_hz",
+        ),
+        (
+            "hover",
+            write(
+                "tilt.toml",
+                &DROSOPHILA.replace(
+                    "stroke_plane_tilt_deg = 45.0",
+                    "stroke_plane_tilt_deg = 91.0",
+                ),
+            ),
+            "hinge.stroke_plane_tilt_deg",
+        ),
+    ];
+    for (cmd, file, field) in &cases {
+        let mut args = vec![*cmd, "--model", file.as_str()];
+        if *cmd == "simulate" || *cmd == "hover" {
+            args.extend(["--duration-s", "0.001"]);
+        }
+        let r = run_in(dir.path(), &args);
+        assert_code(&r, 2, &format!("{cmd} {file}"));
+        assert!(
+            r.stderr.contains(file.as_str())
+                && r.stderr.contains(field)
+                && r.stderr.contains("not allowed"),
+            "{cmd} {file}: {r:?}"
+        );
+    }
+    // Malformed TOML, an unknown field, a directory, a file that is not UTF-8.
+    let malformed = write("malformed.toml", "[wing\nplanform = 3");
+    let unknown = write(
+        "unknown.toml",
+        &DROSOPHILA.replace("[body]", "[body]\nmass_g = 1.0"),
+    );
+    let binary = "binary.toml";
+    std::fs::write(dir.path().join(binary), [0xff, 0xfe, 0x00, 0x80]).unwrap();
+    std::fs::create_dir(dir.path().join("dir.toml")).unwrap();
+    for (args, needle) in [
+        (vec!["forces", "--model", &malformed], malformed.as_str()),
+        (vec!["simulate", "--model", &unknown], "mass_g"),
+        (vec!["simulate", "--model", binary], binary),
+        (vec!["forces", "--model", binary], binary),
+        (vec!["forces", "--model", "dir.toml"], "dir.toml"),
+        (vec!["trim", "--model", "dir.toml"], "dir.toml"),
+    ] {
+        let r = run_in(dir.path(), &args);
+        assert_code(&r, 2, &format!("{args:?}"));
+        assert!(r.stderr.contains(needle), "{args:?}: {r:?}");
+    }
+}
+
+#[test]
+fn refusing_to_overwrite_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("out.csv"), "keep me").unwrap();
+    let r = run_in(
+        dir.path(),
+        &[
+            "forces",
+            "--cycles",
+            "1",
+            "--steps-per-cycle",
+            "10",
+            "--csv",
+            "out.csv",
+        ],
+    );
+    assert_code(&r, 2, "existing --csv");
+    assert!(r.stderr.contains("--force"), "{r:?}");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("out.csv")).unwrap(),
+        "keep me"
+    );
+    std::fs::write(dir.path().join("run.mcap"), "keep me").unwrap();
+    let r = run_in(
+        dir.path(),
+        &["simulate", "--duration-s", "0.001", "--mcap", "run.mcap"],
+    );
+    assert_code(&r, 2, "existing --mcap");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1: the run failed.
+// ---------------------------------------------------------------------------------------------
+
+/// drosophila.toml with a tiny angular-speed limit and an initial yaw rate above it: the run
+/// stops at once.
+fn diverging_drosophila() -> String {
+    let text = DROSOPHILA
+        .replace("[sim]\n", "[sim]\nmax_angular_speed_rad_s = 1.0\n")
+        .replace(
+            "[initial]\n",
+            "[initial]\nangular_velocity_deg_s = [0.0, 0.0, 100.0]\n",
+        );
+    assert!(text.contains("max_angular_speed_rad_s = 1.0"));
+    assert!(text.contains("angular_velocity_deg_s = [0.0, 0.0, 100.0]"));
+    text
+}
+
+#[test]
+fn diverging_simulation_exits_1() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("spin.toml"), diverging_drosophila()).unwrap();
+    let r = run_in(
+        dir.path(),
+        &["simulate", "--model", "spin.toml", "--duration-s", "0.01"],
+    );
+    assert_code(&r, 1, "diverging simulate");
+    assert!(r.stderr.contains("diverged"), "{r:?}");
+    // With --json the report (with the error) is still the one document on stdout.
+    let r = run_in(
+        dir.path(),
+        &[
+            "simulate",
+            "--model",
+            "spin.toml",
+            "--duration-s",
+            "0.01",
+            "--json",
+            "--no-log",
+        ],
+    );
+    assert_code(&r, 1, "diverging simulate --json");
+    let v: serde_json::Value = serde_json::from_str(&r.stdout).expect("JSON report");
+    assert!(
+        v["error"].as_str().is_some_and(|e| e.contains("diverged")),
+        "{}",
+        r.stdout
+    );
+}
+
+/// A write that fails part-way (a full disk) is a failed run, not bad input.
+#[cfg(target_os = "linux")]
+#[test]
+fn full_disk_exits_1() {
+    let r = run(&[
+        "forces",
+        "--cycles",
+        "1",
+        "--steps-per-cycle",
+        "10000",
+        "--csv",
+        "/dev/full",
+        "--force",
+    ]);
+    assert_code(&r, 1, "--csv /dev/full");
+    assert!(r.stderr.contains("/dev/full"), "{r:?}");
+}
+
+/// KNOWN BUG (issue 7, reported to the lead): the stdout write errors of `simulate`, `hover`,
+/// `trim` and `stability` have no context: `error: No space left on device (os error 28)`,
+/// where `validate`, `wake-capture` and `forces` say `error: cannot write to stdout: ...`.
+/// These four commands are left out of the message check (not of the exit-code check) while
+/// this is `true`.
+const KNOWN_BUG_STDOUT_CONTEXT: bool = true;
+
+/// stdout on a full disk: exit 1 with a message, never a panic (`println!` would panic).
+#[cfg(target_os = "linux")]
+#[test]
+fn full_stdout_exits_1() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, has_context) in [
+        (&["validate"][..], true),
+        (&["validate", "--json"], true),
+        (
+            &[
+                "wake-capture",
+                "--re",
+                "408",
+                "--dtau-a",
+                "0.12",
+                "--dtau-d",
+                "0.03",
+            ],
+            true,
+        ),
+        (
+            &["forces", "--cycles", "1", "--steps-per-cycle", "20"],
+            true,
+        ),
+        (&["simulate", "--duration-s", "0.001", "--no-log"], false),
+        (&["hover", "--duration-s", "0.001", "--no-log"], false),
+        (&["trim"], false),
+        (&["stability", "--no-floquet"], false),
+    ] {
+        let r = run_with(dir.path(), args, Sink::Full, Sink::Pipe);
+        assert_code(&r, 1, &format!("{args:?} >/dev/full"));
+        if has_context || !KNOWN_BUG_STDOUT_CONTEXT {
+            assert!(r.stderr.contains("stdout"), "{args:?}: {r:?}");
+        }
+    }
+    // Help and version are clap's: printed as best it can, exit 0.
+    for args in [&["--help"][..], &["--version"]] {
+        let r = run_with(dir.path(), args, Sink::Full, Sink::Pipe);
+        assert!(matches!(r.code, 0 | 1), "{args:?}: {r:?}");
+    }
+}
+
+/// A closed stdout (`flapwing validate | head -0`) is not an error.
+#[test]
+fn closed_stdout_is_not_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for args in [
+        &["validate"][..],
+        &["validate", "--json"],
+        &["forces", "--cycles", "1", "--steps-per-cycle", "20"],
+    ] {
+        let r = run_with(dir.path(), args, Sink::ClosedPipe, Sink::Pipe);
+        assert_code(&r, 0, &format!("{args:?} | head -0"));
+    }
+}
+
+/// KNOWN BUG (issue 7, reported to the lead): `eprintln!` panics when stderr cannot be
+/// written, and `crates/cli/src/logging.rs:116` (`warning: ...`), `:167` (`logging to ...`)
+/// and `crates/cli/src/commands/trim.rs:99` (`wrote ...`) use it: e.g.
+/// `flapwing simulate --duration-s 0.001 2>/dev/full` and
+/// `flapwing trim --write out.toml 2>/dev/full` exit 101. Those runs are left out below
+/// while this is `true`.
+const KNOWN_BUG_EPRINTLN: bool = true;
+
+/// stderr on a full disk: the exit codes do not change (the message is lost), no panic.
+#[cfg(target_os = "linux")]
+#[test]
+fn full_stderr_keeps_the_exit_code() {
+    let mut cases = vec![
+        (
+            &[
+                "wake-capture",
+                "--re",
+                "nan",
+                "--dtau-a",
+                "0.1",
+                "--dtau-d",
+                "0.1",
+            ][..],
+            2,
+        ),
+        (&["forces", "--model", "missing.toml"], 2),
+        (&["simulate", "--duration-s", "nan"], 2),
+        (&["validate"], 0),
+        (&["forces", "--cycles", "1", "--steps-per-cycle", "20"], 0),
+        (
+            &[
+                "simulate",
+                "--duration-s",
+                "0.001",
+                "--no-log",
+                "--model",
+                "robobee",
+            ],
+            0,
+        ),
+    ];
+    if !KNOWN_BUG_EPRINTLN {
+        cases.extend([
+            (&["simulate", "--duration-s", "0.001"][..], 0),
+            (&["hover", "--duration-s", "0.001"], 0),
+            (&["trim", "--write", "trimmed.toml"], 0),
+        ]);
+    }
+    for (args, code) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let r = run_with(dir.path(), args, Sink::Pipe, Sink::Full);
+        assert_eq!(r.code, code, "{args:?} 2>/dev/full: {r:?}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Known bugs whose exit code is wrong (reported to the lead; each test checks only that the
+// run fails without a panic while its flag is `true`, the documented code once fixed).
+// ---------------------------------------------------------------------------------------------
+
+/// KNOWN BUG: drosophila with `[controls] amplitude_deg = 50.0` (140 + 50 > 180 deg) fails
+/// in `Vehicle::apply_controls` with `Error::Analysis` ("controls give wing 0 an amplitude of
+/// 190.00 deg ..."): no file, no field, exit 1 instead of 2.
+const KNOWN_BUG_CONTROLS: bool = true;
+
+#[test]
+fn controls_beyond_the_kinematics_are_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!("{DROSOPHILA}\n[controls]\namplitude_deg = 50.0\n");
+    std::fs::write(dir.path().join("ctl.toml"), text).unwrap();
+    let r = run_in(
+        dir.path(),
+        &["simulate", "--model", "ctl.toml", "--duration-s", "0.001"],
+    );
+    if KNOWN_BUG_CONTROLS {
+        assert!(matches!(r.code, 1 | 2), "{r:?}");
+        assert!(!r.stderr.contains("panicked"), "{r:?}");
+    } else {
+        assert_code(&r, 2, "controls beyond the kinematics");
+        assert!(
+            r.stderr.contains("ctl.toml") && r.stderr.contains("controls"),
+            "{r:?}"
+        );
+    }
+}
+
+/// KNOWN BUG: a refitted `aero.wake_capture_model` with `dcd.c2 = 1.0` loads (coefficients
+/// finite, mu* > 0) but `c1 exp(c2 Re)` overflows over its fitted Re range, every force is
+/// NaN and `forces` exits 1 "non-finite forces" instead of 2 naming the field.
+const KNOWN_BUG_WAKE_OVERFLOW: bool = true;
+
+#[test]
+fn overflowing_wake_model_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = r#"
+[aero.wake_capture_model.dcl]
+c0 = 0.94839
+c1 = -1.17098
+c2 = -0.00234646
+c3 = -8.3413
+c4 = 37.6766
+[aero.wake_capture_model.dcd]
+c0 = 1.0
+c1 = -1.0
+c2 = 1.0
+c3 = -1.0
+c4 = 1.0
+[aero.wake_capture_model.mu_star]
+m0 = 0.04195
+m1 = 0.01034
+m2 = 0.12917
+[aero.wake_capture_model.re_range]
+min = 136.0
+max = 6800.0
+[aero.wake_capture_model.dtau_a_range]
+min = 0.06
+max = 0.18
+[aero.wake_capture_model.dtau_d_range]
+min = 0.06
+max = 0.18
+"#;
+    std::fs::write(dir.path().join("wake.toml"), format!("{ROBOFLY}\n{model}")).unwrap();
+    let r = run_in(
+        dir.path(),
+        &[
+            "forces",
+            "--model",
+            "wake.toml",
+            "--cycles",
+            "1",
+            "--steps-per-cycle",
+            "20",
+        ],
+    );
+    if KNOWN_BUG_WAKE_OVERFLOW {
+        assert!(matches!(r.code, 1 | 2), "{r:?}");
+        assert!(!r.stderr.contains("panicked"), "{r:?}");
+    } else {
+        assert_code(&r, 2, "overflowing wake model");
+        assert!(
+            r.stderr.contains("wake.toml") && r.stderr.contains("wake_capture_model"),
+            "{r:?}"
+        );
+    }
+}
+
+/// KNOWN BUG: `hover --delay-wingbeats 18446744073709551615` panics ("Out of bounds access",
+/// crates/flapsim/src/control.rs:171: `delay_wingbeats + 1` wraps to 0), exit 101. Once fixed
+/// it must exit 0 (the delay is legal) or 2 (rejected as out of range).
+const KNOWN_BUG_DELAY: bool = true;
+
+#[test]
+fn huge_controller_delay_does_not_panic() {
+    if KNOWN_BUG_DELAY {
+        return;
+    }
+    let r = run(&[
+        "hover",
+        "--duration-s",
+        "0.005",
+        "--no-log",
+        "--delay-wingbeats",
+        "18446744073709551615",
+    ]);
+    assert!(matches!(r.code, 0 | 2), "{r:?}");
+    assert!(!r.stderr.contains("panicked"), "{r:?}");
+}
