@@ -210,9 +210,9 @@ fn text_report_lists_every_term() {
 }
 
 #[test]
-fn non_finite_forces_fail_the_run() {
-    // wingforce does not check the coefficients of a refitted wake-capture model for NaN;
-    // the command must not report NaN means with exit 0.
+fn nan_coefficients_of_a_refitted_model_are_bad_input() {
+    // wingforce validates a refitted wake-capture model's coefficients (finite, mu* > 0):
+    // a NaN is bad input (exit 2) naming the file and the field, never NaN means.
     let dir = tempfile::tempdir().unwrap();
     let text = format!(
         "{ROBOFLY}\n[aero.wake_capture_model]\nsource = \"refit\"\n\
@@ -225,10 +225,10 @@ fn non_finite_forces_fail_the_run() {
     );
     std::fs::write(dir.path().join("refit.toml"), text).unwrap();
     let run = flapwing_in(dir.path(), &["forces", "--model", "refit.toml", "--json"]);
-    assert_eq!(run.code, 1, "{run:?}");
+    assert_eq!(run.code, 2, "{run:?}");
     assert!(run.stdout.is_empty(), "{run:?}");
     assert!(
-        run.stderr.contains("refit.toml") && run.stderr.contains("non-finite"),
+        run.stderr.contains("refit.toml") && run.stderr.contains("aero.wake_capture_model.dcl.c0"),
         "{}",
         run.stderr
     );

@@ -192,6 +192,13 @@ impl KinematicsSpec {
             Ok(v.within_open_low(&f("amplitude_deg"), x, 0.0, 180.0)?
                 .to_radians())
         };
+        let mean = |x: f64| -> Result<f64> {
+            Ok(v.within(&f("mean_stroke_deg"), x, -90.0, 90.0)?
+                .to_radians())
+        };
+        let bias = |x: f64| -> Result<f64> {
+            Ok(v.within(&f("pitch_bias_deg"), x, -45.0, 45.0)?.to_radians())
+        };
         match self {
             KinematicsSpec::Trapezoidal {
                 freq_hz,
@@ -238,12 +245,8 @@ impl KinematicsSpec {
                     },
                     freq_hz: freq,
                     amplitude_rad,
-                    mean_stroke_rad: v
-                        .within(&f("mean_stroke_deg"), *mean_stroke_deg, -90.0, 90.0)?
-                        .to_radians(),
-                    pitch_bias_rad: v
-                        .within(&f("pitch_bias_deg"), *pitch_bias_deg, -45.0, 45.0)?
-                        .to_radians(),
+                    mean_stroke_rad: mean(*mean_stroke_deg)?,
+                    pitch_bias_rad: bias(*pitch_bias_deg)?,
                 })
             }
             KinematicsSpec::Harmonic {
@@ -271,12 +274,8 @@ impl KinematicsSpec {
                 },
                 freq_hz: v.positive(&f("freq_hz"), *freq_hz)?,
                 amplitude_rad: amp(*amplitude_deg)?,
-                mean_stroke_rad: v
-                    .within(&f("mean_stroke_deg"), *mean_stroke_deg, -90.0, 90.0)?
-                    .to_radians(),
-                pitch_bias_rad: v
-                    .within(&f("pitch_bias_deg"), *pitch_bias_deg, -45.0, 45.0)?
-                    .to_radians(),
+                mean_stroke_rad: mean(*mean_stroke_deg)?,
+                pitch_bias_rad: bias(*pitch_bias_deg)?,
             }),
             KinematicsSpec::Tabulated {
                 t_s,

@@ -72,14 +72,15 @@ pub struct AeroSpec {
 
 impl Default for AeroSpec {
     fn default() -> Self {
+        let o = AeroOptions::default();
         Self {
-            translational: TranslationalModel::Lee2016,
-            ar_ro_corrections: true,
-            rotational: true,
-            added_mass: true,
-            wake_capture: true,
+            translational: o.translational,
+            ar_ro_corrections: o.ar_ro_corrections,
+            rotational: o.rotational,
+            added_mass: o.added_mass,
+            wake_capture: o.wake_capture.is_some(),
             wake_capture_model: None,
-            c_rot: 2.08,
+            c_rot: o.c_rot,
             strips: 20,
             cp_chord_frac: 0.25,
         }

@@ -218,15 +218,9 @@ impl PlanformSpec {
                 root_offset_m,
                 pitch_axis_from_le_frac,
             } => {
-                let b = v.positive(&f("span_m"), *span_m)?;
+                let (b, r0, pa) =
+                    spanwise(v, &f, *span_m, *root_offset_m, *pitch_axis_from_le_frac)?;
                 let c = v.positive(&f("chord_m"), *chord_m)?;
-                let r0 = v.non_negative(&f("root_offset_m"), *root_offset_m)?;
-                let pa = v.within(
-                    &f("pitch_axis_from_le_frac"),
-                    *pitch_axis_from_le_frac,
-                    0.0,
-                    1.0,
-                )?;
                 let shape = Parametric {
                     chord: move |_r: f64| c,
                     pitch_axis_frac: pa,
@@ -246,15 +240,9 @@ impl PlanformSpec {
                 root_offset_m,
                 pitch_axis_from_le_frac,
             } => {
-                let b = v.positive(&f("span_m"), *span_m)?;
+                let (b, r0, pa) =
+                    spanwise(v, &f, *span_m, *root_offset_m, *pitch_axis_from_le_frac)?;
                 let c = v.positive(&f("max_chord_m"), *max_chord_m)?;
-                let r0 = v.non_negative(&f("root_offset_m"), *root_offset_m)?;
-                let pa = v.within(
-                    &f("pitch_axis_from_le_frac"),
-                    *pitch_axis_from_le_frac,
-                    0.0,
-                    1.0,
-                )?;
                 let shape = Parametric {
                     chord: move |r: f64| {
                         let s = 2.0 * (r - r0) / b - 1.0;
@@ -278,18 +266,12 @@ impl PlanformSpec {
                 root_offset_m,
                 pitch_axis_from_le_frac,
             } => {
-                let b = v.positive(&f("span_m"), *span_m)?;
+                let (b, r0, pa) =
+                    spanwise(v, &f, *span_m, *root_offset_m, *pitch_axis_from_le_frac)?;
                 let s = v.positive(&f("area_m2"), *area_m2)?;
                 // Ellington (1984) fitted r1_hat over 0.4-0.6 for insect wings; the beta shape
                 // needs p, q > 0, which holds on this range.
                 let r1 = v.within(&f("r1_hat"), *r1_hat, 0.4, 0.6)?;
-                let r0 = v.non_negative(&f("root_offset_m"), *root_offset_m)?;
-                let pa = v.within(
-                    &f("pitch_axis_from_le_frac"),
-                    *pitch_axis_from_le_frac,
-                    0.0,
-                    1.0,
-                )?;
                 let (p, q) = ellington_beta_exponents(r1);
                 let unit = move |r: f64| {
                     let x = ((r - r0) / b).clamp(0.0, 1.0);
@@ -394,6 +376,21 @@ impl PlanformSpec {
             Ok(g)
         })
     }
+}
+
+/// Validates the fields every parametric planform shares: (span, root offset, pitch axis).
+fn spanwise(
+    v: &Validator<'_>,
+    f: &dyn Fn(&str) -> String,
+    span_m: f64,
+    root_offset_m: f64,
+    pitch_axis: f64,
+) -> Result<(f64, f64, f64)> {
+    Ok((
+        v.positive(&f("span_m"), span_m)?,
+        v.non_negative(&f("root_offset_m"), root_offset_m)?,
+        v.within(&f("pitch_axis_from_le_frac"), pitch_axis, 0.0, 1.0)?,
+    ))
 }
 
 /// Ellington's beta-distribution exponents (p, q) for a given r1_hat, with

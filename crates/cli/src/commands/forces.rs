@@ -7,7 +7,7 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use anyhow::Context;
-use indicatif::{ProgressBar, ProgressDrawTarget};
+use indicatif::ProgressBar;
 use serde::Serialize;
 use wingforce::cycle::CycleMean;
 use wingforce::{BodyMotion, KinematicsSpec, Term, TermForce, Wing, WingForces};
@@ -233,7 +233,7 @@ fn evaluate(
     let body = BodyMotion::default();
     let total = u64::from(cycles) * u64::from(steps);
     let progress = if total > PROGRESS_THRESHOLD {
-        ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr())
+        crate::progress::progress_bar(total, "evaluating", "samples")
     } else {
         ProgressBar::hidden()
     };

@@ -130,7 +130,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
     let mut log_error = None;
     let steps =
         (duration_s * vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64).round() as u64;
-    let bar = crate::progress::progress_bar(steps, "hovering");
+    let bar = crate::progress::progress_bar(steps, "hovering", "steps");
     let outcome = run_hover(
         &trimmed,
         &trim,

@@ -76,7 +76,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let mut sim = Simulation::new(vehicle, mode);
     let dt = sim.dt_s();
     let n = (duration_s / dt).round() as u64;
-    let bar = crate::progress::progress_bar(n, "simulating");
+    let bar = crate::progress::progress_bar(n, "simulating", "steps");
     let mut summary = SummaryBuilder::new(weight);
     let result = sim.run_while(duration_s, |out| {
         summary.observe(out, dt);

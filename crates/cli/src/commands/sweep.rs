@@ -30,7 +30,6 @@ use flapsim::study::sweep::FLAG_COLUMNS;
 use flapsim::study::table::Table;
 use flapsim::study::taguchi::{MainEffect, main_effects, snr};
 use flapsim::study::{Response, SnrKind, Study, StudySpec, merge_csv};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use plotters::prelude::*;
 use serde::Serialize;
 
@@ -144,15 +143,9 @@ pub fn run(args: SweepArgs) -> anyhow::Result<()> {
     let mut file = create_output_file(&out_path, args.force, "sweep CSV")?;
 
     let count = range.len();
-    let bar = ProgressBar::with_draw_target(Some(count as u64), ProgressDrawTarget::stderr());
-    if let Ok(style) =
-        ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} cases ({elapsed}, eta {eta})")
-    {
-        bar.set_style(style);
-    }
-    bar.set_message(study.name.clone());
+    let bar = crate::progress::progress_bar(count as u64, study.name.clone(), "cases");
     let started = Instant::now();
-    let run_cases = || study.run(range.clone(), &|| bar.inc(1));
+    let run_cases = || study.run_until(range.clone(), &|| bar.inc(1), &crate::interrupt::requested);
     let results = match args.jobs {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
@@ -173,6 +166,13 @@ pub fn run(args: SweepArgs) -> anyhow::Result<()> {
     let elapsed = started.elapsed().as_secs_f64();
     file.write_all(study.csv(&results).as_bytes())
         .map_err(|e| anyhow::anyhow!("cannot write `{}`: {e}", out_path.display()))?;
+    if results.len() < count {
+        return Err(anyhow::anyhow!(
+            "interrupted by Ctrl-C: wrote the {} of {count} cases that finished to `{}`",
+            results.len(),
+            out_path.display()
+        ));
+    }
     let clamped = results
         .iter()
         .filter(|r| r.all.wake_capture_clamped)

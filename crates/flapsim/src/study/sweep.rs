@@ -51,15 +51,29 @@ impl Study {
         range: Range<usize>,
         progress: &(dyn Fn() + Sync),
     ) -> StudyResult<Vec<CaseResult>> {
-        let results: Vec<StudyResult<CaseResult>> = range
+        self.run_until(range, progress, &|| false)
+    }
+
+    /// Like [`Study::run`], but cases not yet started when `stop` returns true are skipped
+    /// (e.g. on Ctrl-C): the result holds the completed cases, in case order.
+    pub fn run_until(
+        &self,
+        range: Range<usize>,
+        progress: &(dyn Fn() + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> StudyResult<Vec<CaseResult>> {
+        let results: Vec<Option<StudyResult<CaseResult>>> = range
             .into_par_iter()
             .map(|i| {
+                if stop() {
+                    return None;
+                }
                 let r = self.evaluate(i);
                 progress();
-                r
+                Some(r)
             })
             .collect();
-        results.into_iter().collect()
+        results.into_iter().flatten().collect()
     }
 
     /// The CSV header line (without newline).
