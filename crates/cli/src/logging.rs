@@ -201,13 +201,25 @@ pub fn record(rec: &mut Option<Recorder>, out: &flapsim::StepOutput) -> anyhow::
     Ok(())
 }
 
-/// Records an event, finishes the files and reports where they are.
-pub fn finish(rec: Option<Recorder>, end: Option<(f64, Level, String)>) -> anyhow::Result<()> {
+/// Ends a run's logs: records why it ended early (divergence as an error event, Ctrl-C as
+/// a warning) and finishes the files; then reports a log-writing failure, if any.
+pub fn finish(
+    rec: Option<Recorder>,
+    t_s: f64,
+    failure: Option<String>,
+    interrupted: bool,
+    log_error: Option<anyhow::Error>,
+) -> anyhow::Result<()> {
     if let Some(mut r) = rec {
-        if let Some((t, level, msg)) = end {
-            r.event(t, level, &msg)?;
+        match (&failure, interrupted && log_error.is_none()) {
+            (Some(why), _) => r.event(t_s, Level::Error, why)?,
+            (None, true) => r.event(t_s, Level::Warning, "interrupted (Ctrl-C)")?,
+            _ => {}
         }
         r.finish()?;
     }
-    Ok(())
+    match log_error {
+        Some(e) => Err(e.context("writing the log failed")),
+        None => Ok(()),
+    }
 }

@@ -150,22 +150,13 @@ pub fn run(args: HoverArgs) -> Result<()> {
     )
     .map_err(sim_error)?;
     bar.finish_and_clear();
-    let end = match (
-        &outcome.diverged,
-        outcome.interrupted && log_error.is_none(),
-    ) {
-        (Some(why), _) => Some((outcome.duration_s, flightlog::Level::Error, why.clone())),
-        (None, true) => Some((
-            outcome.duration_s,
-            flightlog::Level::Warning,
-            "interrupted (Ctrl-C)".to_owned(),
-        )),
-        _ => None,
-    };
-    crate::logging::finish(rec, end)?;
-    if let Some(e) = log_error {
-        return Err(e.context("writing the log failed"));
-    }
+    crate::logging::finish(
+        rec,
+        outcome.duration_s,
+        outcome.diverged.clone(),
+        outcome.interrupted,
+        log_error,
+    )?;
     let report = Report {
         model: &src.origin,
         disturbance,

@@ -91,19 +91,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     });
     bar.finish_and_clear();
     let s = summary.finish(sim.state());
-    let end = match &result {
-        Err(e) => Some((sim.time_s(), flightlog::Level::Error, e.to_string())),
-        Ok(false) if log_error.is_none() => Some((
-            sim.time_s(),
-            flightlog::Level::Warning,
-            "interrupted (Ctrl-C)".to_owned(),
-        )),
-        _ => None,
-    };
-    crate::logging::finish(rec, end)?;
-    if let Some(e) = log_error {
-        return Err(e.context("writing the log failed"));
-    }
+    let failure = result.as_ref().err().map(|e| e.to_string());
+    let interrupted = matches!(result, Ok(false));
+    crate::logging::finish(rec, sim.time_s(), failure, interrupted, log_error)?;
     let error = match &result {
         Err(e) => Some(e.to_string()),
         Ok(false) => Some("interrupted (Ctrl-C)".to_owned()),
