@@ -203,3 +203,48 @@ fn controls_change_at_wingbeat_boundaries() {
     assert_eq!(o.controls.amplitude_rad, 0.1);
     let _ = UnitQuaternion::<f64>::identity();
 }
+
+#[test]
+fn wing_inertia_has_zero_cycle_mean_force() {
+    // The wing's centre of mass moves periodically, so its acceleration averages to zero over
+    // a wingbeat ((v(T) - v(0)) / T = 0): the inertial reaction has zero mean force but a
+    // large peak.
+    let mut v = drosophila();
+    v.sim.wing_mass_kg = 2.4e-9; // about 0.24% of the body mass per wing (Ellington 1984: Diptera wings 0.1-0.5%)
+    let steps = v.sim.steps_per_wingbeat;
+    let mut sim = Simulation::new(v, Mode::Tethered);
+    let (mut mean, mut peak) = (Vector3::zeros(), 0.0f64);
+    for _ in 0..steps {
+        let o = sim.step().unwrap();
+        mean += o.wing_inertia.force_n / steps as f64;
+        peak = peak.max(o.wing_inertia.force_n.norm());
+    }
+    assert!(peak > 0.0);
+    assert!(mean.norm() < 1e-6 * peak, "mean {mean} vs peak {peak}");
+}
+
+#[test]
+fn ground_plane_catches_a_falling_body() {
+    // Wings still, ground on: the body falls from 5 mm and comes to rest on its contact sphere
+    // (radius half the body length) instead of falling through z = 0.
+    let mut v = drosophila();
+    v.sim.ground = true;
+    v.sim.solver_iterations = 4;
+    v.initial_position_m = Vector3::new(0.0, 0.0, 5e-3);
+    v.initial_angular_velocity_rad_s = Vector3::zeros();
+    let radius = 0.5 * v.length_m;
+    let mut sim = Simulation::new(v, Mode::Free);
+    sim.set_wings_still(true);
+    sim.run_for(0.3, |_| {}).unwrap();
+    let s = sim.state();
+    assert!(
+        (s.position_m.z - radius).abs() < 0.1 * radius,
+        "resting at z = {}",
+        s.position_m.z
+    );
+    assert!(
+        s.velocity_m_s.norm() < 1e-2,
+        "still moving at {}",
+        s.velocity_m_s
+    );
+}
