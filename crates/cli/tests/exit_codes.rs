@@ -52,11 +52,11 @@ fn run_with(dir: &Path, args: &[&str], out: Sink, err: Sink) -> Run {
     let reader = |p: Option<Box<dyn Read + Send>>, sink: Sink| {
         std::thread::spawn(move || {
             let mut b = Vec::new();
-            if let Some(mut p) = p {
-                if sink == Sink::Pipe {
-                    let _ = p.read_to_end(&mut b);
-                }
-                // ClosedPipe: dropped here without reading.
+            // ClosedPipe: the read end is dropped here without reading.
+            if let Some(mut p) = p
+                && sink == Sink::Pipe
+            {
+                let _ = p.read_to_end(&mut b);
             }
             b
         })
