@@ -461,7 +461,7 @@ fn disturbance() -> impl Strategy<Value = (String, bool)> {
 }
 
 /// KNOWN BUG (issue 7, reported to the lead): `hover --delay-wingbeats 18446744073709551615`
-/// (usize::MAX) panics with "Out of bounds access" at crates/flapsim/src/control.rs:171
+/// (usize::MAX) panics with "Out of bounds access" at crates/flapsim/src/control.rs:196
 /// (`delay_wingbeats + 1` wraps to 0 in `HoverController::update`, the history is emptied,
 /// then indexed), exit 101. That exact value is left out of the generator below; add it back
 /// once fixed.
