@@ -111,9 +111,15 @@ pub fn open(
     settings_json: String,
     rrd_by_default: bool,
 ) -> anyhow::Result<Option<Recorder>> {
+    if !(args.log_rate_hz.is_finite() && args.log_rate_hz > 0.0) {
+        return Err(input_error(format!(
+            "--log-rate-hz {} is not allowed: a rate > 0",
+            args.log_rate_hz
+        )));
+    }
     // The recorder logs the same warnings as events (flagging the log); say them once here.
     for w in range_warnings(vehicle) {
-        eprintln!("warning: {w}");
+        crate::output::note(&format!("warning: {w}"));
     }
     if args.no_log && !args.spawn && args.connect.is_none() {
         return Ok(None);
@@ -147,12 +153,6 @@ pub fn open(
             Some(args.log_rate_hz)
         },
     };
-    if !(args.log_rate_hz.is_finite() && args.log_rate_hz > 0.0) {
-        return Err(input_error(format!(
-            "--log-rate-hz {} is not allowed: a rate > 0",
-            args.log_rate_hz
-        )));
-    }
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     let info = RunInfo::new(
         command,
@@ -164,7 +164,7 @@ pub fn open(
     let rec = Recorder::create(&options, &info, vehicle)
         .map_err(|e| input_error(format!("cannot open the logs: {e}")))?;
     for p in options.mcap.iter().chain(options.rrd.iter()) {
-        eprintln!("logging to {}", p.display());
+        crate::output::note(&format!("logging to {}", p.display()));
     }
     Ok(Some(rec))
 }

@@ -91,3 +91,10 @@ mod tests {
         assert_eq!(exit_code(&e), EXIT_BAD_INPUT);
     }
 }
+
+/// Writes one line to stderr (warnings, "logging to ..."); a closed or full stderr is ignored,
+/// never a panic.
+pub fn note(line: &str) {
+    let mut err = io::stderr().lock();
+    let _ = writeln!(err, "{line}");
+}

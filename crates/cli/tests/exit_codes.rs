@@ -497,7 +497,7 @@ fn full_disk_exits_1() {
 /// where `validate`, `wake-capture` and `forces` say `error: cannot write to stdout: ...`.
 /// These four commands are left out of the message check (not of the exit-code check) while
 /// this is `true`.
-const KNOWN_BUG_STDOUT_CONTEXT: bool = true;
+const KNOWN_BUG_STDOUT_CONTEXT: bool = false;
 
 /// stdout on a full disk: exit 1 with a message, never a panic (`println!` would panic).
 #[cfg(target_os = "linux")]
@@ -561,7 +561,7 @@ fn closed_stdout_is_not_an_error() {
 /// `flapwing simulate --duration-s 0.001 2>/dev/full` and
 /// `flapwing trim --write out.toml 2>/dev/full` exit 101. Those runs are left out below
 /// while this is `true`.
-const KNOWN_BUG_EPRINTLN: bool = true;
+const KNOWN_BUG_EPRINTLN: bool = false;
 
 /// stderr on a full disk: the exit codes do not change (the message is lost), no panic.
 #[cfg(target_os = "linux")]
@@ -618,7 +618,7 @@ fn full_stderr_keeps_the_exit_code() {
 /// KNOWN BUG: drosophila with `[controls] amplitude_deg = 50.0` (140 + 50 > 180 deg) fails
 /// in `Vehicle::apply_controls` with `Error::Analysis` ("controls give wing 0 an amplitude of
 /// 190.00 deg ..."): no file, no field, exit 1 instead of 2.
-const KNOWN_BUG_CONTROLS: bool = true;
+const KNOWN_BUG_CONTROLS: bool = false;
 
 #[test]
 fn controls_beyond_the_kinematics_are_bad_input() {
@@ -644,7 +644,7 @@ fn controls_beyond_the_kinematics_are_bad_input() {
 /// KNOWN BUG: a refitted `aero.wake_capture_model` with `dcd.c2 = 1.0` loads (coefficients
 /// finite, mu* > 0) but `c1 exp(c2 Re)` overflows over its fitted Re range, every force is
 /// NaN and `forces` exits 1 "non-finite forces" instead of 2 naming the field.
-const KNOWN_BUG_WAKE_OVERFLOW: bool = true;
+const KNOWN_BUG_WAKE_OVERFLOW: bool = false;
 
 #[test]
 fn overflowing_wake_model_is_bad_input() {
@@ -704,7 +704,7 @@ max = 0.18
 /// KNOWN BUG: `hover --delay-wingbeats 18446744073709551615` panics ("Out of bounds access",
 /// crates/flapsim/src/control.rs:196: `delay_wingbeats + 1` wraps to 0), exit 101. Once fixed
 /// it must exit 0 (the delay is legal) or 2 (rejected as out of range).
-const KNOWN_BUG_DELAY: bool = true;
+const KNOWN_BUG_DELAY: bool = false;
 
 #[test]
 fn huge_controller_delay_does_not_panic() {

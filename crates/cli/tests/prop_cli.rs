@@ -770,8 +770,7 @@ proptest! {
         // ..." (which reads as if the built-in model were broken). Exactly these messages
         // (naming the embedded origin `<built-in drosophila>`) are exempt from the file-name
         // check below; remove once they name the log.
-        let known_bug_embedded = r.stderr.contains("<built-in drosophila>");
-        if r.code == 2 && !known_bug_embedded {
+        if r.code == 2 {
             prop_assert!(
                 r.stderr.contains("damaged log.mcap"),
                 "{:?}: stderr does not name the file: {}", damage, r.stderr

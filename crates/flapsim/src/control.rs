@@ -190,7 +190,7 @@ impl HoverController {
     /// delay), saturated at three times the design excursion.
     pub fn update(&mut self, s: &State) -> Controls {
         self.history.push_back(self.error_state(s));
-        while self.history.len() > self.delay_wingbeats + 1 {
+        while self.history.len() > self.delay_wingbeats.saturating_add(1) {
             self.history.pop_front();
         }
         let x = &self.history[0];

@@ -324,7 +324,7 @@ impl VehicleSpec {
             pitch_bias_rad: v
                 .within("controls.pitch_bias_deg", c.pitch_bias_deg, -30.0, 30.0)?
                 .to_radians(),
-            freq_hz: v.finite("controls.freq_hz", c.freq_hz)?,
+            freq_hz: v.within("controls.freq_hz", c.freq_hz, -1e4, 1e4)?,
             diff_amplitude_rad: v
                 .within(
                     "controls.diff_amplitude_deg",
@@ -398,25 +398,26 @@ impl VehicleSpec {
             initial_angular_velocity_rad_s: rate.map(f64::to_radians),
             mirror_symmetric: false,
         };
-        vehicle.apply_controls(&controls).map_err(|e| match e {
-            crate::Error::Model(m) => crate::Error::Model(m),
-            other => other,
-        })?;
-        // Check the controlled kinematics are still valid (e.g. amplitude within (0, 180]).
-        for (i, w) in vehicle.wings.iter().enumerate() {
-            let k = w.kinematics();
+        // The controlled kinematics must stay valid (checked before applying them, so the
+        // error names the controls field rather than a wing).
+        for i in 0..2 {
+            let k = vehicle.controlled_kinematics(i, &controls);
             let side = if i == 0 { "left" } else { "right" };
             v.within_open_low(
-                &format!("controls (resulting {side} amplitude, deg)"),
+                &format!("controls (resulting {side} stroke amplitude, deg)"),
                 k.amplitude_rad.to_degrees(),
                 0.0,
                 180.0,
             )?;
-            v.positive(
+            v.within_open_low(
                 &format!("controls (resulting {side} frequency, Hz)"),
                 k.freq_hz,
+                0.0,
+                1e5,
             )?;
         }
+        vehicle.apply_controls(&controls)?;
+        check_wings(&v, &vehicle.wings)?;
         Ok(vehicle)
     }
 }
@@ -468,4 +469,13 @@ impl Vehicle {
     pub fn freq_hz(&self) -> f64 {
         self.wings[0].kinematics().freq_hz
     }
+}
+
+/// Rejects models whose derived quantities or forces are not finite (extreme but finite
+/// inputs such as a 1e300 m span), naming the part of the model at fault.
+pub(crate) fn check_wings(v: &Validator<'_>, wings: &[Wing]) -> Result<()> {
+    for w in wings {
+        wingforce::model::check_wing(v, w)?;
+    }
+    Ok(())
 }

@@ -997,14 +997,7 @@ proptest! {
 /// (field, replacement) pairs are excluded from `loaded_vehicles_simulate`; remove each once
 /// the loader rejects it. `Huge` = 1e300, `HugeInt` = i64::MAX, `Tiny` = 1e-300; `*` is any
 /// list index.
-const KNOWN_BUG_EXTREME: &[(&str, &[&str])] = &[
-    ("wing.planform.root_offset_m", &["Huge", "HugeInt"]),
-    ("wing.planform.span_m", &["Huge", "Tiny"]),
-    ("wing.planform.area_m2", &["Huge"]),
-    ("kinematics.freq_hz", &["Huge"]),
-    ("left_kinematics.freq_hz", &["Huge"]),
-    ("controls.freq_hz", &["Huge"]),
-];
+const KNOWN_BUG_EXTREME: &[(&str, &[&str])] = &[];
 
 fn known_bug_extreme(path: &str, r: &Repl) -> bool {
     let generic = match path.find('[') {
@@ -1130,7 +1123,7 @@ proptest! {
 /// give wing 0 an amplitude of 190.00 deg ...")`: no origin, no field, and the CLI exits 1
 /// instead of 2. While this is `true`, such inputs are only checked to be rejected without a
 /// panic; set it to `false` once fixed (the full contract below then applies).
-const KNOWN_BUG_CONTROLS: bool = true;
+const KNOWN_BUG_CONTROLS: bool = false;
 
 /// The error of `KNOWN_BUG_CONTROLS` (`check_error` lets exactly it through while the flag is
 /// set: random values of `controls.*` reach it in the structural and exhaustive tests too).

@@ -115,12 +115,22 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
         .map(String::as_str)
         .unwrap_or("model");
     let toml = md.get("model_toml").map(String::as_str).unwrap_or("");
-    let vehicle = flapsim::Vehicle::from_toml(toml, origin)?;
+    let vehicle = flapsim::Vehicle::from_toml(toml, origin).map_err(|e| {
+        Error::Embedded(format!(
+            "the model embedded in `{}` does not load: {e}",
+            path.as_ref().display()
+        ))
+    })?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let rate = match md.get("log_rate_hz").map(String::as_str) {
         Some("every step") => None,
         Some(r) => match r.parse::<f64>() {
-            Ok(r) => Some(r),
+            Ok(r) if r.is_finite() && r > 0.0 => Some(r),
+            Ok(r) => {
+                return Ok(CheckOutcome::NotCheckable {
+                    reason: format!("the log's `log_rate_hz` metadata {r} is not a rate > 0"),
+                });
+            }
             Err(_) => settings.log_rate_hz,
         },
         None => settings.log_rate_hz,
@@ -169,6 +179,17 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
             }
         };
         if !decimator.take(out.t_s) {
+            // Past the next logged step without taking it: the settings (e.g. a forged log
+            // rate) cannot reproduce the log; stop instead of running to the end.
+            if out.step > logged[idx].0 {
+                return Ok(CheckOutcome::Mismatch {
+                    samples_matched: idx as u64,
+                    detail: format!(
+                        "sample {idx}: the log has step {}, the re-run with the logged settings does not log it",
+                        logged[idx].0
+                    ),
+                });
+            }
             continue;
         }
         let (step, values) = &logged[idx];

@@ -833,8 +833,12 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
         .get("model_origin")
         .map(String::as_str)
         .unwrap_or("model");
-    let vehicle = flapsim::Vehicle::from_toml(toml, origin)
-        .map_err(|e| Error::Embedded(format!("the log's embedded model does not load: {e}")))?;
+    let vehicle = flapsim::Vehicle::from_toml(toml, origin).map_err(|e| {
+        Error::Embedded(format!(
+            "the model embedded in `{}` does not load: {e}",
+            path.display()
+        ))
+    })?;
 
     // Assemble samples by log time; bit flags say which parts arrived.
     let mut frames: BTreeMap<u64, (FrameData, u8)> = BTreeMap::new();

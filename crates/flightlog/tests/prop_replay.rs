@@ -624,7 +624,9 @@ fn known_bug_check_hang(settings: &str, rate: &str) -> bool {
     let stuck = rate
         .parse::<f64>()
         .is_ok_and(|r| !(r.is_finite() && r.abs() >= 1e-3));
-    huge && stuck
+    // Fixed: the re-run now stops as soon as it passes a logged step it does not log.
+    let _ = (huge, stuck);
+    false
 }
 
 proptest! {

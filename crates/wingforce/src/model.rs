@@ -124,6 +124,22 @@ impl AeroSpec {
             for (name, x) in coeffs {
                 v.finite(&f(name), x)?;
             }
+            // dCL and dCD must be finite over the fitted range (an exponential rate such as
+            // c2 = 1 overflows at ordinary Re).
+            for re in [m.re_range.min, m.re_range.max] {
+                for dd in [m.dtau_d_range.min, m.dtau_d_range.max] {
+                    for (name, form) in [("dcl", &m.dcl), ("dcd", &m.dcd)] {
+                        let x = form.eval(re, dd);
+                        if !x.is_finite() {
+                            return Err(v.invalid(
+                                &f(name),
+                                format!("{name} = {x} at Re = {re}, dtau_D = {dd}"),
+                                "coefficients giving finite values over the model's fitted range",
+                            ));
+                        }
+                    }
+                }
+            }
             // mu* sets the Gaussian's centre and width: it must be positive over the whole
             // fitted range (it is linear in ln Re and dtau_A, so the corners suffice).
             for re in [m.re_range.min, m.re_range.max] {
@@ -213,12 +229,76 @@ impl WingModelSpec {
         let kinematics =
             Kinematics::from_spec(&self.kinematics, &v, "kinematics", geometry.r_gyration_m)?;
         let fluid = build_fluid(&self.fluid, &v, "fluid", &geometry, &kinematics)?;
-        Ok(Wing::builder(geometry, kinematics)
+        let wing = Wing::builder(geometry, kinematics)
             .fluid(fluid)
             .options(options)
             .mount(Mount::fixed(crate::Side::Left))
-            .build())
+            .build();
+        check_wing(&v, &wing)?;
+        Ok(wing)
     }
+}
+
+/// Rejects a wing whose derived quantities or forces are not finite. The validator checks
+/// each field's sign and finiteness; extreme but finite values (a 1e300 m span, a 1e-300 deg
+/// amplitude) can still overflow what is derived from them, and must not reach a run as NaN.
+pub fn check_wing(v: &Validator<'_>, wing: &Wing) -> Result<()> {
+    let g = wing.geometry();
+    let geometry = [
+        ("area_m2", g.area_m2),
+        ("span_m", g.span_m),
+        ("mean_chord_m", g.mean_chord_m),
+        ("r_gyration_m", g.r_gyration_m),
+        ("aspect_ratio", g.aspect_ratio),
+        ("rossby", g.rossby),
+        ("sqrt_sxx_syy_m4", g.sqrt_sxx_syy_m4),
+    ];
+    for (name, x) in geometry {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(v.invalid(
+                "wing.planform",
+                format!("a planform whose derived {name} is {x}"),
+                "lengths and areas of a physical wing (the derived quantities must be finite and > 0)",
+            ));
+        }
+    }
+    let k = wing.kinematics();
+    let derived = [
+        ("frequency (Hz)", k.freq_hz),
+        ("V_ref (m/s)", wing.v_ref_m_s()),
+        ("Re", wing.reynolds()),
+        (
+            "reference force 0.5 rho V_ref^2 S (N)",
+            wing.reference_force_n(),
+        ),
+    ];
+    for (name, x) in derived {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(v.invalid(
+                "kinematics",
+                format!("kinematics giving {name} = {x}"),
+                "kinematics with a finite, positive frequency, reference speed and Reynolds number",
+            ));
+        }
+    }
+    let body = crate::BodyMotion::default();
+    for i in 0..16 {
+        let f = wing.evaluate(i as f64 / 16.0 + 0.01, &body);
+        let values = f
+            .total
+            .force_n
+            .iter()
+            .chain(f.total.moment_hinge_nm.iter())
+            .chain([&f.total.c_l, &f.total.c_d]);
+        if !values.into_iter().all(|x| x.is_finite()) {
+            return Err(v.invalid(
+                "kinematics",
+                format!("a model whose forces are not finite at phase {:.3}", i as f64 / 16.0 + 0.01),
+                "magnitudes a float can carry through the force model (check extreme lengths, frequencies and wake-capture coefficients)",
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Builds a planform's geometry with the strips and centre of pressure of `aero`.

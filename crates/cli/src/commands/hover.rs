@@ -3,7 +3,7 @@
 //! report how far it strayed and how fast it recovered. `--open-loop` holds the trim
 //! kinematics and shows the uncontrolled divergence.
 
-use std::io::Write;
+use std::fmt::Write;
 
 use anyhow::Result;
 use flapsim::control::{Disturbance, HoverController, HoverOutcome, LqrWeights, run_hover};
@@ -29,8 +29,8 @@ pub struct HoverArgs {
     #[arg(long = "open-loop")]
     pub open_loop: bool,
     /// Sensor delay of the controller, whole wingbeats.
-    #[arg(long = "delay-wingbeats", default_value_t = 0)]
-    pub delay_wingbeats: usize,
+    #[arg(long = "delay-wingbeats", default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=1000))]
+    pub delay_wingbeats: u16,
     /// Print one JSON document on stdout instead of the text report.
     #[arg(long)]
     pub json: bool,
@@ -113,7 +113,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
                 &trimmed,
                 &trim,
                 &LqrWeights::default(),
-                args.delay_wingbeats,
+                usize::from(args.delay_wingbeats),
             )
             .map_err(sim_error)?,
         )
@@ -163,7 +163,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
         trim_pitch_deg: trim.pitch_rad.to_degrees(),
         trim_amplitude_offset_deg: trim.controls.amplitude_rad.to_degrees(),
         trim_mean_stroke_offset_deg: trim.controls.mean_stroke_rad.to_degrees(),
-        delay_wingbeats: args.delay_wingbeats,
+        delay_wingbeats: usize::from(args.delay_wingbeats),
         outcome: &outcome,
     };
     let interrupted = outcome.interrupted;
@@ -183,7 +183,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
 
 fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()> {
     let o = report.outcome;
-    let mut w = std::io::stdout().lock();
+    let mut w = String::new();
     writeln!(
         w,
         "{} hover of {} for {:.3} s from {}",
@@ -222,5 +222,5 @@ fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()
         )?,
         (None, None) => writeln!(w, "not recovered within the run")?,
     }
-    Ok(())
+    crate::output::print_stdout(&w)
 }

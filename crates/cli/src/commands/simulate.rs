@@ -1,6 +1,6 @@
 //! `flapwing simulate`: fly (or tether) a vehicle for a while and summarise the run.
 
-use std::io::Write;
+use std::fmt::Write;
 
 use anyhow::Result;
 use flapsim::{Mode, RunSummary, Simulation, SummaryBuilder};
@@ -124,7 +124,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
 
 fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
     let s = r.summary;
-    let mut o = std::io::stdout().lock();
+    let mut o = String::new();
     writeln!(
         o,
         "{name} ({}), {} flight, {:.4} s = {} steps (dt {:.3e} s, {} steps per wingbeat)",
@@ -171,5 +171,5 @@ fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
     if let Some(e) = &r.error {
         writeln!(o, "stopped: {e}")?;
     }
-    Ok(())
+    crate::output::print_stdout(&o)
 }

@@ -1,7 +1,7 @@
 //! `flapwing stability`: averaged-model modes (Sun and Xiong 2005's method) beside the
 //! Floquet exponents of the full time-periodic system, and a plot of the eigenvalues.
 
-use std::io::Write;
+use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
@@ -45,7 +45,7 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     if args.json {
         return crate::output::print_json(&report);
     }
-    let mut o = std::io::stdout().lock();
+    let mut o = String::new();
     let t = &report.trim;
     writeln!(
         o,
@@ -95,7 +95,7 @@ pub fn run(args: StabilityArgs) -> Result<()> {
                 .join(" ")
         )?;
     }
-    Ok(())
+    crate::output::print_stdout(&o)
 }
 
 fn describe(m: &ModeInfo) -> String {

@@ -1,7 +1,7 @@
 //! `flapwing trim`: the kinematics and body pitch at which the cycle-averaged forces and
 //! moments balance in hover.
 
-use std::io::Write;
+use std::fmt::Write;
 
 use anyhow::Result;
 use serde::Serialize;
@@ -95,13 +95,13 @@ pub fn run(args: TrimArgs) -> Result<()> {
             src.origin,
             toml::to_string_pretty(&doc)?
         );
-        f.write_all(text.as_bytes())?;
-        eprintln!("wrote {}", path.display());
+        std::io::Write::write_all(&mut f, text.as_bytes())?;
+        crate::output::note(&format!("wrote {}", path.display()));
     }
     if args.json {
         return crate::output::print_json(&report);
     }
-    let mut o = std::io::stdout().lock();
+    let mut o = String::new();
     writeln!(
         o,
         "hover trim of {} ({} Newton iterations)",
@@ -125,5 +125,5 @@ pub fn run(args: TrimArgs) -> Result<()> {
         report.residual_fz_over_weight,
         report.residual_my_over_weight_length
     )?;
-    Ok(())
+    crate::output::print_stdout(&o)
 }
