@@ -378,8 +378,8 @@ impl Simulation {
         let q = out.state.world_from_body;
         rb.reset_forces(false);
         rb.reset_torques(false);
-        rb.add_force(to_glam(&(q * out.total.force_n)), true);
-        rb.add_torque(to_glam(&(q * out.total.moment_nm)), true);
+        rb.add_force(to_glam(&(q * out.total.force_n)), false);
+        rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
         self.world.step();
         self.step += 1;
         Ok(out)
