@@ -7,17 +7,32 @@ use flapsim::{Mode, Simulation, Vehicle};
 use flightlog::{LogOptions, Recorder, RunInfo, SimSettings};
 
 fn bench(c: &mut Criterion) {
-    let vehicle = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "drosophila").expect("built-in model");
+    let vehicle =
+        Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "drosophila").expect("built-in model");
     let steps = vehicle.sim.steps_per_wingbeat;
     let dir = std::env::temp_dir().join(format!("flapwing-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let mut group = c.benchmark_group("wingbeat_100_steps");
-    for (name, rate) in [("no_log", None), ("mcap_2000hz", Some(Some(2000.0))), ("mcap_full_rate", Some(None))] {
+    for (name, rate) in [
+        ("no_log", None),
+        ("mcap_2000hz", Some(Some(2000.0))),
+        ("mcap_full_rate", Some(None)),
+    ] {
         group.bench_function(name, |b| {
             let mut sim = Simulation::new(vehicle.clone(), Mode::Tethered);
             let mut rec = rate.map(|r| {
-                let opts = LogOptions { mcap: Some(dir.join(format!("{name}.mcap"))), log_rate_hz: r, ..LogOptions::default() };
-                let info = RunInfo::new("bench", "bench", flapsim::DROSOPHILA_TOML, "drosophila", SimSettings::new(Mode::Tethered, 1.0, r, [0.0; 3]).to_json());
+                let opts = LogOptions {
+                    mcap: Some(dir.join(format!("{name}.mcap"))),
+                    log_rate_hz: r,
+                    ..LogOptions::default()
+                };
+                let info = RunInfo::new(
+                    "bench",
+                    "bench",
+                    flapsim::DROSOPHILA_TOML,
+                    "drosophila",
+                    SimSettings::new(Mode::Tethered, 1.0, r, [0.0; 3]).to_json(),
+                );
                 Recorder::create(&opts, &info, &vehicle).expect("recorder")
             });
             b.iter(|| {
