@@ -88,7 +88,11 @@ pub struct ForcesArgs {
     /// Write the time series of every term's C_L and C_D to this CSV file.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
-    /// Replace the --csv file if it already exists.
+    /// Draw C_L(t*) and C_D(t*) with and without wake capture over one wingbeat (the paper's
+    /// Fig 23-24) to this SVG file (PNG when it ends in .png).
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Replace the --csv or --plot file if it already exists.
     #[arg(long)]
     pub force: bool,
     /// Print one JSON document on stdout instead of the text report.

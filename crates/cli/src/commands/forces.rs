@@ -128,6 +128,10 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
         );
     }
 
+    if let Some(p) = &args.plot {
+        // Fail before any work if the plot cannot be written.
+        drop(crate::output::create_output_file(p, args.force, "plot")?);
+    }
     let mut csv = match &args.csv {
         Some(path) => Some(CsvWriter::create(path, args.force)?),
         None => None,
@@ -154,6 +158,14 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
         ));
     }
 
+    if let Some(p) = &args.plot {
+        let title = format!(
+            "{}: C_L and C_D over a wingbeat (Re {:.0})",
+            loaded.spec.name,
+            wing.reynolds()
+        );
+        super::forces_plot::plot(&wing, p, &title)?;
+    }
     let report = Report {
         model: loaded.spec.name,
         source: loaded.origin,

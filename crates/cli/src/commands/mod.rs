@@ -2,6 +2,7 @@
 
 pub mod fit_wake;
 pub mod forces;
+pub mod forces_plot;
 pub mod hover;
 pub mod replay;
 pub mod simulate;
