@@ -1,5 +1,6 @@
 //! One module per subcommand, each with a `run(args) -> anyhow::Result<()>`.
 
+pub mod contour;
 pub mod fit_wake;
 pub mod forces;
 pub mod forces_plot;

@@ -70,6 +70,8 @@ pub enum SweepAction {
     Merge(MergeArgs),
     /// Taguchi SNR, main effects and the eq 16 regression of one response of a sweep CSV.
     Analyze(AnalyzeArgs),
+    /// Map a response over two factors of a sweep CSV (like the paper's Fig 19-21).
+    Contour(super::contour::ContourArgs),
 }
 
 /// Arguments of `flapwing sweep merge`.
@@ -117,6 +119,7 @@ pub fn run(args: SweepArgs) -> anyhow::Result<()> {
     match args.action {
         Some(SweepAction::Merge(m)) => return merge(&m.dir, m.force),
         Some(SweepAction::Analyze(a)) => return analyze(a),
+        Some(SweepAction::Contour(c)) => return super::contour::run(c),
         None => {}
     }
     if let Some(dir) = &args.merge {
