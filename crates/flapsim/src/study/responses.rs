@@ -53,6 +53,9 @@ pub enum Response {
     MeanPitchMomentNm,
     /// Peak wake-capture C_L of eq 23.
     WakeCapturePeakCl,
+    /// 1 when a hover trim exists (`crate::trim::trim` converges within its allowed range),
+    /// else 0. Only computed when a study asks for it (it costs a trim per case).
+    TrimFeasible,
 }
 
 impl Response {
@@ -71,6 +74,7 @@ impl Response {
             Response::LiftPerPowerNPerW,
             Response::MeanPitchMomentNm,
             Response::WakeCapturePeakCl,
+            Response::TrimFeasible,
         ]);
         v
     }
@@ -91,6 +95,7 @@ impl Response {
             Response::LiftPerPowerNPerW => "lift_per_power_n_per_w".to_owned(),
             Response::MeanPitchMomentNm => "mean_pitch_moment_nm".to_owned(),
             Response::WakeCapturePeakCl => "wake_capture_peak_cl".to_owned(),
+            Response::TrimFeasible => "trim_feasible".to_owned(),
         }
     }
 
@@ -121,6 +126,8 @@ pub struct HoverResponses {
     pub reynolds: f64,
     /// True when the wake-capture inputs were clamped to the fitted range.
     pub wake_capture_clamped: bool,
+    /// Whether a hover trim exists (`None`: not computed).
+    pub trim_feasible: Option<bool>,
 }
 
 impl HoverResponses {
@@ -135,6 +142,11 @@ impl HoverResponses {
             Response::LiftPerPowerNPerW => self.vertical_force_n / self.aero_power_w,
             Response::MeanPitchMomentNm => self.mean_pitch_moment_nm,
             Response::WakeCapturePeakCl => self.wake_capture_peak_cl,
+            Response::TrimFeasible => match self.trim_feasible {
+                Some(true) => 1.0,
+                Some(false) => 0.0,
+                None => f64::NAN,
+            },
         }
     }
 }
@@ -187,5 +199,6 @@ pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> HoverResponses {
         wake_capture_peak_cl: peak,
         reynolds: vehicle.wings[0].reynolds(),
         wake_capture_clamped: clamped,
+        trim_feasible: None,
     }
 }

@@ -11,7 +11,7 @@ use std::ops::Range;
 use rayon::prelude::*;
 
 use super::error::{StudyError, StudyResult};
-use super::responses::{HoverResponses, hover_responses};
+use super::responses::{HoverResponses, Response, hover_responses};
 use super::spec::Study;
 use super::table::Table;
 
@@ -35,7 +35,10 @@ impl Study {
     /// Evaluates one case.
     pub fn evaluate(&self, case: usize) -> StudyResult<CaseResult> {
         let vehicle = self.vehicle(case)?;
-        let all = hover_responses(&vehicle, self.steps_per_wingbeat);
+        let mut all = hover_responses(&vehicle, self.steps_per_wingbeat);
+        if self.responses.contains(&Response::TrimFeasible) {
+            all.trim_feasible = Some(crate::trim::trim(&vehicle).is_ok());
+        }
         Ok(CaseResult {
             case,
             inputs: self.cases[case].clone(),
