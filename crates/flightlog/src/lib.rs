@@ -9,6 +9,11 @@
 //! [`Recorder::event`], and **call [`Recorder::finish`]** at the end, also after an error or
 //! Ctrl-C. `Drop` finishes the file as a best effort but cannot report errors.
 //!
+//! The outputs are written by a background thread: `record` only decimates and queues the step
+//! (the machine's second core does the serializing, compressing and writing). Errors of the
+//! writer thread come back from the next `record`/`event` call and from `finish`. The file's
+//! bytes do not depend on the threads' timing.
+//!
 //! ```no_run
 //! use flightlog::{LogOptions, Recorder, RunInfo, SimSettings, Level};
 //! let toml = flapsim::DROSOPHILA_TOML;

@@ -1,10 +1,19 @@
 //! The JSON messages, built from a step's output. Field lists match [`crate::schema`].
+//!
+//! [`SampleJson`] writes the ten messages of a sample with hand-written code. Its output is,
+//! byte for byte, what serde_json's compact serializer writes for the serde structs of the
+//! `reference` module (kept for the tests): the same field order, and every number goes
+//! through serde_json's own formatter. It reuses one buffer, formats the numbers that several
+//! messages share (time, step, position, attitude) once, and keeps the text of the values that
+//! do not change between samples (the wing hinges, the controls). The unit tests compare both
+//! writers on real runs and on non-finite inputs.
 
 use flapsim::StepOutput;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use serde::Serialize;
+use serde_json::ser::{CompactFormatter, Formatter};
+use wingforce::Side;
 use wingforce::wing::WingFrame;
-use wingforce::{Side, TermForce};
 
 /// Replaces non-finite numbers by 0 and remembers that it did.
 #[derive(Debug, Default)]
@@ -13,6 +22,7 @@ pub(crate) struct Fin {
 }
 
 impl Fin {
+    #[inline]
     pub fn f(&mut self, x: f64) -> f64 {
         if x.is_finite() {
             x
@@ -21,13 +31,7 @@ impl Fin {
             0.0
         }
     }
-    pub fn v(&mut self, v: &Vector3<f64>) -> Vec3 {
-        Vec3 {
-            x: self.f(v.x),
-            y: self.f(v.y),
-            z: self.f(v.z),
-        }
-    }
+
     pub fn q(&mut self, q: &UnitQuaternion<f64>) -> Quat {
         Quat {
             x: self.f(q.i),
@@ -36,6 +40,15 @@ impl Fin {
             w: self.f(q.w),
         }
     }
+}
+
+/// A sanitized quaternion {x, y, z, w}.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub(crate) struct Quat {
+    pub x: f64,
+    pub y: f64,
+    pub z: f64,
+    pub w: f64,
 }
 
 /// `{sec, nsec}` (Foxglove's time).
@@ -68,43 +81,6 @@ pub(crate) fn time_ns(t_s: f64) -> u64 {
     }
 }
 
-#[derive(Debug, Clone, Copy, Serialize)]
-pub(crate) struct Vec3 {
-    pub x: f64,
-    pub y: f64,
-    pub z: f64,
-}
-
-#[derive(Debug, Clone, Copy, Serialize)]
-pub(crate) struct Quat {
-    pub x: f64,
-    pub y: f64,
-    pub z: f64,
-    pub w: f64,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct Pose {
-    pub position: Vec3,
-    pub orientation: Quat,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct PoseInFrame<'a> {
-    pub timestamp: Time,
-    pub frame_id: &'a str,
-    pub pose: Pose,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct FrameTransform<'a> {
-    pub timestamp: Time,
-    pub parent_frame_id: &'a str,
-    pub child_frame_id: &'a str,
-    pub translation: Vec3,
-    pub rotation: Quat,
-}
-
 #[derive(Debug, Serialize)]
 pub(crate) struct Log<'a> {
     pub timestamp: Time,
@@ -113,91 +89,6 @@ pub(crate) struct Log<'a> {
     pub name: &'a str,
     pub file: &'a str,
     pub line: u32,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct Euler {
-    pub roll: f64,
-    pub pitch: f64,
-    pub yaw: f64,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct VehicleState {
-    pub timestamp: Time,
-    pub step: u64,
-    pub t_s: f64,
-    pub phase: f64,
-    pub position_m: Vec3,
-    pub velocity_m_s: Vec3,
-    pub attitude: Quat,
-    pub euler_deg: Euler,
-    pub body_rates_rad_s: Vec3,
-    pub applied_force_body_n: Vec3,
-    pub applied_moment_body_nm: Vec3,
-    pub lift_over_weight: f64,
-    pub nonfinite: bool,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct Controls {
-    pub timestamp: Time,
-    pub step: u64,
-    pub t_s: f64,
-    pub phase: f64,
-    pub mean_stroke_deg: f64,
-    pub amplitude_deg: f64,
-    pub pitch_bias_deg: f64,
-    pub freq_hz: f64,
-    pub diff_amplitude_deg: f64,
-    pub diff_pitch_bias_deg: f64,
-    pub diff_mean_stroke_deg: f64,
-    pub nonfinite: bool,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct Angles3 {
-    pub phi: f64,
-    pub theta: f64,
-    pub eta: f64,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct WingKinematics {
-    pub timestamp: Time,
-    pub step: u64,
-    pub t_s: f64,
-    pub phase: f64,
-    pub angles_deg: Angles3,
-    pub angles_rad: Angles3,
-    pub rates_rad_s: Angles3,
-    pub accelerations_rad_s2: Angles3,
-    pub t_star: f64,
-    pub half_stroke: i64,
-    pub downstroke: bool,
-    pub nonfinite: bool,
-}
-
-#[derive(Debug, Clone, Copy, Serialize)]
-pub(crate) struct Part {
-    pub force_n: Vec3,
-    pub moment_nm: Vec3,
-    pub c_l: f64,
-    pub c_d: f64,
-}
-
-#[derive(Debug, Serialize)]
-pub(crate) struct WingForces {
-    pub timestamp: Time,
-    pub step: u64,
-    pub t_s: f64,
-    pub phase: f64,
-    pub translational: Part,
-    pub rotational: Part,
-    pub added_mass: Part,
-    pub wake_capture: Part,
-    pub total: Part,
-    pub nonfinite: bool,
 }
 
 /// What the recorder knows about each wing that does not change during a run.
@@ -214,17 +105,6 @@ pub(crate) fn wing_rotation(w: &WingStatic, angles: &wingforce::WingAngles) -> U
     let z = fr.e_le.cross(&fr.e_span);
     let m = w.body_from_stroke * Matrix3::from_columns(&[fr.e_le, fr.e_span, z]);
     UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m))
-}
-
-/// Every message of one sample, serialized, in channel order of [`crate::schema::CHANNELS`]
-/// (events excluded), plus the numbers the Rerun sink needs.
-#[derive(Debug)]
-pub(crate) struct Sample {
-    pub t_ns: u64,
-    /// JSON bytes per channel index 0..10 (index of [`crate::schema::CHANNELS`]).
-    pub messages: Vec<(usize, Vec<u8>)>,
-    #[cfg_attr(not(feature = "rerun"), allow(dead_code))]
-    pub frame: FrameData,
 }
 
 /// The numbers a 3D view needs for one sample (all finite: sanitized).
@@ -246,215 +126,384 @@ pub(crate) struct FrameData {
     pub c_d: [[f64; 5]; 2],
 }
 
-fn arr(v: &Vec3) -> [f64; 3] {
-    [v.x, v.y, v.z]
-}
-fn arr4(q: &Quat) -> [f64; 4] {
-    [q.x, q.y, q.z, q.w]
+/// Messages per sample: channel indexes 0..10 of [`crate::schema::CHANNELS`] (events excluded).
+pub(crate) const SAMPLE_MESSAGES: usize = 10;
+
+/// Where one sample's messages lie in a byte buffer, and its Rerun numbers.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Built {
+    pub t_ns: u64,
+    /// Offset of the first message; message `i` ends at `ends[i]` and the next one starts
+    /// there.
+    pub start: usize,
+    pub ends: [usize; SAMPLE_MESSAGES],
+    #[cfg_attr(not(feature = "rerun"), allow(dead_code))]
+    pub frame: FrameData,
 }
 
-fn part(fin: &mut Fin, t: &TermForce, hinge: &Vector3<f64>) -> Part {
-    Part {
-        force_n: fin.v(&t.force_n),
-        moment_nm: fin.v(&t.moment_about_com_nm(hinge)),
-        c_l: fin.f(t.c_l),
-        c_d: fin.f(t.c_d),
+impl Built {
+    /// The JSON of message `i` (channel index `i`) in `bytes`, the buffer it was built into.
+    #[inline]
+    pub fn message<'a>(&self, bytes: &'a [u8], i: usize) -> &'a [u8] {
+        let from = if i == 0 { self.start } else { self.ends[i - 1] };
+        &bytes[from..self.ends[i]]
     }
 }
 
-/// Builds every message of one step's output.
-pub(crate) fn sample(
-    out: &StepOutput,
-    wings: &[WingStatic; 2],
+/// `x` (finite) exactly as serde_json writes an f64.
+#[inline]
+fn num(b: &mut Vec<u8>, x: f64) {
+    // Writing to a Vec cannot fail.
+    let _ = CompactFormatter.write_f64(b, x);
+}
+
+#[inline]
+fn uint(b: &mut Vec<u8>, x: u64) {
+    let _ = CompactFormatter.write_u64(b, x);
+}
+
+#[inline]
+fn boolean(b: &mut Vec<u8>, v: bool) {
+    b.extend_from_slice(if v { b"true" } else { b"false" });
+}
+
+/// `{"x":..,"y":..,"z":..}`, sanitized; returns the numbers written.
+#[inline]
+fn vec3(b: &mut Vec<u8>, fin: &mut Fin, v: &Vector3<f64>) -> [f64; 3] {
+    let a = [fin.f(v.x), fin.f(v.y), fin.f(v.z)];
+    b.extend_from_slice(b"{\"x\":");
+    num(b, a[0]);
+    b.extend_from_slice(b",\"y\":");
+    num(b, a[1]);
+    b.extend_from_slice(b",\"z\":");
+    num(b, a[2]);
+    b.push(b'}');
+    a
+}
+
+/// `{"x":..,"y":..,"z":..,"w":..}`, sanitized; returns x y z w.
+#[inline]
+fn quat(b: &mut Vec<u8>, fin: &mut Fin, q: &UnitQuaternion<f64>) -> [f64; 4] {
+    let a = [fin.f(q.i), fin.f(q.j), fin.f(q.k), fin.f(q.w)];
+    b.extend_from_slice(b"{\"x\":");
+    num(b, a[0]);
+    b.extend_from_slice(b",\"y\":");
+    num(b, a[1]);
+    b.extend_from_slice(b",\"z\":");
+    num(b, a[2]);
+    b.extend_from_slice(b",\"w\":");
+    num(b, a[3]);
+    b.push(b'}');
+    a
+}
+
+/// `{"phi":..,"theta":..,"eta":..}`, sanitized.
+#[inline]
+fn angles3(b: &mut Vec<u8>, fin: &mut Fin, phi: f64, theta: f64, eta: f64) {
+    b.extend_from_slice(b"{\"phi\":");
+    num(b, fin.f(phi));
+    b.extend_from_slice(b",\"theta\":");
+    num(b, fin.f(theta));
+    b.extend_from_slice(b",\"eta\":");
+    num(b, fin.f(eta));
+    b.push(b'}');
+}
+
+/// The seven control inputs of the controls message, as bits (the cache key).
+fn controls_key(c: &flapsim::Controls) -> [u64; 7] {
+    [
+        c.mean_stroke_rad.to_bits(),
+        c.amplitude_rad.to_bits(),
+        c.pitch_bias_rad.to_bits(),
+        c.freq_hz.to_bits(),
+        c.diff_amplitude_rad.to_bits(),
+        c.diff_pitch_bias_rad.to_bits(),
+        c.diff_mean_stroke_rad.to_bits(),
+    ]
+}
+
+/// Writes the JSON of every message of a sample (see the module docs).
+#[derive(Debug)]
+pub(crate) struct SampleJson {
+    wings: [WingStatic; 2],
     weight_n: f64,
-) -> serde_json::Result<Sample> {
-    let t_ns = time_ns(out.t_s);
-    let ts = Time::from_ns(t_ns);
-    let s = &out.state;
-    let mut frame = FrameData {
-        t_ns,
-        ..FrameData::default()
-    };
-    let mut messages = Vec::with_capacity(10);
+    /// `{"timestamp":{"sec":..,"nsec":..}`: the start of every message.
+    ts: Vec<u8>,
+    /// `ts` and `,"step":..,"t_s":..,"phase":..`: the start of the flapwing messages.
+    head: Vec<u8>,
+    /// The sanitized position and attitude objects (pose, body transform and state).
+    position: Vec<u8>,
+    attitude: Vec<u8>,
+    /// Each wing's hinge object (constant) and its sanitized numbers.
+    hinge: [Vec<u8>; 2],
+    hinge_m: [[f64; 3]; 2],
+    /// The controls fields `"mean_stroke_deg":..,...,"diff_mean_stroke_deg":..` for the
+    /// inputs `controls_key`, and whether one of them was not finite.
+    controls_key: Option<[u64; 7]>,
+    controls: Vec<u8>,
+    controls_bad: bool,
+}
 
-    // Vehicle state.
-    let time_bad = !(out.t_s.is_finite() && out.phase.is_finite());
-    let mut fin = Fin::default();
-    let t_s = fin.f(out.t_s);
-    let phase = fin.f(out.phase);
-    let (roll, pitch, yaw) = s.euler_rad();
-    let vertical = (s.world_from_body * out.total.force_n).z;
-    let state = VehicleState {
-        timestamp: ts,
-        step: out.step,
-        t_s,
-        phase,
-        position_m: fin.v(&s.position_m),
-        velocity_m_s: fin.v(&s.velocity_m_s),
-        attitude: fin.q(&s.world_from_body),
-        euler_deg: Euler {
-            roll: fin.f(roll.to_degrees()),
-            pitch: fin.f(pitch.to_degrees()),
-            yaw: fin.f(yaw.to_degrees()),
-        },
-        body_rates_rad_s: fin.v(&s.angular_velocity_body_rad_s),
-        applied_force_body_n: fin.v(&out.total.force_n),
-        applied_moment_body_nm: fin.v(&out.total.moment_nm),
-        lift_over_weight: fin.f(vertical / weight_n),
-        nonfinite: false,
-    };
-    let state = VehicleState {
-        nonfinite: fin.nonfinite,
-        ..state
-    };
-    frame.position = arr(&state.position_m);
-    frame.attitude = arr4(&state.attitude);
-    frame.euler_deg = [
-        state.euler_deg.roll,
-        state.euler_deg.pitch,
-        state.euler_deg.yaw,
-    ];
-    frame.lift_over_weight = state.lift_over_weight;
+impl SampleJson {
+    pub fn new(wings: [WingStatic; 2], weight_n: f64) -> Self {
+        let mut hinge = [Vec::new(), Vec::new()];
+        let mut hinge_m = [[0.0; 3]; 2];
+        for i in 0..2 {
+            // The flag of a Foxglove message is carried by the state message: dropped here.
+            hinge_m[i] = vec3(
+                &mut hinge[i],
+                &mut Fin::default(),
+                &wings[i].hinge_in_body_m,
+            );
+        }
+        Self {
+            wings,
+            weight_n,
+            ts: Vec::with_capacity(64),
+            head: Vec::with_capacity(128),
+            position: Vec::with_capacity(96),
+            attitude: Vec::with_capacity(128),
+            hinge,
+            hinge_m,
+            controls_key: None,
+            controls: Vec::with_capacity(320),
+            controls_bad: false,
+        }
+    }
 
-    // Foxglove pose and body transform (sanitized the same way; the flag is on the state).
-    let pose = PoseInFrame {
-        timestamp: ts,
-        frame_id: crate::schema::FRAME_WORLD,
-        pose: Pose {
-            position: state.position_m,
-            orientation: state.attitude,
-        },
-    };
-    messages.push((0, serde_json::to_vec(&pose)?));
-    let tf = FrameTransform {
-        timestamp: ts,
-        parent_frame_id: crate::schema::FRAME_WORLD,
-        child_frame_id: crate::schema::FRAME_BODY,
-        translation: state.position_m,
-        rotation: state.attitude,
-    };
-    messages.push((1, serde_json::to_vec(&tf)?));
+    /// Appends the ten messages of `out` to `b` (in channel order) and says where they are.
+    pub fn build(&mut self, out: &StepOutput, b: &mut Vec<u8>) -> Built {
+        let t_ns = time_ns(out.t_s);
+        let start = b.len();
+        let mut ends = [0; SAMPLE_MESSAGES];
+        let mut frame = FrameData {
+            t_ns,
+            wing_hinge: self.hinge_m,
+            ..FrameData::default()
+        };
+        let s = &out.state;
 
-    // Wing transforms.
-    for (i, w) in wings.iter().enumerate() {
-        let mut f = Fin::default();
-        let q = wing_rotation(w, &out.wings[i].angles);
-        let tf = FrameTransform {
-            timestamp: ts,
-            parent_frame_id: crate::schema::FRAME_BODY,
-            child_frame_id: if i == 0 {
+        // Shared pieces. `fin` is the state message's flag: it covers the time, the phase,
+        // the position and the attitude, which the Foxglove messages also carry.
+        let time_bad = !(out.t_s.is_finite() && out.phase.is_finite());
+        let mut fin = Fin::default();
+        let t_s = fin.f(out.t_s);
+        let phase = fin.f(out.phase);
+        let ts = Time::from_ns(t_ns);
+        self.ts.clear();
+        self.ts.extend_from_slice(b"{\"timestamp\":{\"sec\":");
+        uint(&mut self.ts, ts.sec);
+        self.ts.extend_from_slice(b",\"nsec\":");
+        uint(&mut self.ts, u64::from(ts.nsec));
+        self.ts.push(b'}');
+        self.head.clear();
+        self.head.extend_from_slice(&self.ts);
+        self.head.extend_from_slice(b",\"step\":");
+        uint(&mut self.head, out.step);
+        self.head.extend_from_slice(b",\"t_s\":");
+        num(&mut self.head, t_s);
+        self.head.extend_from_slice(b",\"phase\":");
+        num(&mut self.head, phase);
+        self.position.clear();
+        frame.position = vec3(&mut self.position, &mut fin, &s.position_m);
+        self.attitude.clear();
+        frame.attitude = quat(&mut self.attitude, &mut fin, &s.world_from_body);
+
+        // 0: pose.
+        b.extend_from_slice(&self.ts);
+        b.extend_from_slice(b",\"frame_id\":\"");
+        b.extend_from_slice(crate::schema::FRAME_WORLD.as_bytes());
+        b.extend_from_slice(b"\",\"pose\":{\"position\":");
+        b.extend_from_slice(&self.position);
+        b.extend_from_slice(b",\"orientation\":");
+        b.extend_from_slice(&self.attitude);
+        b.extend_from_slice(b"}}");
+        ends[0] = b.len();
+
+        // 1: body transform.
+        b.extend_from_slice(&self.ts);
+        transform_frames(b, crate::schema::FRAME_WORLD, crate::schema::FRAME_BODY);
+        b.extend_from_slice(&self.position);
+        b.extend_from_slice(b",\"rotation\":");
+        b.extend_from_slice(&self.attitude);
+        b.push(b'}');
+        ends[1] = b.len();
+
+        // 2, 3: wing transforms.
+        for (i, w) in self.wings.iter().enumerate() {
+            let q = wing_rotation(w, &out.wings[i].angles);
+            b.extend_from_slice(&self.ts);
+            let child = if i == 0 {
                 crate::schema::FRAME_WING_LEFT
             } else {
                 crate::schema::FRAME_WING_RIGHT
-            },
-            translation: f.v(&w.hinge_in_body_m),
-            rotation: f.q(&q),
-        };
-        frame.wing_hinge[i] = arr(&tf.translation);
-        frame.wing_rotation[i] = arr4(&tf.rotation);
-        messages.push((2 + i, serde_json::to_vec(&tf)?));
-    }
-    messages.push((4, serde_json::to_vec(&state)?));
-
-    // Controls.
-    let c = &out.controls;
-    let mut f = Fin::default();
-    let controls = Controls {
-        timestamp: ts,
-        step: out.step,
-        t_s,
-        phase,
-        mean_stroke_deg: f.f(c.mean_stroke_rad.to_degrees()),
-        amplitude_deg: f.f(c.amplitude_rad.to_degrees()),
-        pitch_bias_deg: f.f(c.pitch_bias_rad.to_degrees()),
-        freq_hz: f.f(c.freq_hz),
-        diff_amplitude_deg: f.f(c.diff_amplitude_rad.to_degrees()),
-        diff_pitch_bias_deg: f.f(c.diff_pitch_bias_rad.to_degrees()),
-        diff_mean_stroke_deg: f.f(c.diff_mean_stroke_rad.to_degrees()),
-        nonfinite: false,
-    };
-    let controls = Controls {
-        nonfinite: f.nonfinite || time_bad,
-        ..controls
-    };
-    messages.push((5, serde_json::to_vec(&controls)?));
-
-    // Kinematics per wing.
-    for (i, wf) in out.wings.iter().enumerate() {
-        let a = &wf.angles;
-        let mut f = Fin::default();
-        let k = WingKinematics {
-            timestamp: ts,
-            step: out.step,
-            t_s,
-            phase,
-            angles_deg: Angles3 {
-                phi: f.f(a.phi.to_degrees()),
-                theta: f.f(a.theta.to_degrees()),
-                eta: f.f(a.eta.to_degrees()),
-            },
-            angles_rad: Angles3 {
-                phi: f.f(a.phi),
-                theta: f.f(a.theta),
-                eta: f.f(a.eta),
-            },
-            rates_rad_s: Angles3 {
-                phi: f.f(a.phi_dot),
-                theta: f.f(a.theta_dot),
-                eta: f.f(a.eta_dot),
-            },
-            accelerations_rad_s2: Angles3 {
-                phi: f.f(a.phi_ddot),
-                theta: f.f(a.theta_ddot),
-                eta: f.f(a.eta_ddot),
-            },
-            t_star: f.f(wf.phase.t_star),
-            half_stroke: wf.phase.half_stroke,
-            downstroke: wf.phase.downstroke,
-            nonfinite: false,
-        };
-        let k = WingKinematics {
-            nonfinite: f.nonfinite || time_bad,
-            ..k
-        };
-        messages.push((6 + i, serde_json::to_vec(&k)?));
-    }
-
-    // Forces per wing.
-    for (i, wf) in out.wings.iter().enumerate() {
-        let hinge = &wings[i].hinge_in_body_m;
-        let mut f = Fin::default();
-        let parts = [
-            part(&mut f, &wf.terms[0], hinge),
-            part(&mut f, &wf.terms[1], hinge),
-            part(&mut f, &wf.terms[2], hinge),
-            part(&mut f, &wf.terms[3], hinge),
-            part(&mut f, &wf.total, hinge),
-        ];
-        for (j, p) in parts.iter().enumerate() {
-            frame.force_n[i][j] = arr(&p.force_n);
-            frame.c_l[i][j] = p.c_l;
-            frame.c_d[i][j] = p.c_d;
+            };
+            transform_frames(b, crate::schema::FRAME_BODY, child);
+            b.extend_from_slice(&self.hinge[i]);
+            b.extend_from_slice(b",\"rotation\":");
+            frame.wing_rotation[i] = quat(b, &mut Fin::default(), &q);
+            b.push(b'}');
+            ends[2 + i] = b.len();
         }
-        let m = WingForces {
-            timestamp: ts,
-            step: out.step,
-            t_s,
-            phase,
-            translational: parts[0],
-            rotational: parts[1],
-            added_mass: parts[2],
-            wake_capture: parts[3],
-            total: parts[4],
-            nonfinite: f.nonfinite || time_bad,
-        };
-        messages.push((8 + i, serde_json::to_vec(&m)?));
+
+        // 4: vehicle state.
+        let (roll, pitch, yaw) = s.euler_rad();
+        let vertical = (s.world_from_body * out.total.force_n).z;
+        b.extend_from_slice(&self.head);
+        b.extend_from_slice(b",\"position_m\":");
+        b.extend_from_slice(&self.position);
+        b.extend_from_slice(b",\"velocity_m_s\":");
+        vec3(b, &mut fin, &s.velocity_m_s);
+        b.extend_from_slice(b",\"attitude\":");
+        b.extend_from_slice(&self.attitude);
+        let euler = [
+            fin.f(roll.to_degrees()),
+            fin.f(pitch.to_degrees()),
+            fin.f(yaw.to_degrees()),
+        ];
+        b.extend_from_slice(b",\"euler_deg\":{\"roll\":");
+        num(b, euler[0]);
+        b.extend_from_slice(b",\"pitch\":");
+        num(b, euler[1]);
+        b.extend_from_slice(b",\"yaw\":");
+        num(b, euler[2]);
+        b.extend_from_slice(b"},\"body_rates_rad_s\":");
+        vec3(b, &mut fin, &s.angular_velocity_body_rad_s);
+        b.extend_from_slice(b",\"applied_force_body_n\":");
+        vec3(b, &mut fin, &out.total.force_n);
+        b.extend_from_slice(b",\"applied_moment_body_nm\":");
+        vec3(b, &mut fin, &out.total.moment_nm);
+        let lift_over_weight = fin.f(vertical / self.weight_n);
+        b.extend_from_slice(b",\"lift_over_weight\":");
+        num(b, lift_over_weight);
+        b.extend_from_slice(b",\"nonfinite\":");
+        boolean(b, fin.nonfinite);
+        b.push(b'}');
+        ends[4] = b.len();
+        frame.euler_deg = euler;
+        frame.lift_over_weight = lift_over_weight;
+
+        // 5: controls (their text is kept while they do not change).
+        let c = &out.controls;
+        let key = controls_key(c);
+        if self.controls_key != Some(key) {
+            let mut f = Fin::default();
+            let cb = &mut self.controls;
+            cb.clear();
+            cb.extend_from_slice(b"\"mean_stroke_deg\":");
+            num(cb, f.f(c.mean_stroke_rad.to_degrees()));
+            cb.extend_from_slice(b",\"amplitude_deg\":");
+            num(cb, f.f(c.amplitude_rad.to_degrees()));
+            cb.extend_from_slice(b",\"pitch_bias_deg\":");
+            num(cb, f.f(c.pitch_bias_rad.to_degrees()));
+            cb.extend_from_slice(b",\"freq_hz\":");
+            num(cb, f.f(c.freq_hz));
+            cb.extend_from_slice(b",\"diff_amplitude_deg\":");
+            num(cb, f.f(c.diff_amplitude_rad.to_degrees()));
+            cb.extend_from_slice(b",\"diff_pitch_bias_deg\":");
+            num(cb, f.f(c.diff_pitch_bias_rad.to_degrees()));
+            cb.extend_from_slice(b",\"diff_mean_stroke_deg\":");
+            num(cb, f.f(c.diff_mean_stroke_rad.to_degrees()));
+            self.controls_bad = f.nonfinite;
+            self.controls_key = Some(key);
+        }
+        b.extend_from_slice(&self.head);
+        b.push(b',');
+        b.extend_from_slice(&self.controls);
+        b.extend_from_slice(b",\"nonfinite\":");
+        boolean(b, self.controls_bad || time_bad);
+        b.push(b'}');
+        ends[5] = b.len();
+
+        // 6, 7: kinematics.
+        for (i, wf) in out.wings.iter().enumerate() {
+            let a = &wf.angles;
+            let mut f = Fin::default();
+            b.extend_from_slice(&self.head);
+            b.extend_from_slice(b",\"angles_deg\":");
+            angles3(
+                b,
+                &mut f,
+                a.phi.to_degrees(),
+                a.theta.to_degrees(),
+                a.eta.to_degrees(),
+            );
+            b.extend_from_slice(b",\"angles_rad\":");
+            angles3(b, &mut f, a.phi, a.theta, a.eta);
+            b.extend_from_slice(b",\"rates_rad_s\":");
+            angles3(b, &mut f, a.phi_dot, a.theta_dot, a.eta_dot);
+            b.extend_from_slice(b",\"accelerations_rad_s2\":");
+            angles3(b, &mut f, a.phi_ddot, a.theta_ddot, a.eta_ddot);
+            b.extend_from_slice(b",\"t_star\":");
+            num(b, f.f(wf.phase.t_star));
+            b.extend_from_slice(b",\"half_stroke\":");
+            let _ = CompactFormatter.write_i64(b, wf.phase.half_stroke);
+            b.extend_from_slice(b",\"downstroke\":");
+            boolean(b, wf.phase.downstroke);
+            b.extend_from_slice(b",\"nonfinite\":");
+            boolean(b, f.nonfinite || time_bad);
+            b.push(b'}');
+            ends[6 + i] = b.len();
+        }
+
+        // 8, 9: forces.
+        for (i, wf) in out.wings.iter().enumerate() {
+            let hinge = &self.wings[i].hinge_in_body_m;
+            let mut f = Fin::default();
+            b.extend_from_slice(&self.head);
+            let terms = [
+                &wf.terms[0],
+                &wf.terms[1],
+                &wf.terms[2],
+                &wf.terms[3],
+                &wf.total,
+            ];
+            for (j, (t, key)) in terms.iter().zip(PART_KEYS).enumerate() {
+                b.extend_from_slice(key);
+                frame.force_n[i][j] = vec3(b, &mut f, &t.force_n);
+                b.extend_from_slice(b",\"moment_nm\":");
+                vec3(b, &mut f, &t.moment_about_com_nm(hinge));
+                let (c_l, c_d) = (f.f(t.c_l), f.f(t.c_d));
+                b.extend_from_slice(b",\"c_l\":");
+                num(b, c_l);
+                b.extend_from_slice(b",\"c_d\":");
+                num(b, c_d);
+                b.push(b'}');
+                frame.c_l[i][j] = c_l;
+                frame.c_d[i][j] = c_d;
+            }
+            b.extend_from_slice(b",\"nonfinite\":");
+            boolean(b, f.nonfinite || time_bad);
+            b.push(b'}');
+            ends[8 + i] = b.len();
+        }
+        Built {
+            t_ns,
+            start,
+            ends,
+            frame,
+        }
     }
-    Ok(Sample {
-        t_ns,
-        messages,
-        frame,
-    })
+}
+
+/// What precedes each part object of the forces message, up to its `force_n` value.
+const PART_KEYS: [&[u8]; 5] = [
+    b",\"translational\":{\"force_n\":",
+    b",\"rotational\":{\"force_n\":",
+    b",\"added_mass\":{\"force_n\":",
+    b",\"wake_capture\":{\"force_n\":",
+    b",\"total\":{\"force_n\":",
+];
+
+/// `,"parent_frame_id":"..","child_frame_id":"..","translation":` (frame names need no
+/// escaping).
+#[inline]
+fn transform_frames(b: &mut Vec<u8>, parent: &str, child: &str) {
+    b.extend_from_slice(b",\"parent_frame_id\":\"");
+    b.extend_from_slice(parent.as_bytes());
+    b.extend_from_slice(b"\",\"child_frame_id\":\"");
+    b.extend_from_slice(child.as_bytes());
+    b.extend_from_slice(b"\",\"translation\":");
 }
 
 /// A `foxglove.Log` message.
@@ -467,4 +516,490 @@ pub(crate) fn log_message(t_ns: u64, level: u8, message: &str) -> serde_json::Re
         file: "",
         line: 0,
     })
+}
+
+/// The serde structs of the sample messages and the serde_json writer they replace: the
+/// reference [`SampleJson`] is checked against.
+#[cfg(test)]
+pub(crate) mod reference {
+    use super::*;
+    use wingforce::TermForce;
+
+    impl Fin {
+        pub fn v(&mut self, v: &Vector3<f64>) -> Vec3 {
+            Vec3 {
+                x: self.f(v.x),
+                y: self.f(v.y),
+                z: self.f(v.z),
+            }
+        }
+    }
+
+    #[derive(Debug, Clone, Copy, Serialize)]
+    pub(crate) struct Vec3 {
+        pub x: f64,
+        pub y: f64,
+        pub z: f64,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct Pose {
+        pub position: Vec3,
+        pub orientation: Quat,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct PoseInFrame<'a> {
+        pub timestamp: Time,
+        pub frame_id: &'a str,
+        pub pose: Pose,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct FrameTransform<'a> {
+        pub timestamp: Time,
+        pub parent_frame_id: &'a str,
+        pub child_frame_id: &'a str,
+        pub translation: Vec3,
+        pub rotation: Quat,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct Euler {
+        pub roll: f64,
+        pub pitch: f64,
+        pub yaw: f64,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct VehicleState {
+        pub timestamp: Time,
+        pub step: u64,
+        pub t_s: f64,
+        pub phase: f64,
+        pub position_m: Vec3,
+        pub velocity_m_s: Vec3,
+        pub attitude: Quat,
+        pub euler_deg: Euler,
+        pub body_rates_rad_s: Vec3,
+        pub applied_force_body_n: Vec3,
+        pub applied_moment_body_nm: Vec3,
+        pub lift_over_weight: f64,
+        pub nonfinite: bool,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct Controls {
+        pub timestamp: Time,
+        pub step: u64,
+        pub t_s: f64,
+        pub phase: f64,
+        pub mean_stroke_deg: f64,
+        pub amplitude_deg: f64,
+        pub pitch_bias_deg: f64,
+        pub freq_hz: f64,
+        pub diff_amplitude_deg: f64,
+        pub diff_pitch_bias_deg: f64,
+        pub diff_mean_stroke_deg: f64,
+        pub nonfinite: bool,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct Angles3 {
+        pub phi: f64,
+        pub theta: f64,
+        pub eta: f64,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct WingKinematics {
+        pub timestamp: Time,
+        pub step: u64,
+        pub t_s: f64,
+        pub phase: f64,
+        pub angles_deg: Angles3,
+        pub angles_rad: Angles3,
+        pub rates_rad_s: Angles3,
+        pub accelerations_rad_s2: Angles3,
+        pub t_star: f64,
+        pub half_stroke: i64,
+        pub downstroke: bool,
+        pub nonfinite: bool,
+    }
+
+    #[derive(Debug, Clone, Copy, Serialize)]
+    pub(crate) struct Part {
+        pub force_n: Vec3,
+        pub moment_nm: Vec3,
+        pub c_l: f64,
+        pub c_d: f64,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct WingForces {
+        pub timestamp: Time,
+        pub step: u64,
+        pub t_s: f64,
+        pub phase: f64,
+        pub translational: Part,
+        pub rotational: Part,
+        pub added_mass: Part,
+        pub wake_capture: Part,
+        pub total: Part,
+        pub nonfinite: bool,
+    }
+
+    /// Every message of one sample, serialized, in channel order (events excluded), plus
+    /// the numbers the Rerun sink needs.
+    #[derive(Debug)]
+    pub(crate) struct Sample {
+        pub t_ns: u64,
+        /// JSON bytes per channel index 0..10 (index of [`crate::schema::CHANNELS`]).
+        pub messages: Vec<(usize, Vec<u8>)>,
+        pub frame: FrameData,
+    }
+
+    fn arr(v: &Vec3) -> [f64; 3] {
+        [v.x, v.y, v.z]
+    }
+    fn arr4(q: &Quat) -> [f64; 4] {
+        [q.x, q.y, q.z, q.w]
+    }
+
+    fn part(fin: &mut Fin, t: &TermForce, hinge: &Vector3<f64>) -> Part {
+        Part {
+            force_n: fin.v(&t.force_n),
+            moment_nm: fin.v(&t.moment_about_com_nm(hinge)),
+            c_l: fin.f(t.c_l),
+            c_d: fin.f(t.c_d),
+        }
+    }
+
+    /// Builds every message of one step's output.
+    pub(crate) fn sample(
+        out: &StepOutput,
+        wings: &[WingStatic; 2],
+        weight_n: f64,
+    ) -> serde_json::Result<Sample> {
+        let t_ns = time_ns(out.t_s);
+        let ts = Time::from_ns(t_ns);
+        let s = &out.state;
+        let mut frame = FrameData {
+            t_ns,
+            ..FrameData::default()
+        };
+        let mut messages = Vec::with_capacity(10);
+
+        // Vehicle state.
+        let time_bad = !(out.t_s.is_finite() && out.phase.is_finite());
+        let mut fin = Fin::default();
+        let t_s = fin.f(out.t_s);
+        let phase = fin.f(out.phase);
+        let (roll, pitch, yaw) = s.euler_rad();
+        let vertical = (s.world_from_body * out.total.force_n).z;
+        let state = VehicleState {
+            timestamp: ts,
+            step: out.step,
+            t_s,
+            phase,
+            position_m: fin.v(&s.position_m),
+            velocity_m_s: fin.v(&s.velocity_m_s),
+            attitude: fin.q(&s.world_from_body),
+            euler_deg: Euler {
+                roll: fin.f(roll.to_degrees()),
+                pitch: fin.f(pitch.to_degrees()),
+                yaw: fin.f(yaw.to_degrees()),
+            },
+            body_rates_rad_s: fin.v(&s.angular_velocity_body_rad_s),
+            applied_force_body_n: fin.v(&out.total.force_n),
+            applied_moment_body_nm: fin.v(&out.total.moment_nm),
+            lift_over_weight: fin.f(vertical / weight_n),
+            nonfinite: false,
+        };
+        let state = VehicleState {
+            nonfinite: fin.nonfinite,
+            ..state
+        };
+        frame.position = arr(&state.position_m);
+        frame.attitude = arr4(&state.attitude);
+        frame.euler_deg = [
+            state.euler_deg.roll,
+            state.euler_deg.pitch,
+            state.euler_deg.yaw,
+        ];
+        frame.lift_over_weight = state.lift_over_weight;
+
+        // Foxglove pose and body transform (sanitized the same way; the flag is on the state).
+        let pose = PoseInFrame {
+            timestamp: ts,
+            frame_id: crate::schema::FRAME_WORLD,
+            pose: Pose {
+                position: state.position_m,
+                orientation: state.attitude,
+            },
+        };
+        messages.push((0, serde_json::to_vec(&pose)?));
+        let tf = FrameTransform {
+            timestamp: ts,
+            parent_frame_id: crate::schema::FRAME_WORLD,
+            child_frame_id: crate::schema::FRAME_BODY,
+            translation: state.position_m,
+            rotation: state.attitude,
+        };
+        messages.push((1, serde_json::to_vec(&tf)?));
+
+        // Wing transforms.
+        for (i, w) in wings.iter().enumerate() {
+            let mut f = Fin::default();
+            let q = wing_rotation(w, &out.wings[i].angles);
+            let tf = FrameTransform {
+                timestamp: ts,
+                parent_frame_id: crate::schema::FRAME_BODY,
+                child_frame_id: if i == 0 {
+                    crate::schema::FRAME_WING_LEFT
+                } else {
+                    crate::schema::FRAME_WING_RIGHT
+                },
+                translation: f.v(&w.hinge_in_body_m),
+                rotation: f.q(&q),
+            };
+            frame.wing_hinge[i] = arr(&tf.translation);
+            frame.wing_rotation[i] = arr4(&tf.rotation);
+            messages.push((2 + i, serde_json::to_vec(&tf)?));
+        }
+        messages.push((4, serde_json::to_vec(&state)?));
+
+        // Controls.
+        let c = &out.controls;
+        let mut f = Fin::default();
+        let controls = Controls {
+            timestamp: ts,
+            step: out.step,
+            t_s,
+            phase,
+            mean_stroke_deg: f.f(c.mean_stroke_rad.to_degrees()),
+            amplitude_deg: f.f(c.amplitude_rad.to_degrees()),
+            pitch_bias_deg: f.f(c.pitch_bias_rad.to_degrees()),
+            freq_hz: f.f(c.freq_hz),
+            diff_amplitude_deg: f.f(c.diff_amplitude_rad.to_degrees()),
+            diff_pitch_bias_deg: f.f(c.diff_pitch_bias_rad.to_degrees()),
+            diff_mean_stroke_deg: f.f(c.diff_mean_stroke_rad.to_degrees()),
+            nonfinite: false,
+        };
+        let controls = Controls {
+            nonfinite: f.nonfinite || time_bad,
+            ..controls
+        };
+        messages.push((5, serde_json::to_vec(&controls)?));
+
+        // Kinematics per wing.
+        for (i, wf) in out.wings.iter().enumerate() {
+            let a = &wf.angles;
+            let mut f = Fin::default();
+            let k = WingKinematics {
+                timestamp: ts,
+                step: out.step,
+                t_s,
+                phase,
+                angles_deg: Angles3 {
+                    phi: f.f(a.phi.to_degrees()),
+                    theta: f.f(a.theta.to_degrees()),
+                    eta: f.f(a.eta.to_degrees()),
+                },
+                angles_rad: Angles3 {
+                    phi: f.f(a.phi),
+                    theta: f.f(a.theta),
+                    eta: f.f(a.eta),
+                },
+                rates_rad_s: Angles3 {
+                    phi: f.f(a.phi_dot),
+                    theta: f.f(a.theta_dot),
+                    eta: f.f(a.eta_dot),
+                },
+                accelerations_rad_s2: Angles3 {
+                    phi: f.f(a.phi_ddot),
+                    theta: f.f(a.theta_ddot),
+                    eta: f.f(a.eta_ddot),
+                },
+                t_star: f.f(wf.phase.t_star),
+                half_stroke: wf.phase.half_stroke,
+                downstroke: wf.phase.downstroke,
+                nonfinite: false,
+            };
+            let k = WingKinematics {
+                nonfinite: f.nonfinite || time_bad,
+                ..k
+            };
+            messages.push((6 + i, serde_json::to_vec(&k)?));
+        }
+
+        // Forces per wing.
+        for (i, wf) in out.wings.iter().enumerate() {
+            let hinge = &wings[i].hinge_in_body_m;
+            let mut f = Fin::default();
+            let parts = [
+                part(&mut f, &wf.terms[0], hinge),
+                part(&mut f, &wf.terms[1], hinge),
+                part(&mut f, &wf.terms[2], hinge),
+                part(&mut f, &wf.terms[3], hinge),
+                part(&mut f, &wf.total, hinge),
+            ];
+            for (j, p) in parts.iter().enumerate() {
+                frame.force_n[i][j] = arr(&p.force_n);
+                frame.c_l[i][j] = p.c_l;
+                frame.c_d[i][j] = p.c_d;
+            }
+            let m = WingForces {
+                timestamp: ts,
+                step: out.step,
+                t_s,
+                phase,
+                translational: parts[0],
+                rotational: parts[1],
+                added_mass: parts[2],
+                wake_capture: parts[3],
+                total: parts[4],
+                nonfinite: f.nonfinite || time_bad,
+            };
+            messages.push((8 + i, serde_json::to_vec(&m)?));
+        }
+        Ok(Sample {
+            t_ns,
+            messages,
+            frame,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flapsim::{Mode, Simulation, Vehicle};
+
+    fn statics(v: &Vehicle) -> [WingStatic; 2] {
+        [0, 1].map(|i| {
+            let w = &v.wings[i];
+            WingStatic {
+                side: w.mount().side,
+                hinge_in_body_m: w.mount().hinge_in_body_m,
+                body_from_stroke: *w.body_from_stroke(),
+            }
+        })
+    }
+
+    /// Both writers agree on every message of every output (one `SampleJson` for all, so the
+    /// caches are exercised), and on the Rerun numbers.
+    fn check(v: &Vehicle, outs: &[StepOutput]) {
+        let wings = statics(v);
+        let mut json = SampleJson::new(wings, v.weight_n());
+        let mut buf = Vec::new();
+        for out in outs {
+            let want = reference::sample(out, &wings, v.weight_n()).unwrap();
+            // Alternate between a fresh buffer and appending, as the recorder does.
+            if out.step % 3 == 0 {
+                buf.clear();
+            }
+            let got = json.build(out, &mut buf);
+            assert_eq!(got.t_ns, want.t_ns);
+            assert_eq!(want.messages.len(), SAMPLE_MESSAGES);
+            for (i, (index, data)) in want.messages.iter().enumerate() {
+                assert_eq!(*index, i);
+                assert_eq!(
+                    std::str::from_utf8(got.message(&buf, i)).unwrap(),
+                    std::str::from_utf8(data).unwrap(),
+                    "message {i} of step {}",
+                    out.step
+                );
+            }
+            assert_eq!(format!("{:?}", got.frame), format!("{:?}", want.frame));
+        }
+    }
+
+    fn run(toml: &str, mode: Mode, steps: usize, controls: bool) -> (Vehicle, Vec<StepOutput>) {
+        let v = Vehicle::from_toml(toml, "model.toml").unwrap();
+        let mut sim = Simulation::new(v.clone(), mode);
+        let mut outs = Vec::new();
+        for k in 0..steps {
+            if controls && k % 37 == 0 {
+                let mut c = flapsim::Controls::default();
+                c.amplitude_rad = 0.01 * (k % 5) as f64;
+                c.diff_pitch_bias_rad = -0.003 * (k % 3) as f64;
+                sim.set_controls(c);
+            }
+            match sim.step() {
+                Ok(o) => outs.push(o),
+                Err(_) => break,
+            }
+        }
+        (v, outs)
+    }
+
+    #[test]
+    fn matches_serde_json_on_real_runs() {
+        for (toml, mode, controls) in [
+            (flapsim::DROSOPHILA_TOML, Mode::Free, false),
+            (flapsim::DROSOPHILA_TOML, Mode::Tethered, false),
+            (flapsim::DROSOPHILA_TOML, Mode::LONGITUDINAL, true),
+            (flapsim::ROBOBEE_TOML, Mode::Free, true),
+            (flapsim::BUMBLEBEE_TOML, Mode::Free, false),
+        ] {
+            let (v, outs) = run(toml, mode, 400, controls);
+            assert!(outs.len() > 100);
+            check(&v, &outs);
+        }
+    }
+
+    #[test]
+    fn matches_serde_json_on_odd_numbers() {
+        let (v, outs) = run(flapsim::DROSOPHILA_TOML, Mode::Free, 40, false);
+        let odd = [
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            -0.0,
+            0.0,
+            1e300,
+            -1e-300,
+            5e-324,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            123456789.0,
+            1e16,
+            1e-7,
+            0.1,
+        ];
+        let mut all = Vec::new();
+        for (k, x) in odd.iter().copied().enumerate() {
+            // Put the value in one field group at a time, then everywhere at once.
+            for g in 0..12 {
+                let mut o = outs[k % outs.len()];
+                o.step = (k * 12 + g) as u64;
+                let w = g % 2;
+                match g {
+                    0 => o.t_s = x,
+                    1 => o.phase = x,
+                    2 => o.state.position_m.y = x,
+                    3 => o.state.velocity_m_s.z = x,
+                    4 => o.state.angular_velocity_body_rad_s.x = x,
+                    5 => o.total.force_n.z = x,
+                    6 => o.controls.freq_hz = x,
+                    7 => o.wings[w].angles.eta_ddot = x,
+                    8 => o.wings[w].phase.t_star = x,
+                    9 => o.wings[w].terms[2].c_d = x,
+                    10 => o.wings[w].total.force_n.x = x,
+                    _ => {
+                        o.t_s = x;
+                        o.phase = x;
+                        o.state.position_m.x = x;
+                        o.controls.mean_stroke_rad = x;
+                        o.wings[0].angles.phi = x;
+                        o.wings[1].terms[0].moment_hinge_nm.y = x;
+                        o.wings[0].phase.half_stroke = i64::MIN;
+                    }
+                }
+                all.push(o);
+            }
+        }
+        check(&v, &all);
+    }
 }
