@@ -32,4 +32,6 @@ pub use error::{Error, Result, Validator};
 pub use kinematics::{Kinematics, KinematicsSpec, StrokePhase, WingAngles};
 pub use model::{AeroSpec, FluidSpec, WingModelSpec, WingSpec};
 pub use planform::{Geometry, GeometryOverrides, PlanformSpec};
-pub use wing::{AeroOptions, BodyMotion, Fluid, Mount, Side, Term, TermForce, Wing, WingForces};
+pub use wing::{
+    AeroOptions, BodyMotion, Fluid, KinematicLoads, Mount, Side, Term, TermForce, Wing, WingForces,
+};

@@ -8,6 +8,7 @@
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use serde::{Deserialize, Serialize};
+use wide::f64x2;
 
 use crate::coefficients::{self, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
 use crate::kinematics::{Kinematics, StrokePhase, WingAngles};
@@ -233,8 +234,19 @@ struct Cache {
     wake: Option<WakeCaptureParams>,
     body_from_stroke: Matrix3<f64>,
     stroke_from_body: Matrix3<f64>,
+    /// The hinge position in the stroke frame, m.
+    hinge_s: Vector3<f64>,
     /// -(pi/4) rho.
     am_k: f64,
+}
+
+impl Cache {
+    /// Rotates a term from the stroke frame into the body frame.
+    #[inline]
+    fn to_body(&self, t: &mut TermForce) {
+        t.force_n = self.body_from_stroke * t.force_n;
+        t.moment_hinge_nm = self.body_from_stroke * t.moment_hinge_nm;
+    }
 }
 
 /// Builds a [`Wing`] (see [`Wing::builder`]).
@@ -291,6 +303,7 @@ impl Cache {
             wake: None,
             body_from_stroke: Matrix3::identity(),
             stroke_from_body: Matrix3::identity(),
+            hinge_s: Vector3::zeros(),
             am_k: 0.0,
         }
     }
@@ -347,6 +360,7 @@ impl Wing {
                 .map(|m| m.clamped(re, da, dd)),
             body_from_stroke: *rot.matrix(),
             stroke_from_body: *rot.inverse().matrix(),
+            hinge_s: *rot.inverse().matrix() * self.mount.hinge_in_body_m,
             am_k: -0.25 * std::f64::consts::PI * rho,
         };
     }
@@ -429,10 +443,7 @@ impl Wing {
 
     /// Forces and moments of all four terms at wingbeat `phase` with the body moving as given.
     pub fn evaluate(&self, phase: f64, body: &BodyMotion) -> WingForces {
-        let a = self.kinematics.angles(phase);
-        let sp = self.kinematics.stroke_phase(phase);
-        let frame = WingFrame::new(&a, self.mount.side);
-        self.evaluate_in(&a, &sp, &frame, body)
+        self.evaluate_with(&self.kinematic_loads(phase), body)
     }
 
     /// Both wings of a mirror-symmetric pair (left, right) whose kinematics are identical:
@@ -444,19 +455,12 @@ impl Wing {
         phase: f64,
         body: &BodyMotion,
     ) -> [WingForces; 2] {
-        debug_assert!(
-            left.kinematics == right.kinematics
-                && left.mount.side == Side::Left
-                && right.mount.side == Side::Right
-        );
-        let a = left.kinematics.angles(phase);
-        let sp = left.kinematics.stroke_phase(phase);
-        let fl = WingFrame::new(&a, Side::Left);
-        let fr = fl.mirrored();
-        [
-            left.evaluate_in(&a, &sp, &fl, body),
-            right.evaluate_in(&a, &sp, &fr, body),
-        ]
+        Wing::evaluate_pair_with(
+            left,
+            right,
+            &Wing::mirrored_kinematic_loads(left, right, phase),
+            body,
+        )
     }
 
     /// The evaluation proper, for given angles, stroke phase and frame (see [`Wing::evaluate`]).
@@ -467,94 +471,47 @@ impl Wing {
         frame: &WingFrame,
         body: &BodyMotion,
     ) -> WingForces {
+        self.evaluate_with(&self.kinematic_loads_in(a, sp, frame), body)
+    }
+
+    /// The part of the loads at wingbeat `phase` that the kinematics alone decide (see
+    /// [`KinematicLoads`]).
+    pub fn kinematic_loads(&self, phase: f64) -> KinematicLoads {
+        let a = self.kinematics.angles(phase);
+        let sp = self.kinematics.stroke_phase(phase);
+        let frame = WingFrame::new(&a, self.mount.side);
+        self.kinematic_loads_in(&a, &sp, &frame)
+    }
+
+    /// [`Wing::kinematic_loads`] of a mirror-symmetric pair (left, right) with identical
+    /// kinematics: the angles once, the right frame as the mirror image of the left (checked
+    /// in debug builds).
+    pub fn mirrored_kinematic_loads(left: &Wing, right: &Wing, phase: f64) -> [KinematicLoads; 2] {
+        debug_assert!(
+            left.kinematics == right.kinematics
+                && left.mount.side == Side::Left
+                && right.mount.side == Side::Right
+        );
+        let a = left.kinematics.angles(phase);
+        let sp = left.kinematics.stroke_phase(phase);
+        let fl = WingFrame::new(&a, Side::Left);
+        let fr = fl.mirrored();
+        [
+            left.kinematic_loads_in(&a, &sp, &fl),
+            right.kinematic_loads_in(&a, &sp, &fr),
+        ]
+    }
+
+    /// The rotational, added-mass and wake-capture terms for given angles, stroke phase and
+    /// frame.
+    pub fn kinematic_loads_in(
+        &self,
+        a: &WingAngles,
+        sp: &StrokePhase,
+        frame: &WingFrame,
+    ) -> KinematicLoads {
         let c = &self.cache;
-        let (a, sp) = (*a, *sp);
-        let z = Vector3::z();
-
-        // Body motion in the stroke frame; velocity of the hinge relative to the air.
-        let v_body_s = c.stroke_from_body * body.velocity_m_s;
-        let w_body_s = c.stroke_from_body * body.angular_velocity_rad_s;
-        let hinge_s = c.stroke_from_body * self.mount.hinge_in_body_m;
-        let v_hinge_s = v_body_s + w_body_s.cross(&hinge_s);
-
         let mut terms = [TermForce::default(); 4];
-
-        // 1. Translational, per strip. The velocity of the pitch-axis point at radius r is
-        //    linear in r: v(r) = v_hinge + r (omega_wing + omega_body) x e_span.
-        let b = (frame.omega + w_body_s).cross(&frame.e_span);
-        let (a_le, b_le) = (v_hinge_s.dot(&frame.e_le), b.dot(&frame.e_le));
-        let (a_n, b_n) = (v_hinge_s.dot(&frame.n), b.dot(&frame.n));
-        let (mut f_le, mut f_n, mut rf_le, mut rf_n, mut xf_n) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        match self.options.translational {
-            TranslationalModel::Lee2016 => {
-                // In the (e_le, n) plane with u = (u_le, u_n): |V|^2 sin(2 alpha) along the
-                // lift direction is 2 u_le u_n (u_n, -u_le)/|V|, and sin^2(alpha) is
-                // u_n^2/|V|^2, so no trigonometry is needed per strip. Branch-free: a strip
-                // at rest has u = 0 and gets zero force from the same expressions.
-                let (kl2, cd0, kd2) = (c.kl2, c.cd0, c.kd2);
-                let strip = |s: &StripK| {
-                    let u_le = a_le + s.r_m * b_le;
-                    let u_n = a_n + s.r_m * b_n;
-                    let v2 = (u_le * u_le + u_n * u_n).max(f64::MIN_POSITIVE);
-                    let inv = 1.0 / v2.sqrt();
-                    let lift = kl2 * u_n * u_le * inv;
-                    let drag = (cd0 + kd2 * u_n * u_n * inv * inv) * (v2 * inv);
-                    (
-                        s.half_rho_area * (lift * u_n - drag * u_le),
-                        s.half_rho_area * (-(lift * u_le) - drag * u_n),
-                    )
-                };
-                // Two independent accumulator sets keep both FP pipelines busy.
-                let mut acc = [[0.0f64; 5]; 2];
-                let pairs = c.strips.chunks_exact(2);
-                let rest = pairs.remainder();
-                for pair in pairs {
-                    for (k, s) in pair.iter().enumerate() {
-                        let (fl, fn_) = strip(s);
-                        let a = &mut acc[k];
-                        a[0] += fl;
-                        a[1] += fn_;
-                        a[2] += s.r_m * fl;
-                        a[3] += s.r_m * fn_;
-                        a[4] += s.x_cp_m * fn_;
-                    }
-                }
-                for s in rest {
-                    let (fl, fn_) = strip(s);
-                    let a = &mut acc[0];
-                    a[0] += fl;
-                    a[1] += fn_;
-                    a[2] += s.r_m * fl;
-                    a[3] += s.r_m * fn_;
-                    a[4] += s.x_cp_m * fn_;
-                }
-                f_le = acc[0][0] + acc[1][0];
-                f_n = acc[0][1] + acc[1][1];
-                rf_le = acc[0][2] + acc[1][2];
-                rf_n = acc[0][3] + acc[1][3];
-                xf_n = acc[0][4] + acc[1][4];
-            }
-            TranslationalModel::Dickinson1999 => {
-                for s in &c.strips {
-                    let u_le = a_le + s.r_m * b_le;
-                    let u_n = a_n + s.r_m * b_n;
-                    let v2 = u_le * u_le + u_n * u_n;
-                    if v2 <= 0.0 {
-                        continue;
-                    }
-                    let (fl, fn_) = strip_lift_drag_dickinson(u_le, u_n, v2, s.half_rho_area);
-                    f_le += fl;
-                    f_n += fn_;
-                    rf_le += s.r_m * fl;
-                    rf_n += s.r_m * fn_;
-                    xf_n += s.x_cp_m * fn_;
-                }
-            }
-        }
-        let f_tr = f_le * frame.e_le + f_n * frame.n;
-        let m_tr = frame.e_span.cross(&(rf_le * frame.e_le + rf_n * frame.n))
-            + frame.e_le.cross(&(xf_n * frame.n));
-        terms[0] = frame.term(f_tr, m_tr, c.q_ref_s_n, sp.downstroke);
 
         // 2. Rotational (Van Veen et al., MODEL.md 4.2), normal to the wing, at R_g on the
         //    pitch axis. Stroke-pitch: lift side when the angle of attack rises; pitch-only:
@@ -592,24 +549,300 @@ impl Wing {
         if let Some(w) = &c.wake {
             let (cl, cd) = w.coefficients(sp.t_star);
             let dir = if sp.downstroke { 1.0 } else { -1.0 };
-            let f = c.q_ref_s_n * (cl * z - cd * dir * frame.t);
+            let f = c.q_ref_s_n * (cl * Vector3::z() - cd * dir * frame.t);
             let m = (self.geometry.r_gyration_m * frame.e_span).cross(&f);
             terms[3] = frame.term(f, m, c.q_ref_s_n, sp.downstroke);
         }
 
+        for t in &mut terms[1..] {
+            c.to_body(t);
+        }
+        KinematicLoads {
+            angles: *a,
+            phase: *sp,
+            frame: *frame,
+            terms,
+        }
+    }
+
+    /// All four terms: the translational one from the body's motion, the others from `k`
+    /// (computed by [`Wing::kinematic_loads`] for this wing).
+    pub fn evaluate_with(&self, k: &KinematicLoads, body: &BodyMotion) -> WingForces {
+        let u = self.strip_velocity(&k.frame, body);
+        let sums = match self.options.translational {
+            TranslationalModel::Lee2016 => lee2016_sums(&self.cache, &u),
+            TranslationalModel::Dickinson1999 => dickinson1999_sums(&self.cache.strips, u),
+        };
+        self.finish(k, &sums)
+    }
+
+    /// Two wings at once, each at its own kinematic loads, for the same body motion. Wings
+    /// with the same number of strips and the Lee et al. model (every vehicle's pair) have
+    /// their strips evaluated side by side, two lanes at a time; the results are bit for
+    /// bit those of [`Wing::evaluate_with`].
+    pub fn evaluate_pair_with(
+        left: &Wing,
+        right: &Wing,
+        k: &[KinematicLoads; 2],
+        body: &BodyMotion,
+    ) -> [WingForces; 2] {
+        let lee = TranslationalModel::Lee2016;
+        if left.options.translational == lee
+            && right.options.translational == lee
+            && left.cache.strips.len() == right.cache.strips.len()
+        {
+            let u = [
+                left.strip_velocity(&k[0].frame, body),
+                right.strip_velocity(&k[1].frame, body),
+            ];
+            let [sl, sr] = lee2016_sums_pair([&left.cache, &right.cache], [&u[0], &u[1]]);
+            [left.finish(&k[0], &sl), right.finish(&k[1], &sr)]
+        } else {
+            [
+                left.evaluate_with(&k[0], body),
+                right.evaluate_with(&k[1], body),
+            ]
+        }
+    }
+
+    /// The pitch-axis velocity relative to the air at radius r is linear in r:
+    /// u(r) = v_hinge + r (omega_wing + omega_body) x e_span. Its (e_le, n) components as
+    /// `StripVelocity`.
+    fn strip_velocity(&self, frame: &WingFrame, body: &BodyMotion) -> StripVelocity {
+        let c = &self.cache;
+        let v_body_s = c.stroke_from_body * body.velocity_m_s;
+        let w_body_s = c.stroke_from_body * body.angular_velocity_rad_s;
+        let v_hinge_s = v_body_s + w_body_s.cross(&c.hinge_s);
+        let b = (frame.omega + w_body_s).cross(&frame.e_span);
+        StripVelocity {
+            a_le: v_hinge_s.dot(&frame.e_le),
+            b_le: b.dot(&frame.e_le),
+            a_n: v_hinge_s.dot(&frame.n),
+            b_n: b.dot(&frame.n),
+        }
+    }
+
+    /// The translational term from the strip sums, then the total.
+    fn finish(&self, k: &KinematicLoads, sums: &StripSums) -> WingForces {
+        let c = &self.cache;
+        let frame = &k.frame;
+        let f_tr = sums.f_le * frame.e_le + sums.f_n * frame.n;
+        let m_tr = frame
+            .e_span
+            .cross(&(sums.rf_le * frame.e_le + sums.rf_n * frame.n))
+            + frame.e_le.cross(&(sums.xf_n * frame.n));
+        let mut terms = k.terms;
+        terms[0] = frame.term(f_tr, m_tr, c.q_ref_s_n, k.phase.downstroke);
+        c.to_body(&mut terms[0]);
         let mut total = TermForce::default();
-        for t in &mut terms {
-            t.force_n = c.body_from_stroke * t.force_n;
-            t.moment_hinge_nm = c.body_from_stroke * t.moment_hinge_nm;
+        for t in &terms {
             total.add(t);
         }
         WingForces {
             terms,
             total,
-            angles: a,
-            phase: sp,
+            angles: k.angles,
+            phase: k.phase,
         }
     }
+}
+
+/// What a wing's loads at one wingbeat phase owe to the kinematics alone: the angles, the
+/// stroke phase, the wing's frame, and the rotational, added-mass and wake-capture terms.
+/// Only the translational term depends on the body's motion, so a simulator whose steps
+/// repeat every wingbeat can compute these once per step of the wingbeat and reuse them
+/// with [`Wing::evaluate_with`] (the results are the same bit for bit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KinematicLoads {
+    /// The kinematic state.
+    pub angles: WingAngles,
+    /// Half stroke and t*.
+    pub phase: StrokePhase,
+    /// The wing's unit vectors and rates, stroke frame.
+    pub frame: WingFrame,
+    /// In the order of [`Term::ALL`], body frame; the translational entry is zero.
+    pub terms: [TermForce; 4],
+}
+
+/// Components of the pitch-axis velocity at radius r: u_le = a_le + r b_le, u_n = a_n + r b_n.
+#[derive(Debug, Clone, Copy)]
+struct StripVelocity {
+    a_le: f64,
+    b_le: f64,
+    a_n: f64,
+    b_n: f64,
+}
+
+/// Sums over the strips of the (e_le, n) force components and their first moments.
+#[derive(Debug, Clone, Copy, Default)]
+struct StripSums {
+    f_le: f64,
+    f_n: f64,
+    rf_le: f64,
+    rf_n: f64,
+    xf_n: f64,
+}
+
+/// Lee et al. translational strip sums of one wing.
+fn lee2016_sums(c: &Cache, u: &StripVelocity) -> StripSums {
+    lee2016_lanes::<f64, 1>([c], [u])[0]
+}
+
+/// Lee et al. translational strip sums of two wings with the same number of strips, side by
+/// side in the two lanes of a SIMD register (each lane's arithmetic is that of
+/// [`lee2016_sums`], so the results are identical bit for bit).
+fn lee2016_sums_pair(c: [&Cache; 2], u: [&StripVelocity; 2]) -> [StripSums; 2] {
+    lee2016_lanes::<f64x2, 2>(c, u)
+}
+
+/// Arithmetic on one value or on two side by side.
+trait Lanes:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+    + std::ops::Neg<Output = Self>
+{
+    /// The lanes from a function of the lane index.
+    fn gather(f: impl Fn(usize) -> f64) -> Self;
+    /// The same value in every lane.
+    fn splat(x: f64) -> Self;
+    /// Lane `l`.
+    fn lane(self, l: usize) -> f64;
+    /// Square root, lane by lane.
+    fn sqrt(self) -> Self;
+    /// The larger of the two, lane by lane (`other` where `self` is NaN).
+    fn max(self, other: Self) -> Self;
+}
+
+impl Lanes for f64 {
+    #[inline(always)]
+    fn gather(f: impl Fn(usize) -> f64) -> Self {
+        f(0)
+    }
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn lane(self, _: usize) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f64::max(self, other)
+    }
+}
+
+impl Lanes for f64x2 {
+    #[inline(always)]
+    fn gather(f: impl Fn(usize) -> f64) -> Self {
+        f64x2::new([f(0), f(1)])
+    }
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        f64x2::splat(x)
+    }
+    #[inline(always)]
+    fn lane(self, l: usize) -> f64 {
+        self.to_array()[l]
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64x2::sqrt(self)
+    }
+    #[inline(always)]
+    fn max(self, other: Self) -> Self {
+        f64x2::max(self, other)
+    }
+}
+
+/// The Lee et al. strip sums, wing `l` in lane `l` of `T` (which has `L` lanes; every wing
+/// has the same number of strips). In the (e_le, n) plane with u = (u_le, u_n),
+/// |V|^2 sin(2 alpha) along the lift direction is 2 u_le u_n (u_n, -u_le)/|V| and
+/// sin^2(alpha) is u_n^2/|V|^2, so no trigonometry is needed per strip. Branch-free: a strip
+/// at rest has u = 0 and gets zero force from the same expressions. Even and odd strips
+/// accumulate separately (two independent chains keep the FP pipelines busy) and are added
+/// at the end.
+#[inline(always)]
+fn lee2016_lanes<T: Lanes, const L: usize>(
+    c: [&Cache; L],
+    u: [&StripVelocity; L],
+) -> [StripSums; L] {
+    let n = c[0].strips.len();
+    debug_assert!(c.iter().all(|c| c.strips.len() == n));
+    let (kl2, cd0, kd2) = (
+        T::gather(|l| c[l].kl2),
+        T::gather(|l| c[l].cd0),
+        T::gather(|l| c[l].kd2),
+    );
+    let (a_le, b_le) = (T::gather(|l| u[l].a_le), T::gather(|l| u[l].b_le));
+    let (a_n, b_n) = (T::gather(|l| u[l].a_n), T::gather(|l| u[l].b_n));
+    let tiny = T::splat(f64::MIN_POSITIVE);
+    let one = T::splat(1.0);
+    let strip = |i: usize| -> [T; 5] {
+        let r = T::gather(|l| c[l].strips[i].r_m);
+        let hra = T::gather(|l| c[l].strips[i].half_rho_area);
+        let x_cp = T::gather(|l| c[l].strips[i].x_cp_m);
+        let u_le = a_le + r * b_le;
+        let u_n = a_n + r * b_n;
+        let v2 = (u_le * u_le + u_n * u_n).max(tiny);
+        let inv = one / v2.sqrt();
+        let lift = kl2 * u_n * u_le * inv;
+        let drag = (cd0 + kd2 * u_n * u_n * inv * inv) * (v2 * inv);
+        let fl = hra * (lift * u_n - drag * u_le);
+        let fn_ = hra * (-(lift * u_le) - drag * u_n);
+        [fl, fn_, r * fl, r * fn_, x_cp * fn_]
+    };
+    let zero = T::splat(0.0);
+    let (mut even, mut odd) = ([zero; 5], [zero; 5]);
+    let add = |acc: &mut [T; 5], d: [T; 5]| {
+        for (a, d) in acc.iter_mut().zip(d) {
+            *a = *a + d;
+        }
+    };
+    let mut i = 0;
+    while i + 1 < n {
+        add(&mut even, strip(i));
+        add(&mut odd, strip(i + 1));
+        i += 2;
+    }
+    if i < n {
+        add(&mut even, strip(i));
+    }
+    let s: [T; 5] = std::array::from_fn(|k| even[k] + odd[k]);
+    std::array::from_fn(|l| StripSums {
+        f_le: s[0].lane(l),
+        f_n: s[1].lane(l),
+        rf_le: s[2].lane(l),
+        rf_n: s[3].lane(l),
+        xf_n: s[4].lane(l),
+    })
+}
+
+/// Dickinson et al. (1999) translational strip sums (angle of attack from the velocity).
+fn dickinson1999_sums(strips: &[StripK], u: StripVelocity) -> StripSums {
+    let mut s = StripSums::default();
+    for k in strips {
+        let u_le = u.a_le + k.r_m * u.b_le;
+        let u_n = u.a_n + k.r_m * u.b_n;
+        let v2 = u_le * u_le + u_n * u_n;
+        if v2 <= 0.0 {
+            continue;
+        }
+        let (fl, fn_) = strip_lift_drag_dickinson(u_le, u_n, v2, k.half_rho_area);
+        s.f_le += fl;
+        s.f_n += fn_;
+        s.rf_le += k.r_m * fl;
+        s.rf_n += k.r_m * fn_;
+        s.xf_n += k.x_cp_m * fn_;
+    }
+    s
 }
 
 /// Dickinson et al. (1999) strip force in the (e_le, n) components, alpha from the velocity.
@@ -634,7 +867,7 @@ fn strip_lift_drag_dickinson(u_le: f64, u_n: f64, v2: f64, half_rho_area: f64) -
 }
 
 /// The wing's unit vectors and rigid-body rates in its stroke-plane frame.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WingFrame {
     /// Span axis (root to tip).
     pub e_span: Vector3<f64>,

@@ -274,3 +274,37 @@ fn mirrored_pair_equals_separate_evaluation() {
         );
     }
 }
+
+#[test]
+fn pair_and_cached_kinematic_loads_equal_single_evaluation() {
+    // Two wings with different kinematics (a roll command: more amplitude on the left)
+    // evaluated side by side in SIMD lanes, and evaluations from kinematic loads computed
+    // once and reused, must give exactly the bits of evaluating each wing alone.
+    let text = include_str!("../../../models/robofly.toml");
+    let spec = WingModelSpec::from_toml(text, "robofly").unwrap();
+    let left = spec.build("robofly").unwrap();
+    let mut k_right = left.kinematics().clone();
+    k_right.amplitude_rad *= 0.9;
+    let mut m = *left.mount();
+    m.side = Side::Right;
+    let right = wingforce::Wing::builder(left.geometry().clone(), k_right)
+        .fluid(*left.fluid())
+        .options(left.options().clone())
+        .mount(m)
+        .build();
+    let body = BodyMotion {
+        velocity_m_s: Vector3::new(0.01, -0.02, 0.005),
+        angular_velocity_rad_s: Vector3::new(0.03, 0.02, -0.01),
+    };
+    for k in 0..40 {
+        let p = 0.0137 + k as f64 * 0.025;
+        let loads = [left.kinematic_loads(p), right.kinematic_loads(p)];
+        let [l, r] = wingforce::Wing::evaluate_pair_with(&left, &right, &loads, &body);
+        assert_eq!(l, left.evaluate(p, &body), "phase {p}");
+        assert_eq!(r, right.evaluate(p, &body), "phase {p}");
+        // The translational term is the only one that depends on the body's motion.
+        let still = left.evaluate_with(&loads[0], &BodyMotion::default());
+        assert_eq!(still.terms[1..], l.terms[1..]);
+        assert_ne!(still.terms[0], l.terms[0]);
+    }
+}
