@@ -10,7 +10,7 @@ const BIN: &str = env!("CARGO_BIN_EXE_flapwing");
 fn sigint_finishes_the_log_and_exits_1() {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("run.mcap");
-    let mut child = Command::new(BIN)
+    let child = Command::new(BIN)
         .args(["simulate", "--duration-s", "3000", "--tethered", "--mcap"])
         .arg(&log)
         .stdout(Stdio::piped())

@@ -302,7 +302,7 @@ pub fn run_hover(
             }
         }
         let out = match sim.step() {
-            Ok(o) => o,
+            Ok(o) => *o,
             Err(e) => {
                 diverged = Some(e.to_string());
                 break;

@@ -10,8 +10,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use rapier3d_f64::na::Unit;
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
-use wingforce::wing::WingFrame;
-use wingforce::{BodyMotion, Term, Wing, WingForces};
+use wingforce::{BodyMotion, KinematicLoads, Term, Wing, WingForces};
 
 use crate::error::{Error, Result};
 use crate::frames::{from_glam, quat_from_glam, quat_to_glam, to_glam};
@@ -101,6 +100,41 @@ pub struct StepOutput {
     pub controls: Controls,
 }
 
+/// Longest wingbeat, in steps, whose kinematic loads are kept (about 1 KB per step).
+const MAX_TABLE_STEPS: u64 = 4096;
+
+impl StepOutput {
+    /// All zeros, at rest, at t = 0.
+    fn empty() -> Self {
+        let wing = WingForces {
+            terms: Default::default(),
+            total: Default::default(),
+            angles: Default::default(),
+            phase: wingforce::StrokePhase {
+                half_stroke: 0,
+                t_star: 0.0,
+                downstroke: true,
+            },
+        };
+        Self {
+            step: 0,
+            t_s: 0.0,
+            phase: 0.0,
+            state: State {
+                position_m: Vector3::zeros(),
+                world_from_body: UnitQuaternion::identity(),
+                velocity_m_s: Vector3::zeros(),
+                angular_velocity_body_rad_s: Vector3::zeros(),
+            },
+            wings: [wing; 2],
+            terms: Default::default(),
+            wing_inertia: BodyLoad::default(),
+            total: BodyLoad::default(),
+            controls: Controls::default(),
+        }
+    }
+}
+
 /// A simulation of one vehicle. Drive it step by step ([`Simulation::step`]) or run it for a
 /// duration ([`Simulation::run_for`]).
 pub struct Simulation {
@@ -114,6 +148,19 @@ pub struct Simulation {
     base_phase: f64,
     base_step: u64,
     phase_per_step: f64,
+    /// Steps per wingbeat at the frequency the step was sized for.
+    steps_per_wingbeat: u64,
+    /// The wingbeat frequency is still the one the step was sized for, so the kinematics
+    /// repeat exactly every `steps_per_wingbeat` steps (see [`Simulation::phase`]).
+    periodic: bool,
+    /// Both wings' [`KinematicLoads`] at each step of the wingbeat (periodic runs only),
+    /// computed the first time the step comes round and reused every wingbeat after until
+    /// the controls change.
+    phase_table: Vec<Option<[KinematicLoads; 2]>>,
+    /// The wingbeat frequency the step was sized for, Hz.
+    sized_for_hz: f64,
+    /// What the last step computed (boxed so that it moves cheaply).
+    out: Option<Box<StepOutput>>,
     pending: Option<Controls>,
     /// Wingbeat index of the last step taken.
     last_cycle: i64,
@@ -198,7 +245,8 @@ impl Simulation {
         }
         let g = vehicle.wings[0].geometry();
         let wing_centroid_r_m = g.strips.iter().map(|s| s.area_m2 * s.r_m).sum::<f64>() / g.area_m2;
-        let phase_per_step = vehicle.freq_hz() * dt_s;
+        let steps_per_wingbeat = vehicle.sim.steps_per_wingbeat as u64;
+        let vehicle_freq_hz = vehicle.freq_hz();
         let controls = vehicle.controls;
         let mut sim = Self {
             vehicle,
@@ -209,7 +257,12 @@ impl Simulation {
             step: 0,
             base_phase: 0.0,
             base_step: 0,
-            phase_per_step,
+            phase_per_step: 1.0 / steps_per_wingbeat as f64,
+            steps_per_wingbeat,
+            periodic: true,
+            phase_table: Vec::new(),
+            sized_for_hz: vehicle_freq_hz,
+            out: None,
             pending: None,
             last_cycle: 0,
             wind_world_m_s: Vector3::zeros(),
@@ -253,9 +306,39 @@ impl Simulation {
     pub fn time_s(&self) -> f64 {
         self.step as f64 * self.dt_s
     }
-    /// Wingbeat phase now, cycles.
+    /// Wingbeat phase now, cycles. While the frequency is the one the step was sized for,
+    /// the phase advances by exactly 1/`steps_per_wingbeat` per step within a wingbeat and
+    /// by exactly 1 per wingbeat, and the kinematics are evaluated at the phase's first
+    /// wingbeat after the last control change: they repeat bit for bit every wingbeat.
     pub fn phase(&self) -> f64 {
-        self.base_phase + (self.step - self.base_step) as f64 * self.phase_per_step
+        let (cycles, table_phase, _) = self.phase_parts();
+        table_phase + cycles as f64
+    }
+
+    /// Whole wingbeats since the last control change, the phase at which the kinematics are
+    /// evaluated, and the index of the step in the wingbeat (periodic runs only).
+    fn phase_parts(&self) -> (u64, f64, Option<usize>) {
+        let n = self.step - self.base_step;
+        if self.periodic {
+            let (m, j) = (n / self.steps_per_wingbeat, n % self.steps_per_wingbeat);
+            (
+                m,
+                self.base_phase + j as f64 * self.phase_per_step,
+                Some(j as usize),
+            )
+        } else {
+            (0, self.base_phase + n as f64 * self.phase_per_step, None)
+        }
+    }
+
+    /// Both wings' kinematic loads at a phase.
+    fn kinematic_loads(&self, phase: f64) -> [KinematicLoads; 2] {
+        let [l, r] = &self.vehicle.wings;
+        if self.vehicle.mirror_symmetric {
+            Wing::mirrored_kinematic_loads(l, r, phase)
+        } else {
+            [l.kinematic_loads(phase), r.kinematic_loads(phase)]
+        }
     }
 
     /// Controls to apply at the start of the next wingbeat (immediately if none has begun).
@@ -301,41 +384,57 @@ impl Simulation {
 
     /// Loads at the current state without stepping.
     pub fn loads(&self) -> StepOutput {
+        let (cycles, table_phase, j) = self.phase_parts();
+        let kin = match j.and_then(|j| self.phase_table.get(j)) {
+            Some(Some(k)) => *k,
+            _ => self.kinematic_loads(table_phase),
+        };
+        let mut out = StepOutput::empty();
+        self.loads_into(&kin, cycles, table_phase, &mut out);
+        out
+    }
+
+    /// The loads at the current state from both wings' kinematic loads, written into `out`.
+    fn loads_into(
+        &self,
+        kin: &[KinematicLoads; 2],
+        cycles: u64,
+        table_phase: f64,
+        out: &mut StepOutput,
+    ) {
         let state = self.state();
-        let phase = self.phase();
         let body_from_world = state.world_from_body.inverse();
         let motion = BodyMotion {
             velocity_m_s: body_from_world * (state.velocity_m_s - self.wind_world_m_s),
             angular_velocity_rad_s: state.angular_velocity_body_rad_s,
         };
         let [l, r] = &self.vehicle.wings;
-        let wings = if self.vehicle.mirror_symmetric {
-            Wing::evaluate_mirrored_pair(l, r, phase, &motion)
-        } else {
-            [l.evaluate(phase, &motion), r.evaluate(phase, &motion)]
-        };
-        let mut terms = [BodyLoad::default(); 4];
-        let mut total = BodyLoad::default();
-        for (w, f) in self.vehicle.wings.iter().zip(&wings) {
-            let hinge = &w.mount().hinge_in_body_m;
-            for term in Term::ALL {
-                let t = f.term(term);
-                let m = t.moment_about_com_nm(hinge);
-                terms[term as usize].add(t.force_n, m);
-                total.add(t.force_n, m);
+        out.wings = Wing::evaluate_pair_with(l, r, kin, &motion);
+        if cycles > 0 {
+            for w in &mut out.wings {
+                w.phase.half_stroke += 2 * cycles as i64;
             }
         }
-        if self.wings_still {
-            terms = [BodyLoad::default(); 4];
-            total = BodyLoad::default();
+        let mut terms = [BodyLoad::default(); 4];
+        let mut total = BodyLoad::default();
+        if !self.wings_still {
+            for (w, f) in self.vehicle.wings.iter().zip(&out.wings) {
+                let hinge = &w.mount().hinge_in_body_m;
+                for term in Term::ALL {
+                    let t = f.term(term);
+                    let m = t.moment_about_com_nm(hinge);
+                    terms[term as usize].add(t.force_n, m);
+                    total.add(t.force_n, m);
+                }
+            }
         }
         let mut wing_inertia = BodyLoad::default();
         let m_w = self.vehicle.sim.wing_mass_kg;
         if m_w > 0.0 && !self.wings_still {
-            for (w, f) in self.vehicle.wings.iter().zip(&wings) {
+            for (w, k) in self.vehicle.wings.iter().zip(kin) {
                 // Reaction of the wing's centre of mass (on the pitch axis at its centroid
                 // radius) accelerating with the kinematics: -m a, applied at the hinge.
-                let fr = WingFrame::new(&f.angles, w.mount().side);
+                let fr = &k.frame;
                 let p = self.wing_centroid_r_m * fr.e_span;
                 let a = fr.alpha.cross(&p) + fr.omega.cross(&fr.omega.cross(&p));
                 let f_s = -m_w * a;
@@ -346,34 +445,50 @@ impl Simulation {
                 total.add(f_b, m_b);
             }
         }
-        StepOutput {
-            step: self.step,
-            t_s: self.time_s(),
-            phase,
-            state,
-            wings,
-            terms,
-            wing_inertia,
-            total,
-            controls: self.vehicle.controls,
-        }
+        out.step = self.step;
+        out.t_s = self.time_s();
+        out.phase = table_phase + cycles as f64;
+        out.state = state;
+        out.terms = terms;
+        out.wing_inertia = wing_inertia;
+        out.total = total;
+        out.controls = self.vehicle.controls;
     }
 
     /// Advances one step; returns what was applied during it.
-    pub fn step(&mut self) -> Result<StepOutput> {
+    pub fn step(&mut self) -> Result<&StepOutput> {
         // Controls change only at the first step of a wingbeat.
         let cycle = self.phase().floor() as i64;
         if self.pending.is_some() && (self.step == 0 || cycle != self.last_cycle) {
             if let Some(c) = self.pending.take() {
-                self.vehicle.apply_controls(&c)?;
-                self.base_phase = self.phase();
-                self.base_step = self.step;
-                self.phase_per_step = self.vehicle.freq_hz() * self.dt_s;
+                self.apply_controls(&c)?;
             }
         }
         self.last_cycle = cycle;
-        let out = self.loads();
-        self.check(&out)?;
+        let (cycles, table_phase, j) = self.phase_parts();
+        // The output lives in a box that moves out and back (a pointer, not a kilobyte).
+        let mut out = self
+            .out
+            .take()
+            .unwrap_or_else(|| Box::new(StepOutput::empty()));
+        match j {
+            Some(j) if j < self.phase_table.len() => {
+                if self.phase_table[j].is_none() {
+                    self.phase_table[j] = Some(self.kinematic_loads(table_phase));
+                }
+                if let Some(kin) = &self.phase_table[j] {
+                    self.loads_into(kin, cycles, table_phase, &mut out);
+                }
+            }
+            _ => {
+                let kin = self.kinematic_loads(table_phase);
+                self.loads_into(&kin, cycles, table_phase, &mut out);
+            }
+        }
+        if let Err(e) = self.check(&out) {
+            self.out = Some(out);
+            return Err(e);
+        }
         let rb = &mut self.world.bodies[self.body];
         let q = out.state.world_from_body;
         rb.reset_forces(false);
@@ -382,7 +497,30 @@ impl Simulation {
         rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
         self.world.step();
         self.step += 1;
-        Ok(out)
+        Ok(self.out.insert(out))
+    }
+
+    /// Applies controls now and restarts the wingbeat bookkeeping from the current phase.
+    fn apply_controls(&mut self, c: &Controls) -> Result<()> {
+        let phase = self.phase();
+        self.vehicle.apply_controls(c)?;
+        self.base_phase = phase;
+        self.base_step = self.step;
+        let freq_hz = self.vehicle.freq_hz();
+        // The step was sized for the model's frequency: while it holds, the phase advances
+        // by exactly 1/N per step and the kinematics repeat every N steps.
+        self.periodic = freq_hz == self.sized_for_hz;
+        self.phase_per_step = if self.periodic {
+            1.0 / self.steps_per_wingbeat as f64
+        } else {
+            freq_hz * self.dt_s
+        };
+        self.phase_table.clear();
+        if self.periodic && self.steps_per_wingbeat <= MAX_TABLE_STEPS {
+            self.phase_table
+                .resize(self.steps_per_wingbeat as usize, None);
+        }
+        Ok(())
     }
 
     fn check(&self, out: &StepOutput) -> Result<()> {

@@ -79,7 +79,7 @@ fn bench(c: &mut Criterion) {
 
     let mut sim = Simulation::new(vehicle.clone(), Mode::Tethered);
     let outs: Vec<StepOutput> = (0..steps)
-        .map(|_| sim.step().expect("tethered step"))
+        .map(|_| *sim.step().expect("tethered step"))
         .collect();
     let mut group = c.benchmark_group("log_2000_steps_no_sim");
     group.sampling_mode(SamplingMode::Flat).sample_size(20);

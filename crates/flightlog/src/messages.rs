@@ -927,7 +927,7 @@ mod tests {
                 sim.set_controls(c);
             }
             match sim.step() {
-                Ok(o) => outs.push(o),
+                Ok(o) => outs.push(*o),
                 Err(_) => break,
             }
         }

@@ -50,7 +50,7 @@ pub fn record_mode(opts: &LogOptions, command: &str, duration_s: f64, mode: Mode
     let mut outs = Vec::new();
     let n = (duration_s / dt).round() as u64;
     for _ in 0..n {
-        let out = sim.step().unwrap();
+        let out = *sim.step().unwrap();
         rec.record(&out).unwrap();
         sb.observe(&out, dt);
         outs.push(out);
