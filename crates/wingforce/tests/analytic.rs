@@ -241,18 +241,19 @@ fn left_and_right_wings_mirror() {
     }
 }
 
-#[test]
-fn mirrored_pair_equals_separate_evaluation() {
-    // The right wing's frame as the mirror image of the left's (a speed-up for symmetric
-    // kinematics) must give the same forces as building it from the angles, with any body motion.
+/// The robofly wing on the left and its mirror image on the right, the right wing's stroke
+/// amplitude scaled by `right_amplitude_factor`; a moving body.
+fn robofly_pair(right_amplitude_factor: f64) -> (wingforce::Wing, wingforce::Wing, BodyMotion) {
     let text = include_str!("../../../models/robofly.toml");
     let left = WingModelSpec::from_toml(text, "robofly")
         .unwrap()
         .build("robofly")
         .unwrap();
+    let mut k_right = left.kinematics().clone();
+    k_right.amplitude_rad *= right_amplitude_factor;
     let mut m = *left.mount();
     m.side = Side::Right;
-    let right = wingforce::Wing::builder(left.geometry().clone(), left.kinematics().clone())
+    let right = wingforce::Wing::builder(left.geometry().clone(), k_right)
         .fluid(*left.fluid())
         .options(left.options().clone())
         .mount(m)
@@ -261,6 +262,14 @@ fn mirrored_pair_equals_separate_evaluation() {
         velocity_m_s: Vector3::new(0.01, -0.02, 0.005),
         angular_velocity_rad_s: Vector3::new(0.03, 0.02, -0.01),
     };
+    (left, right, body)
+}
+
+#[test]
+fn mirrored_pair_equals_separate_evaluation() {
+    // The right wing's frame as the mirror image of the left's (a speed-up for symmetric
+    // kinematics) must give the same forces as building it from the angles, with any body motion.
+    let (left, right, body) = robofly_pair(1.0);
     for k in 0..40 {
         let p = 0.0137 + k as f64 * 0.025;
         let [l, r] = wingforce::Wing::evaluate_mirrored_pair(&left, &right, p, &body);
@@ -280,22 +289,7 @@ fn pair_and_cached_kinematic_loads_equal_single_evaluation() {
     // Two wings with different kinematics (a roll command: more amplitude on the left)
     // evaluated side by side in SIMD lanes, and evaluations from kinematic loads computed
     // once and reused, must give exactly the bits of evaluating each wing alone.
-    let text = include_str!("../../../models/robofly.toml");
-    let spec = WingModelSpec::from_toml(text, "robofly").unwrap();
-    let left = spec.build("robofly").unwrap();
-    let mut k_right = left.kinematics().clone();
-    k_right.amplitude_rad *= 0.9;
-    let mut m = *left.mount();
-    m.side = Side::Right;
-    let right = wingforce::Wing::builder(left.geometry().clone(), k_right)
-        .fluid(*left.fluid())
-        .options(left.options().clone())
-        .mount(m)
-        .build();
-    let body = BodyMotion {
-        velocity_m_s: Vector3::new(0.01, -0.02, 0.005),
-        angular_velocity_rad_s: Vector3::new(0.03, 0.02, -0.01),
-    };
+    let (left, right, body) = robofly_pair(0.9);
     for k in 0..40 {
         let p = 0.0137 + k as f64 * 0.025;
         let loads = [left.kinematic_loads(p), right.kinematic_loads(p)];
