@@ -25,6 +25,10 @@
 //! | `loaded_vehicles_simulate` (exhaustive, not proptest) | ~1500 |
 //!
 //! `FLAPWING_PROP_SCALE=N` multiplies every proptest case count (for long local soak runs).
+//!
+//! The TOML-tree walkers, the mutation, text-mutation, table and range generators and
+//! `config` are shared with `wingforce/tests/prop_model.rs`, in
+//! `crates/wingforce/tests/support/toml_mutation.rs` (included here with `#[path]`).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -32,6 +36,15 @@ use flapsim::{Error, Mode, Simulation, Vehicle};
 use proptest::prelude::*;
 use proptest::sample::Index;
 use toml::Value;
+
+#[path = "../../wingforce/tests/support/toml_mutation.rs"]
+mod toml_mutation;
+use toml_mutation::{
+    Defect, INF, Mutation, Range, Seg, assert_special_values, config, get_mut, guarded, leaves,
+    mutate_text, mutated, mutation, non_number, numeric_leaves, panic_message, parse, path_str,
+    put_table, r, range_and_value, repl, replace_numeric_leaf, set_path, table,
+    tabulated_kinematics_toml, text_mutation,
+};
 
 const ORIGIN: &str = "mut/vehicle variant é.toml";
 
@@ -97,32 +110,6 @@ velocity_m_s = [0.01, 0.0, 0.0]
 angular_velocity_deg_s = [0.0, 1.0, 0.0]
 "#;
 
-/// A smooth periodic table at 218 Hz (one down- and one upstroke).
-fn tabulated_kinematics_toml(n: usize) -> String {
-    let m = n - 1;
-    let period = 1.0 / 218.0;
-    let col = |f: &dyn Fn(f64) -> f64| {
-        let v: Vec<String> = (0..n)
-            .map(|i| format!("{:?}", f((i % m) as f64 / m as f64 * std::f64::consts::TAU)))
-            .collect();
-        format!("[{}]", v.join(", "))
-    };
-    let t: Vec<String> = (0..n)
-        .map(|i| format!("{:?}", period * i as f64 / m as f64))
-        .collect();
-    format!(
-        "family = \"tabulated\"\nt_s = [{}]\nstroke_deg = {}\npitch_deg = {}\ndeviation_deg = {}\n",
-        t.join(", "),
-        col(&|p| -70.0 * p.cos()),
-        col(&|p| 90.0 - 50.0 * p.sin()),
-        col(&|p| 2.0 * (2.0 * p).sin()),
-    )
-}
-
-fn parse(text: &str) -> Value {
-    toml::from_str(text).expect("valid TOML")
-}
-
 /// Merges the tables of `extra` into `base` (replacing leaves).
 fn merge(base: &mut Value, extra: &Value) {
     match (base, extra) {
@@ -150,7 +137,7 @@ fn bases() -> Vec<(&'static str, Value)> {
     merge(&mut full, &parse(FULL_EXTRAS));
     full.as_table_mut().unwrap().insert(
         "right_kinematics".into(),
-        parse(&tabulated_kinematics_toml(31)),
+        parse(&tabulated_kinematics_toml(31, 1.0 / 218.0, 50.0, 2.0)),
     );
     out.push(("drosophila-full", full));
     for (name, v) in &out {
@@ -173,20 +160,9 @@ fn load(text: &str) -> Result<Vehicle, Error> {
     Vehicle::from_toml(text, ORIGIN)
 }
 
-fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
-    p.downcast_ref::<String>()
-        .cloned()
-        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-        .unwrap_or_default()
-}
-
+/// Loads with a `catch_unwind` guard.
 fn load_guarded(text: &str) -> Result<Result<Vehicle, Error>, TestCaseError> {
-    catch_unwind(AssertUnwindSafe(|| load(text))).map_err(|p| {
-        TestCaseError::fail(format!(
-            "loader panicked ({}) on:\n{text}",
-            panic_message(p)
-        ))
-    })
+    guarded(text, load)
 }
 
 fn check_error(e: &Error, text: &str) -> Result<(), TestCaseError> {
@@ -243,229 +219,6 @@ fn simulate_briefly(v: Vehicle, steps: usize) -> Result<Option<String>, String> 
 // Structural mutations of the TOML tree.
 // ---------------------------------------------------------------------------------------------
 
-#[derive(Debug, Clone, PartialEq)]
-enum Seg {
-    Key(String),
-    Idx(usize),
-}
-
-fn path_str(p: &[Seg]) -> String {
-    let mut s = String::new();
-    for seg in p {
-        match seg {
-            Seg::Key(k) => {
-                if !s.is_empty() {
-                    s.push('.');
-                }
-                s.push_str(k);
-            }
-            Seg::Idx(i) => s.push_str(&format!("[{i}]")),
-        }
-    }
-    s
-}
-
-fn leaves(v: &Value, prefix: &mut Vec<Seg>, out: &mut Vec<Vec<Seg>>) {
-    match v {
-        Value::Table(t) => {
-            for (k, x) in t {
-                prefix.push(Seg::Key(k.clone()));
-                leaves(x, prefix, out);
-                prefix.pop();
-            }
-        }
-        Value::Array(a) => {
-            out.push(prefix.clone());
-            for (i, x) in a.iter().enumerate() {
-                prefix.push(Seg::Idx(i));
-                leaves(x, prefix, out);
-                prefix.pop();
-            }
-        }
-        _ => out.push(prefix.clone()),
-    }
-}
-
-fn tables(v: &Value, prefix: &mut Vec<Seg>, out: &mut Vec<Vec<Seg>>) {
-    if let Value::Table(t) = v {
-        out.push(prefix.clone());
-        for (k, x) in t {
-            prefix.push(Seg::Key(k.clone()));
-            tables(x, prefix, out);
-            prefix.pop();
-        }
-    }
-}
-
-fn get_mut<'a>(v: &'a mut Value, p: &[Seg]) -> &'a mut Value {
-    p.iter().fold(v, |v, seg| match seg {
-        Seg::Key(k) => v.get_mut(k.as_str()).unwrap(),
-        Seg::Idx(i) => v.get_mut(*i).unwrap(),
-    })
-}
-
-fn remove(v: &mut Value, p: &[Seg]) {
-    let (last, parent) = p.split_last().expect("not the root");
-    match (get_mut(v, parent), last) {
-        (Value::Table(t), Seg::Key(k)) => {
-            t.remove(k);
-        }
-        (Value::Array(a), Seg::Idx(i)) => {
-            a.remove(*i);
-        }
-        _ => unreachable!(),
-    }
-}
-
-fn numeric_leaves(v: &Value) -> Vec<Vec<Seg>> {
-    let mut ls = Vec::new();
-    leaves(v, &mut Vec::new(), &mut ls);
-    let mut probe = v.clone();
-    ls.into_iter()
-        .filter(|p| matches!(get_mut(&mut probe, p), Value::Float(_) | Value::Integer(_)))
-        .collect()
-}
-
-#[derive(Debug, Clone)]
-enum Repl {
-    Nan,
-    Inf,
-    NegInf,
-    Zero,
-    ZeroInt,
-    Negate,
-    MinusOneInt,
-    Huge,
-    NegHuge,
-    Tiny,
-    HugeInt,
-    Float(f64),
-    Str(String),
-    Bool(bool),
-    Array(Vec<f64>),
-    EmptyArray,
-    Table,
-}
-
-impl Repl {
-    fn value(&self, old: &Value) -> Value {
-        match self {
-            Repl::Nan => Value::Float(f64::NAN),
-            Repl::Inf => Value::Float(f64::INFINITY),
-            Repl::NegInf => Value::Float(f64::NEG_INFINITY),
-            Repl::Zero => Value::Float(0.0),
-            Repl::ZeroInt => Value::Integer(0),
-            Repl::Negate => match old {
-                Value::Float(x) if *x != 0.0 => Value::Float(-x),
-                Value::Integer(i) if *i != 0 => Value::Integer(-i),
-                _ => Value::Float(-1.0),
-            },
-            Repl::MinusOneInt => Value::Integer(-1),
-            Repl::Huge => Value::Float(1e300),
-            Repl::NegHuge => Value::Float(-1e300),
-            Repl::Tiny => Value::Float(1e-300),
-            Repl::HugeInt => Value::Integer(i64::MAX),
-            Repl::Float(x) => Value::Float(*x),
-            Repl::Str(s) => Value::String(s.clone()),
-            Repl::Bool(b) => Value::Boolean(*b),
-            Repl::Array(a) => Value::Array(a.iter().map(|x| Value::Float(*x)).collect()),
-            Repl::EmptyArray => Value::Array(vec![]),
-            Repl::Table => parse("a = 1\nb = \"x\""),
-        }
-    }
-}
-
-const SPECIAL: [Repl; 11] = [
-    Repl::Nan,
-    Repl::Inf,
-    Repl::NegInf,
-    Repl::Zero,
-    Repl::ZeroInt,
-    Repl::Negate,
-    Repl::MinusOneInt,
-    Repl::Huge,
-    Repl::NegHuge,
-    Repl::Tiny,
-    Repl::HugeInt,
-];
-
-fn repl() -> impl Strategy<Value = Repl> {
-    prop_oneof![
-        4 => (0..SPECIAL.len()).prop_map(|i| SPECIAL[i].clone()),
-        1 => any::<f64>().prop_map(Repl::Float),
-        1 => (-1e4f64..1e4).prop_map(Repl::Float),
-        1 => "[a-z0-9 ._-]{0,12}".prop_map(Repl::Str),
-        1 => any::<bool>().prop_map(Repl::Bool),
-        1 => prop::collection::vec(-1e3f64..1e3, 0..6).prop_map(Repl::Array),
-        1 => Just(Repl::EmptyArray),
-        1 => Just(Repl::Table),
-    ]
-}
-
-#[derive(Debug, Clone)]
-enum Mutation {
-    Replace(Index, Repl),
-    Delete(Index),
-    DeleteSection(Index),
-    AddUnknown(Index, Repl),
-}
-
-fn mutation() -> impl Strategy<Value = Mutation> {
-    prop_oneof![
-        6 => (any::<Index>(), repl()).prop_map(|(i, r)| Mutation::Replace(i, r)),
-        2 => any::<Index>().prop_map(Mutation::Delete),
-        1 => any::<Index>().prop_map(Mutation::DeleteSection),
-        1 => (any::<Index>(), repl()).prop_map(|(i, r)| Mutation::AddUnknown(i, r)),
-    ]
-}
-
-fn apply(v: &mut Value, m: &Mutation) -> String {
-    let mut ls = Vec::new();
-    leaves(v, &mut Vec::new(), &mut ls);
-    let mut ts = Vec::new();
-    tables(v, &mut Vec::new(), &mut ts);
-    match m {
-        Mutation::Replace(i, r) => {
-            let p = i.get(&ls).clone();
-            let slot = get_mut(v, &p);
-            *slot = r.value(slot);
-            format!("replace {} with {r:?}", path_str(&p))
-        }
-        Mutation::Delete(i) => {
-            let p = i.get(&ls).clone();
-            remove(v, &p);
-            format!("delete {}", path_str(&p))
-        }
-        Mutation::DeleteSection(i) => {
-            let non_root: Vec<_> = ts.iter().filter(|p| !p.is_empty()).cloned().collect();
-            let p = i.get(&non_root).clone();
-            remove(v, &p);
-            format!("delete section [{}]", path_str(&p))
-        }
-        Mutation::AddUnknown(i, r) => {
-            let p = i.get(&ts).clone();
-            let t = get_mut(v, &p).as_table_mut().unwrap();
-            t.insert("zz_unknown_field".into(), r.value(&Value::Float(1.0)));
-            format!("add zz_unknown_field to [{}]", path_str(&p))
-        }
-    }
-}
-
-/// `cases` generated inputs, times `FLAPWING_PROP_SCALE` if set.
-fn config(cases: u32) -> ProptestConfig {
-    let scale = std::env::var("FLAPWING_PROP_SCALE")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .unwrap_or(1);
-    ProptestConfig {
-        cases: cases * scale,
-        max_shrink_iters: 2000,
-        // No regression files in the source tree; failures print their minimal input.
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
 proptest! {
     #![proptest_config(config(1500))]
 
@@ -476,10 +229,7 @@ proptest! {
         base in any::<Index>(),
         muts in prop::collection::vec(mutation(), 1..4),
     ) {
-        let (_, v) = base.get(bases_cached());
-        let mut v = v.clone();
-        let what: Vec<String> = muts.iter().map(|m| apply(&mut v, m)).collect();
-        let text = toml::to_string(&v).unwrap();
+        let (what, text) = mutated(&base.get(bases_cached()).1, &muts);
         if let Err(e) = load_guarded(&text)? {
             check_error(&e, &text)
                 .map_err(|f| TestCaseError::fail(format!("{f}\nmutations: {what:?}")))?;
@@ -494,17 +244,14 @@ proptest! {
     /// parse error naming it.
     #[test]
     fn unknown_fields_are_named(base in any::<Index>(), table in any::<Index>(), r in repl()) {
-        let (_, v) = base.get(bases_cached());
-        let mut v = v.clone();
-        let what = apply(&mut v, &Mutation::AddUnknown(table, r));
-        let text = toml::to_string(&v).unwrap();
+        let (what, text) = mutated(&base.get(bases_cached()).1, &[Mutation::AddUnknown(table, r)]);
         let e = load_guarded(&text)?.expect_err("unknown field accepted");
         check_error(&e, &text)?;
         prop_assert!(
             matches!(e, Error::Model(wingforce::Error::Parse { .. })),
-            "{}", what
+            "{:?}", what
         );
-        prop_assert!(e.to_string().contains("zz_unknown_field"), "{what}: {e}");
+        prop_assert!(e.to_string().contains("zz_unknown_field"), "{what:?}: {e}");
     }
 }
 
@@ -516,25 +263,14 @@ proptest! {
     fn type_errors_are_parse_errors(
         base in any::<Index>(),
         leaf in any::<Index>(),
-        r in prop_oneof![
-            "[a-z]{1,8}".prop_map(Repl::Str),
-            any::<bool>().prop_map(Repl::Bool),
-            prop::collection::vec(-10f64..10.0, 0..4).prop_map(Repl::Array),
-            Just(Repl::Table),
-        ],
+        r in non_number(),
     ) {
-        let (_, v) = base.get(bases_cached());
-        let mut v = v.clone();
-        let p = leaf.get(&numeric_leaves(&v)).clone();
-        let slot = get_mut(&mut v, &p);
-        *slot = r.value(slot);
-        let text = toml::to_string(&v).unwrap();
-        let e = load_guarded(&text)?
-            .expect_err(&format!("{} = {r:?} accepted", path_str(&p)));
+        let (path, text) = replace_numeric_leaf(&base.get(bases_cached()).1, leaf, &r);
+        let e = load_guarded(&text)?.expect_err(&format!("{path} = {r:?} accepted"));
         check_error(&e, &text)?;
         prop_assert!(
             matches!(e, Error::Model(wingforce::Error::Parse { .. })),
-            "{} = {:?}: {}", path_str(&p), r, e
+            "{} = {:?}: {}", path, r, e
         );
     }
 }
@@ -543,41 +279,7 @@ proptest! {
 // Targeted ranges.
 // ---------------------------------------------------------------------------------------------
 
-#[derive(Debug, Clone, Copy)]
-struct Range {
-    /// Index into [`bases`]: 0 drosophila, 1 robobee, 2 bumblebee, 3 drosophila-full.
-    base: usize,
-    /// Dotted path; list entries as `name.i`.
-    path: &'static str,
-    lo: f64,
-    hi: f64,
-    lo_open: bool,
-    hi_open: bool,
-    /// The field the error must name (`name[i]` for list entries).
-    field: &'static str,
-}
-
-const fn r(
-    base: usize,
-    path: &'static str,
-    lo: f64,
-    hi: f64,
-    lo_open: bool,
-    hi_open: bool,
-) -> Range {
-    Range {
-        base,
-        path,
-        lo,
-        hi,
-        lo_open,
-        hi_open,
-        field: path,
-    }
-}
-
-const INF: f64 = f64::INFINITY;
-
+/// `base` indexes [`bases`]: 0 drosophila, 1 robobee, 2 bumblebee, 3 drosophila-full.
 const RANGES: &[Range] = &[
     // Negative or zero mass, length, inertia, area.
     r(0, "body.mass_kg", 0.0, INF, true, true),
@@ -684,57 +386,6 @@ const RANGES: &[Range] = &[
     },
 ];
 
-fn outside(r: Range) -> BoxedStrategy<f64> {
-    let mut s: Vec<BoxedStrategy<f64>> = vec![Just(f64::NAN).boxed()];
-    if r.lo.is_finite() || r.lo_open {
-        s.push(Just(f64::NEG_INFINITY).boxed());
-    }
-    if r.hi.is_finite() || r.hi_open {
-        s.push(Just(f64::INFINITY).boxed());
-    }
-    let scale = |b: f64| b.abs().max(1.0);
-    if r.lo.is_finite() {
-        let lo = r.lo;
-        s.push(
-            (-6.0f64..6.0)
-                .prop_map(move |e| lo - scale(lo) * 10f64.powf(e))
-                .boxed(),
-        );
-        s.push(Just(lo - 1e300).boxed());
-        if r.lo_open {
-            s.push(Just(lo).boxed());
-        }
-    }
-    if r.hi.is_finite() {
-        let hi = r.hi;
-        s.push(
-            (-6.0f64..6.0)
-                .prop_map(move |e| hi + scale(hi) * 10f64.powf(e))
-                .boxed(),
-        );
-        s.push(Just(hi + 1e300).boxed());
-        if r.hi_open {
-            s.push(Just(hi).boxed());
-        }
-    }
-    proptest::strategy::Union::new(s).boxed()
-}
-
-fn set_path(v: &mut Value, dotted: &str, x: Value) {
-    let segs: Vec<Seg> = dotted
-        .split('.')
-        .map(|s| match s.parse::<usize>() {
-            Ok(i) => Seg::Idx(i),
-            Err(_) => Seg::Key(s.to_owned()),
-        })
-        .collect();
-    *get_mut(v, &segs) = x;
-}
-
-fn range_and_value() -> impl Strategy<Value = (Range, f64)> {
-    (0..RANGES.len()).prop_flat_map(|i| (Just(RANGES[i]), outside(RANGES[i])))
-}
-
 fn expect_invalid(text: &str, field: &str, what: &str) -> Result<(), TestCaseError> {
     let e = load_guarded(text)?.expect_err(&format!("{what} accepted"));
     check_error(&e, text)?;
@@ -753,7 +404,7 @@ proptest! {
     /// Out-of-range body, wing, hinge, kinematics, fluid, aero, sim, controls and initial
     /// values: rejected with `Error::Invalid` naming exactly the field.
     #[test]
-    fn out_of_range_values_name_their_field((range, x) in range_and_value()) {
+    fn out_of_range_values_name_their_field((range, x) in range_and_value(RANGES)) {
         let mut v = bases_cached()[range.base].1.clone();
         set_path(&mut v, range.path, Value::Float(x));
         let text = toml::to_string(&v).unwrap();
@@ -798,50 +449,6 @@ proptest! {
 // Text-level mutations.
 // ---------------------------------------------------------------------------------------------
 
-#[derive(Debug, Clone)]
-enum TextMutation {
-    Truncate(Index),
-    FlipBit(Index, u8),
-    Splice(Index, Vec<u8>),
-    Garbage(Vec<u8>),
-    Text(String),
-    Tomlish(String),
-}
-
-fn text_mutation() -> impl Strategy<Value = TextMutation> {
-    prop_oneof![
-        3 => any::<Index>().prop_map(TextMutation::Truncate),
-        2 => (any::<Index>(), 0u8..8).prop_map(|(i, b)| TextMutation::FlipBit(i, b)),
-        2 => (any::<Index>(), prop::collection::vec(any::<u8>(), 1..16))
-            .prop_map(|(i, b)| TextMutation::Splice(i, b)),
-        1 => prop::collection::vec(any::<u8>(), 0..400).prop_map(TextMutation::Garbage),
-        1 => any::<String>().prop_map(TextMutation::Text),
-        2 => "[\\[\\]=\"'a-z_.0-9 \n#+-]{0,300}".prop_map(TextMutation::Tomlish),
-    ]
-}
-
-fn mutate_text(base: &str, m: &TextMutation) -> String {
-    let bytes = base.as_bytes();
-    let out: Vec<u8> = match m {
-        TextMutation::Truncate(i) => bytes[..i.index(bytes.len() + 1)].to_vec(),
-        TextMutation::FlipBit(i, b) => {
-            let mut v = bytes.to_vec();
-            v[i.index(bytes.len())] ^= 1 << b;
-            v
-        }
-        TextMutation::Splice(i, g) => {
-            let at = i.index(bytes.len() + 1);
-            let mut v = bytes[..at].to_vec();
-            v.extend_from_slice(g);
-            v.extend_from_slice(&bytes[at..]);
-            v
-        }
-        TextMutation::Garbage(g) => g.clone(),
-        TextMutation::Text(s) | TextMutation::Tomlish(s) => s.clone().into_bytes(),
-    };
-    String::from_utf8_lossy(&out).into_owned()
-}
-
 proptest! {
     #![proptest_config(config(1500))]
 
@@ -866,78 +473,6 @@ proptest! {
 // Tabulated kinematics (as the right wing's kinematics: errors must say `right_kinematics`).
 // ---------------------------------------------------------------------------------------------
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Defect {
-    None,
-    NotMonotonic(usize),
-    NotPeriodic,
-    Random,
-}
-
-#[derive(Debug, Clone)]
-struct Table {
-    t_s: Vec<f64>,
-    stroke: Vec<f64>,
-    pitch: Vec<f64>,
-    defect: Defect,
-}
-
-fn table() -> impl Strategy<Value = Table> {
-    let smooth = (6usize..50, 1e-4f64..1.0, 5.0f64..170.0, 0.0f64..1.0).prop_map(
-        |(n, period, amp, phase0)| {
-            let m = n - 1;
-            let ang = |i: usize| ((i % m) as f64 / m as f64 + phase0) * std::f64::consts::TAU;
-            Table {
-                t_s: (0..n).map(|i| period * i as f64 / m as f64).collect(),
-                stroke: (0..n).map(|i| -0.5 * amp * ang(i).cos()).collect(),
-                pitch: (0..n).map(|i| 90.0 - 40.0 * ang(i).sin()).collect(),
-                defect: Defect::None,
-            }
-        },
-    );
-    prop_oneof![
-        2 => smooth.clone(),
-        3 => (smooth.clone(), any::<Index>(), 0.0f64..2.0).prop_map(|(mut t, i, back)| {
-            let k = 1 + i.index(t.t_s.len() - 1);
-            let step = t.t_s[k] - t.t_s[k - 1];
-            t.t_s[k] = t.t_s[k - 1] - back * step;
-            t.defect = Defect::NotMonotonic(k);
-            t
-        }),
-        3 => (smooth.clone(), prop_oneof![1e-5f64..100.0, -100.0f64..-1e-5]).prop_map(
-            |(mut t, d)| {
-                let n = t.stroke.len();
-                t.stroke[n - 1] = t.stroke[0] + d;
-                t.defect = Defect::NotPeriodic;
-                t
-            }
-        ),
-        3 => (
-            prop::collection::vec(prop_oneof![0.0f64..0.01, Just(0.0), any::<f64>()], 0..30),
-            prop::collection::vec(prop_oneof![-400.0f64..400.0, any::<f64>()], 0..30),
-            prop::collection::vec(-400.0f64..400.0, 0..30),
-            any::<bool>(),
-        )
-            .prop_map(|(mut t, stroke, pitch, cumulative)| {
-                if cumulative {
-                    let mut acc = 0.0;
-                    for x in t.iter_mut() {
-                        acc += x.abs().min(1e6);
-                        *x = acc;
-                    }
-                    if let Some(first) = t.first_mut() {
-                        *first = 0.0;
-                    }
-                }
-                Table { t_s: t, stroke, pitch, defect: Defect::Random }
-            }),
-    ]
-}
-
-fn list(v: &[f64]) -> Value {
-    Value::Array(v.iter().map(|x| Value::Float(*x)).collect())
-}
-
 proptest! {
     #![proptest_config(config(400))]
 
@@ -945,13 +480,11 @@ proptest! {
     /// periodic: names the stroke's last entry and says "periodic"; smooth tables load and
     /// simulate; random tables never panic.
     #[test]
-    fn tabulated_kinematics_tables(t in table()) {
+    fn tabulated_kinematics_tables(
+        t in table(6..50, 1e-4..1.0, 5.0..170.0, 0.0..0.01),
+    ) {
         let mut v = bases_cached()[3].1.clone();
-        let k = v["right_kinematics"].as_table_mut().unwrap();
-        k.insert("t_s".into(), list(&t.t_s));
-        k.insert("stroke_deg".into(), list(&t.stroke));
-        k.insert("pitch_deg".into(), list(&t.pitch));
-        k.remove("deviation_deg");
+        put_table(&mut v["right_kinematics"], &t);
         let text = toml::to_string(&v).unwrap();
         let result = load_guarded(&text)?;
         let s = match &result {
@@ -999,17 +532,6 @@ proptest! {
 /// list index.
 const KNOWN_BUG_EXTREME: &[(&str, &[&str])] = &[];
 
-fn known_bug_extreme(path: &str, r: &Repl) -> bool {
-    let generic = match path.find('[') {
-        Some(i) => format!("{}[*]", &path[..i]),
-        None => path.to_owned(),
-    };
-    let name = format!("{r:?}");
-    KNOWN_BUG_EXTREME
-        .iter()
-        .any(|(p, rs)| (*p == path || *p == generic) && rs.contains(&name.as_str()))
-}
-
 /// What is wrong with a vehicle that loaded: a non-finite Re, a panic in the first steps,
 /// or a first few steps that stop because a load or the state is not finite. (Stopping
 /// because the speed exceeds `sim.max_speed_m_s` is a legitimate outcome of a run: a hinge
@@ -1032,54 +554,34 @@ fn unusable(v: Vehicle) -> Option<String> {
 /// or a non-finite load or state (exhaustive, not random).
 #[test]
 fn loaded_vehicles_simulate() {
-    let mut failures = Vec::new();
-    let mut tried = 0;
-    for (name, v0) in bases_cached() {
-        // List entries: the first two and the last stand for the rest (time budget).
-        let leaves = numeric_leaves(v0).into_iter().filter(|p| match p.last() {
-            Some(Seg::Idx(i)) => {
-                let mut probe = v0.clone();
-                let len = get_mut(&mut probe, &p[..p.len() - 1])
-                    .as_array()
-                    .unwrap()
-                    .len();
-                *i < 2 || *i + 1 == len
-            }
-            _ => true,
-        });
-        for p in leaves {
-            for r in &SPECIAL {
-                let path = path_str(&p);
-                if known_bug_extreme(&path, r) {
-                    continue;
+    // List entries: the first two and the last stand for the rest (time budget).
+    let some_numeric_leaves = |v0: &Value| {
+        let mut probe = v0.clone();
+        numeric_leaves(v0)
+            .into_iter()
+            .filter(|p| match p.last() {
+                Some(Seg::Idx(i)) => {
+                    let len = get_mut(&mut probe, &p[..p.len() - 1])
+                        .as_array()
+                        .unwrap()
+                        .len();
+                    *i < 2 || *i + 1 == len
                 }
-                let mut v = v0.clone();
-                let slot = get_mut(&mut v, &p);
-                *slot = r.value(slot);
-                let text = toml::to_string(&v).unwrap();
-                tried += 1;
-                match catch_unwind(AssertUnwindSafe(|| load(&text))) {
-                    Err(p) => failures.push(format!(
-                        "{name}: {path} = {r:?}: loader PANICKED: {}",
-                        panic_message(p)
-                    )),
-                    Ok(Ok(vehicle)) => {
-                        if let Some(why) = unusable(vehicle) {
-                            failures.push(format!("{name}: {path} = {r:?} loads but {why}"));
-                        }
-                    }
-                    Ok(Err(e)) => {
-                        if let Err(f) = check_error(&e, &text) {
-                            failures.push(format!("{name}: {path} = {r:?}: {f}"));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    assert!(tried > 1000, "only {tried} inputs");
-    eprintln!("loaded_vehicles_simulate: {tried} inputs");
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+                _ => true,
+            })
+            .collect()
+    };
+    assert_special_values(
+        "loaded_vehicles_simulate",
+        bases_cached(),
+        some_numeric_leaves,
+        KNOWN_BUG_EXTREME,
+        |text| match catch_unwind(AssertUnwindSafe(|| load(text))) {
+            Err(p) => Some(format!(": loader PANICKED: {}", panic_message(p))),
+            Ok(Ok(vehicle)) => unusable(vehicle).map(|why| format!(" loads but {why}")),
+            Ok(Err(e)) => check_error(&e, text).err().map(|f| format!(": {f}")),
+        },
+    );
 }
 
 proptest! {

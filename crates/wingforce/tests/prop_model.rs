@@ -8,6 +8,9 @@
 //! field and say "not allowed". Targeted properties check that out-of-range values of each
 //! documented field are rejected with that exact field named.
 //!
+//! The TOML-tree walkers, the mutation, text-mutation, table and range generators and
+//! `config` are in `support/toml_mutation.rs`, shared with `flapsim/tests/prop_vehicle.rs`.
+//!
 //! Generated inputs per property (proptest `cases`; the whole file runs in about 2 s in
 //! release). `FLAPWING_PROP_SCALE=N` multiplies every proptest case count (for soak runs).
 //!
@@ -23,12 +26,17 @@
 //! | `moderate_values_load_usably_or_fail_cleanly` | 1000 |
 //! | `loaded_models_give_finite_forces` (exhaustive, not proptest) | ~2600 |
 
-use std::panic::{AssertUnwindSafe, catch_unwind};
-
 use proptest::prelude::*;
 use proptest::sample::Index;
 use toml::Value;
 use wingforce::{BodyMotion, Error, Wing, WingModelSpec};
+
+mod support;
+use support::toml_mutation::{
+    Defect, INF, Mutation, Range, assert_special_values, config, get_mut, guarded, leaves, list,
+    mutate_text, mutated, mutation, non_number, parse, path_str, put_table, r, range_and_value,
+    repl, replace_numeric_leaf, set_path, table, tabulated_kinematics_toml, text_mutation,
+};
 
 const ROBOFLY: &str = include_str!("../../../models/robofly.toml");
 
@@ -97,34 +105,6 @@ strips = 7
 cp_chord_frac = 0.3
 "#;
 
-/// A smooth periodic table: one downstroke and one upstroke, last row repeating the first.
-fn tabulated_kinematics_toml(n: usize, period_s: f64) -> String {
-    let m = n - 1;
-    let col = |f: &dyn Fn(f64) -> f64| {
-        let v: Vec<String> = (0..n)
-            .map(|i| {
-                let p = (i % m) as f64 / m as f64 * std::f64::consts::TAU;
-                format!("{:?}", f(p))
-            })
-            .collect();
-        format!("[{}]", v.join(", "))
-    };
-    let t: Vec<String> = (0..n)
-        .map(|i| format!("{:?}", period_s * i as f64 / m as f64))
-        .collect();
-    format!(
-        "family = \"tabulated\"\nt_s = [{}]\nstroke_deg = {}\npitch_deg = {}\ndeviation_deg = {}\n",
-        t.join(", "),
-        col(&|p| -70.0 * p.cos()),
-        col(&|p| 90.0 - 45.0 * p.sin()),
-        col(&|p| 5.0 * (2.0 * p).sin()),
-    )
-}
-
-fn parse(text: &str) -> Value {
-    toml::from_str(text).expect("base model is valid TOML")
-}
-
 /// `base` with `[section.sub]` replaced by the table parsed from `table_text`.
 fn with_table(base: &Value, path: &[&str], table_text: &str) -> Value {
     let mut v = base.clone();
@@ -168,7 +148,7 @@ fn bases() -> Vec<(&'static str, Value)> {
             &with_table(
                 &robofly,
                 &["kinematics"],
-                &tabulated_kinematics_toml(25, 4.0),
+                &tabulated_kinematics_toml(25, 4.0, 45.0, 5.0),
             ),
             &["wing", "planform"],
             TABULATED_PLANFORM,
@@ -197,16 +177,9 @@ fn load(text: &str) -> Result<Wing, Error> {
     WingModelSpec::from_toml(text, ORIGIN).and_then(|s| s.build(ORIGIN))
 }
 
-/// Loads with a `catch_unwind` guard (proptest reports panics too; this names the input).
+/// Loads with a `catch_unwind` guard.
 fn load_guarded(text: &str) -> Result<Result<Wing, Error>, TestCaseError> {
-    catch_unwind(AssertUnwindSafe(|| load(text))).map_err(|p| {
-        let msg = p
-            .downcast_ref::<String>()
-            .cloned()
-            .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-            .unwrap_or_default();
-        TestCaseError::fail(format!("loader panicked ({msg}) on:\n{text}"))
-    })
+    guarded(text, load)
 }
 
 /// The error contract: `<origin>: ...`; value errors name the field and say "not allowed".
@@ -243,220 +216,6 @@ fn check_error(e: &Error, text: &str) -> Result<(), TestCaseError> {
 // Structural mutations of the TOML tree.
 // ---------------------------------------------------------------------------------------------
 
-#[derive(Debug, Clone, PartialEq)]
-enum Seg {
-    Key(String),
-    Idx(usize),
-}
-
-fn path_str(p: &[Seg]) -> String {
-    let mut s = String::new();
-    for seg in p {
-        match seg {
-            Seg::Key(k) => {
-                if !s.is_empty() {
-                    s.push('.');
-                }
-                s.push_str(k);
-            }
-            Seg::Idx(i) => s.push_str(&format!("[{i}]")),
-        }
-    }
-    s
-}
-
-/// Every non-table value (arrays and their elements included), depth first.
-fn leaves(v: &Value, prefix: &mut Vec<Seg>, out: &mut Vec<Vec<Seg>>) {
-    match v {
-        Value::Table(t) => {
-            for (k, x) in t {
-                prefix.push(Seg::Key(k.clone()));
-                leaves(x, prefix, out);
-                prefix.pop();
-            }
-        }
-        Value::Array(a) => {
-            out.push(prefix.clone());
-            for (i, x) in a.iter().enumerate() {
-                prefix.push(Seg::Idx(i));
-                leaves(x, prefix, out);
-                prefix.pop();
-            }
-        }
-        _ => out.push(prefix.clone()),
-    }
-}
-
-/// Every table, the root (empty path) included.
-fn tables(v: &Value, prefix: &mut Vec<Seg>, out: &mut Vec<Vec<Seg>>) {
-    if let Value::Table(t) = v {
-        out.push(prefix.clone());
-        for (k, x) in t {
-            prefix.push(Seg::Key(k.clone()));
-            tables(x, prefix, out);
-            prefix.pop();
-        }
-    }
-}
-
-fn get_mut<'a>(v: &'a mut Value, p: &[Seg]) -> &'a mut Value {
-    p.iter().fold(v, |v, seg| match seg {
-        Seg::Key(k) => v.get_mut(k.as_str()).unwrap(),
-        Seg::Idx(i) => v.get_mut(*i).unwrap(),
-    })
-}
-
-fn remove(v: &mut Value, p: &[Seg]) {
-    let (last, parent) = p.split_last().expect("not the root");
-    match (get_mut(v, parent), last) {
-        (Value::Table(t), Seg::Key(k)) => {
-            t.remove(k);
-        }
-        (Value::Array(a), Seg::Idx(i)) => {
-            a.remove(*i);
-        }
-        _ => unreachable!(),
-    }
-}
-
-/// What a value is replaced with.
-#[derive(Debug, Clone)]
-enum Repl {
-    Nan,
-    Inf,
-    NegInf,
-    Zero,
-    ZeroInt,
-    Negate,
-    MinusOneInt,
-    Huge,
-    NegHuge,
-    Tiny,
-    HugeInt,
-    Float(f64),
-    Str(String),
-    Bool(bool),
-    Array(Vec<f64>),
-    EmptyArray,
-    Table,
-}
-
-impl Repl {
-    fn value(&self, old: &Value) -> Value {
-        match self {
-            Repl::Nan => Value::Float(f64::NAN),
-            Repl::Inf => Value::Float(f64::INFINITY),
-            Repl::NegInf => Value::Float(f64::NEG_INFINITY),
-            Repl::Zero => Value::Float(0.0),
-            Repl::ZeroInt => Value::Integer(0),
-            Repl::Negate => match old {
-                Value::Float(x) if *x != 0.0 => Value::Float(-x),
-                Value::Integer(i) if *i != 0 => Value::Integer(-i),
-                _ => Value::Float(-1.0),
-            },
-            Repl::MinusOneInt => Value::Integer(-1),
-            Repl::Huge => Value::Float(1e300),
-            Repl::NegHuge => Value::Float(-1e300),
-            Repl::Tiny => Value::Float(1e-300),
-            Repl::HugeInt => Value::Integer(i64::MAX),
-            Repl::Float(x) => Value::Float(*x),
-            Repl::Str(s) => Value::String(s.clone()),
-            Repl::Bool(b) => Value::Boolean(*b),
-            Repl::Array(a) => Value::Array(a.iter().map(|x| Value::Float(*x)).collect()),
-            Repl::EmptyArray => Value::Array(vec![]),
-            Repl::Table => parse("a = 1\nb = \"x\""),
-        }
-    }
-}
-
-fn repl() -> impl Strategy<Value = Repl> {
-    prop_oneof![
-        Just(Repl::Nan),
-        Just(Repl::Inf),
-        Just(Repl::NegInf),
-        Just(Repl::Zero),
-        Just(Repl::ZeroInt),
-        Just(Repl::Negate),
-        Just(Repl::MinusOneInt),
-        Just(Repl::Huge),
-        Just(Repl::NegHuge),
-        Just(Repl::Tiny),
-        Just(Repl::HugeInt),
-        any::<f64>().prop_map(Repl::Float),
-        (-1e4f64..1e4).prop_map(Repl::Float),
-        "[a-z0-9 ._-]{0,12}".prop_map(Repl::Str),
-        any::<bool>().prop_map(Repl::Bool),
-        prop::collection::vec(-1e3f64..1e3, 0..6).prop_map(Repl::Array),
-        Just(Repl::EmptyArray),
-        Just(Repl::Table),
-    ]
-}
-
-#[derive(Debug, Clone)]
-enum Mutation {
-    Replace(Index, Repl),
-    Delete(Index),
-    DeleteSection(Index),
-    AddUnknown(Index, Repl),
-}
-
-fn mutation() -> impl Strategy<Value = Mutation> {
-    prop_oneof![
-        6 => (any::<Index>(), repl()).prop_map(|(i, r)| Mutation::Replace(i, r)),
-        2 => any::<Index>().prop_map(Mutation::Delete),
-        1 => any::<Index>().prop_map(Mutation::DeleteSection),
-        1 => (any::<Index>(), repl()).prop_map(|(i, r)| Mutation::AddUnknown(i, r)),
-    ]
-}
-
-/// Applies a mutation; returns a description (with the path it touched).
-fn apply(v: &mut Value, m: &Mutation) -> String {
-    let mut ls = Vec::new();
-    leaves(v, &mut Vec::new(), &mut ls);
-    let mut ts = Vec::new();
-    tables(v, &mut Vec::new(), &mut ts);
-    match m {
-        Mutation::Replace(i, r) => {
-            let p = i.get(&ls).clone();
-            let slot = get_mut(v, &p);
-            *slot = r.value(slot);
-            format!("replace {} with {r:?}", path_str(&p))
-        }
-        Mutation::Delete(i) => {
-            let p = i.get(&ls).clone();
-            remove(v, &p);
-            format!("delete {}", path_str(&p))
-        }
-        Mutation::DeleteSection(i) => {
-            let non_root: Vec<_> = ts.iter().filter(|p| !p.is_empty()).cloned().collect();
-            let p = i.get(&non_root).clone();
-            remove(v, &p);
-            format!("delete section [{}]", path_str(&p))
-        }
-        Mutation::AddUnknown(i, r) => {
-            let p = i.get(&ts).clone();
-            let t = get_mut(v, &p).as_table_mut().unwrap();
-            t.insert("zz_unknown_field".into(), r.value(&Value::Float(1.0)));
-            format!("add zz_unknown_field to [{}]", path_str(&p))
-        }
-    }
-}
-
-/// `cases` generated inputs, times `FLAPWING_PROP_SCALE` if set (for long local soak runs).
-fn config(cases: u32) -> ProptestConfig {
-    let scale = std::env::var("FLAPWING_PROP_SCALE")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .unwrap_or(1);
-    ProptestConfig {
-        cases: cases * scale,
-        max_shrink_iters: 2000,
-        // No regression files in the source tree; failures print their minimal input.
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
-}
-
 proptest! {
     #![proptest_config(config(2000))]
 
@@ -467,14 +226,7 @@ proptest! {
         base in any::<Index>(),
         muts in prop::collection::vec(mutation(), 1..4),
     ) {
-        let bases = bases_cached();
-        let (_, v) = base.get(bases);
-        let mut v = v.clone();
-        let mut what = Vec::new();
-        for m in &muts {
-            what.push(apply(&mut v, m));
-        }
-        let text = toml::to_string(&v).unwrap();
+        let (what, text) = mutated(&base.get(bases_cached()).1, &muts);
         if let Err(e) = load_guarded(&text)? {
             check_error(&e, &text).map_err(|f| {
                 TestCaseError::fail(format!("{f}\nmutations: {what:?}"))
@@ -489,14 +241,11 @@ proptest! {
     /// An unknown field in any table is a parse error that names it.
     #[test]
     fn unknown_fields_are_named(base in any::<Index>(), table in any::<Index>(), r in repl()) {
-        let (_, v) = base.get(bases_cached());
-        let mut v = v.clone();
-        let what = apply(&mut v, &Mutation::AddUnknown(table, r));
-        let text = toml::to_string(&v).unwrap();
+        let (what, text) = mutated(&base.get(bases_cached()).1, &[Mutation::AddUnknown(table, r)]);
         let e = load_guarded(&text)?.expect_err("unknown field accepted");
         check_error(&e, &text)?;
-        prop_assert!(matches!(e, Error::Parse { .. }), "{}", what);
-        prop_assert!(e.to_string().contains("zz_unknown_field"), "{what}: {e}");
+        prop_assert!(matches!(e, Error::Parse { .. }), "{:?}", what);
+        prop_assert!(e.to_string().contains("zz_unknown_field"), "{what:?}: {e}");
     }
 }
 
@@ -508,73 +257,19 @@ proptest! {
     fn type_errors_are_parse_errors(
         base in any::<Index>(),
         leaf in any::<Index>(),
-        r in prop_oneof![
-            "[a-z]{1,8}".prop_map(Repl::Str),
-            any::<bool>().prop_map(Repl::Bool),
-            prop::collection::vec(-10f64..10.0, 0..4).prop_map(Repl::Array),
-            Just(Repl::Table),
-        ],
+        r in non_number(),
     ) {
-        let (_, v) = base.get(bases_cached());
-        let mut v = v.clone();
-        let mut ls = Vec::new();
-        leaves(&v, &mut Vec::new(), &mut ls);
         // Only scalar numbers: strings (name, family, shape) and lists have other rules.
-        let numbers: Vec<_> = ls
-            .into_iter()
-            .filter(|p| {
-                let mut v2 = v.clone();
-                matches!(get_mut(&mut v2, p), Value::Float(_) | Value::Integer(_))
-            })
-            .collect();
-        let p = leaf.get(&numbers).clone();
-        let slot = get_mut(&mut v, &p);
-        *slot = r.value(slot);
-        let text = toml::to_string(&v).unwrap();
-        let e = load_guarded(&text)?
-            .expect_err(&format!("{} = {r:?} accepted", path_str(&p)));
+        let (path, text) = replace_numeric_leaf(&base.get(bases_cached()).1, leaf, &r);
+        let e = load_guarded(&text)?.expect_err(&format!("{path} = {r:?} accepted"));
         check_error(&e, &text)?;
-        prop_assert!(matches!(e, Error::Parse { .. }), "{} = {:?}: {}", path_str(&p), r, e);
+        prop_assert!(matches!(e, Error::Parse { .. }), "{} = {:?}: {}", path, r, e);
     }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Targeted ranges: an out-of-range value of a field is rejected naming exactly that field.
 // ---------------------------------------------------------------------------------------------
-
-/// A field with its documented range; `base` indexes [`bases`].
-#[derive(Debug, Clone, Copy)]
-struct Range {
-    base: usize,
-    path: &'static str,
-    lo: f64,
-    hi: f64,
-    lo_open: bool,
-    hi_open: bool,
-    /// The field as the error names it (differs for list entries, same otherwise).
-    field: &'static str,
-}
-
-const fn r(
-    base: usize,
-    path: &'static str,
-    lo: f64,
-    hi: f64,
-    lo_open: bool,
-    hi_open: bool,
-) -> Range {
-    Range {
-        base,
-        path,
-        lo,
-        hi,
-        lo_open,
-        hi_open,
-        field: path,
-    }
-}
-
-const INF: f64 = f64::INFINITY;
 
 /// Base 0 robofly (peak_rg_speed, ellington_beta, reynolds), 1 harmonic + rectangular,
 /// 2 trapezoidal with freq_hz + elliptic + full aero + viscosity, 3 tabulated + tabulated.
@@ -645,68 +340,13 @@ const RANGES: &[Range] = &[
     },
 ];
 
-/// A value outside `[lo, hi]` (outside the open ends too): below or above by a relative
-/// amount from 1e-6 to 1e6 (or absolute huge), the open bound itself, NaN or +-inf.
-fn outside(r: Range) -> BoxedStrategy<f64> {
-    let mut s: Vec<BoxedStrategy<f64>> = vec![
-        Just(f64::NAN).boxed(),
-        Just(f64::INFINITY).boxed(),
-        Just(f64::NEG_INFINITY).boxed(),
-    ];
-    let scale = |b: f64| b.abs().max(1.0);
-    if r.lo.is_finite() {
-        let lo = r.lo;
-        s.push(
-            (-6.0f64..6.0)
-                .prop_map(move |e| lo - scale(lo) * 10f64.powf(e))
-                .boxed(),
-        );
-        s.push(Just(lo - 1e300).boxed());
-        if r.lo_open {
-            s.push(Just(lo).boxed());
-        }
-    }
-    if r.hi.is_finite() {
-        let hi = r.hi;
-        s.push(
-            (-6.0f64..6.0)
-                .prop_map(move |e| hi + scale(hi) * 10f64.powf(e))
-                .boxed(),
-        );
-        s.push(Just(hi + 1e300).boxed());
-        if r.hi_open {
-            s.push(Just(hi).boxed());
-        }
-    }
-    proptest::strategy::Union::new(s).boxed()
-}
-
-fn set_path(v: &mut Value, dotted: &str, x: Value) {
-    let segs: Vec<Seg> = dotted
-        .split('.')
-        .map(|s| match s.parse::<usize>() {
-            Ok(i) => Seg::Idx(i),
-            Err(_) => Seg::Key(s.to_owned()),
-        })
-        .collect();
-    let slot = get_mut(v, &segs);
-    *slot = x;
-}
-
-fn range_and_value() -> impl Strategy<Value = (Range, f64)> {
-    (0..RANGES.len()).prop_flat_map(|i| {
-        let r = RANGES[i];
-        (Just(r), outside(r))
-    })
-}
-
 proptest! {
     #![proptest_config(config(1000))]
 
     /// Angles beyond range, zero frequency, zero amplitude, negative/zero lengths and areas,
     /// bad fluid: rejected with `Error::Invalid` naming exactly the field.
     #[test]
-    fn out_of_range_values_name_their_field((range, x) in range_and_value()) {
+    fn out_of_range_values_name_their_field((range, x) in range_and_value(RANGES)) {
         let (_, v) = &bases_cached()[range.base];
         let mut v = v.clone();
         set_path(&mut v, range.path, Value::Float(x));
@@ -724,51 +364,6 @@ proptest! {
 // ---------------------------------------------------------------------------------------------
 // Text-level mutations: garbage, truncation, byte flips.
 // ---------------------------------------------------------------------------------------------
-
-#[derive(Debug, Clone)]
-enum TextMutation {
-    Truncate(Index),
-    FlipBit(Index, u8),
-    Splice(Index, Vec<u8>),
-    Garbage(Vec<u8>),
-    Text(String),
-    Tomlish(String),
-}
-
-fn text_mutation() -> impl Strategy<Value = TextMutation> {
-    prop_oneof![
-        3 => any::<Index>().prop_map(TextMutation::Truncate),
-        2 => (any::<Index>(), 0u8..8).prop_map(|(i, b)| TextMutation::FlipBit(i, b)),
-        2 => (any::<Index>(), prop::collection::vec(any::<u8>(), 1..16))
-            .prop_map(|(i, b)| TextMutation::Splice(i, b)),
-        1 => prop::collection::vec(any::<u8>(), 0..400).prop_map(TextMutation::Garbage),
-        1 => any::<String>().prop_map(TextMutation::Text),
-        2 => "[\\[\\]=\"'a-z_.0-9 \n#+-]{0,300}".prop_map(TextMutation::Tomlish),
-    ]
-}
-
-fn mutate_text(base: &str, m: &TextMutation) -> String {
-    let bytes = base.as_bytes();
-    let out: Vec<u8> = match m {
-        TextMutation::Truncate(i) => bytes[..i.index(bytes.len() + 1)].to_vec(),
-        TextMutation::FlipBit(i, b) => {
-            let mut v = bytes.to_vec();
-            v[i.index(bytes.len())] ^= 1 << b;
-            v
-        }
-        TextMutation::Splice(i, g) => {
-            let at = i.index(bytes.len() + 1);
-            let mut v = bytes[..at].to_vec();
-            v.extend_from_slice(g);
-            v.extend_from_slice(&bytes[at..]);
-            v
-        }
-        TextMutation::Garbage(g) => g.clone(),
-        TextMutation::Text(s) | TextMutation::Tomlish(s) => s.clone().into_bytes(),
-    };
-    // The loader takes text: invalid UTF-8 becomes U+FFFD, as a caller's lossy read would.
-    String::from_utf8_lossy(&out).into_owned()
-}
 
 proptest! {
     #![proptest_config(config(1500))]
@@ -792,86 +387,6 @@ proptest! {
 // Tabulated kinematics and planforms.
 // ---------------------------------------------------------------------------------------------
 
-#[derive(Debug, Clone)]
-struct Table {
-    t_s: Vec<f64>,
-    stroke: Vec<f64>,
-    pitch: Vec<f64>,
-    /// What the generator did to a valid table (and so which error must come first).
-    defect: Defect,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Defect {
-    None,
-    /// t_s[i] <= t_s[i-1].
-    NotMonotonic(usize),
-    /// stroke's last value differs from the first.
-    NotPeriodic,
-    /// Values are random (any outcome, but no panic).
-    Random,
-}
-
-fn table() -> impl Strategy<Value = Table> {
-    let smooth = (5usize..60, 1e-3f64..1e3, 1.0f64..170.0, 0.0f64..1.0).prop_map(
-        |(n, period, amp, phase0)| {
-            let m = n - 1;
-            let t_s: Vec<f64> = (0..n).map(|i| period * i as f64 / m as f64).collect();
-            let ang = |i: usize| ((i % m) as f64 / m as f64 + phase0) * std::f64::consts::TAU;
-            let stroke = (0..n).map(|i| -0.5 * amp * ang(i).cos()).collect();
-            let pitch = (0..n).map(|i| 90.0 - 40.0 * ang(i).sin()).collect();
-            Table {
-                t_s,
-                stroke,
-                pitch,
-                defect: Defect::None,
-            }
-        },
-    );
-    prop_oneof![
-        2 => smooth.clone(),
-        3 => (smooth.clone(), any::<Index>(), 0.0f64..2.0).prop_map(|(mut t, i, back)| {
-            // Move one time (after the first) back to or behind its predecessor.
-            let k = 1 + i.index(t.t_s.len() - 1);
-            let step = t.t_s[k] - t.t_s[k - 1];
-            t.t_s[k] = t.t_s[k - 1] - back * step;
-            t.defect = Defect::NotMonotonic(k);
-            t
-        }),
-        3 => (smooth.clone(), prop_oneof![1e-5f64..100.0, -100.0f64..-1e-5])
-            .prop_map(|(mut t, d)| {
-                let n = t.stroke.len();
-                t.stroke[n - 1] = t.stroke[0] + d;
-                t.defect = Defect::NotPeriodic;
-                t
-            }),
-        3 => (
-            prop::collection::vec(prop_oneof![0.0f64..1.0, Just(0.0), any::<f64>()], 0..30),
-            prop::collection::vec(prop_oneof![-400.0f64..400.0, any::<f64>()], 0..30),
-            prop::collection::vec(-400.0f64..400.0, 0..30),
-            any::<bool>(),
-        )
-            .prop_map(|(mut t, stroke, pitch, cumulative)| {
-                if cumulative {
-                    // Increasing times from 0 with random (possibly tiny) steps.
-                    let mut acc = 0.0;
-                    for x in t.iter_mut() {
-                        acc += x.abs().min(1e6);
-                        *x = acc;
-                    }
-                    if let Some(first) = t.first_mut() {
-                        *first = 0.0;
-                    }
-                }
-                Table { t_s: t, stroke, pitch, defect: Defect::Random }
-            }),
-    ]
-}
-
-fn list(v: &[f64]) -> Value {
-    Value::Array(v.iter().map(|x| Value::Float(*x)).collect())
-}
-
 proptest! {
     #![proptest_config(config(600))]
 
@@ -879,14 +394,12 @@ proptest! {
     /// repeat the first name the stroke's last entry and say "periodic"; smooth tables load;
     /// random tables never panic.
     #[test]
-    fn tabulated_kinematics_tables(t in table()) {
+    fn tabulated_kinematics_tables(
+        t in table(5..60, 1e-3..1e3, 1.0..170.0, 0.0..1.0),
+    ) {
         let (_, v) = &bases_cached()[3];
         let mut v = v.clone();
-        let k = v["kinematics"].as_table_mut().unwrap();
-        k.insert("t_s".into(), list(&t.t_s));
-        k.insert("stroke_deg".into(), list(&t.stroke));
-        k.insert("pitch_deg".into(), list(&t.pitch));
-        k.remove("deviation_deg");
+        put_table(&mut v["kinematics"], &t);
         let text = toml::to_string(&v).unwrap();
         let result = load_guarded(&text)?;
         if let Err(e) = &result {
@@ -976,17 +489,6 @@ fn known_bug_wake_exp_overflow(path: &str, x: f64) -> bool {
     false
 }
 
-fn known_bug_extreme(path: &str, r: &Repl) -> bool {
-    let generic = match path.find('[') {
-        Some(i) => format!("{}[*]", &path[..i]),
-        None => path.to_owned(),
-    };
-    let name = format!("{r:?}");
-    KNOWN_BUG_EXTREME
-        .iter()
-        .any(|(p, rs)| (*p == path || *p == generic) && rs.contains(&name.as_str()))
-}
-
 /// The checks on a wing that loaded; `Err` describes what is not finite.
 fn usable(wing: &Wing) -> Result<(), String> {
     if !(wing.reynolds().is_finite() && wing.reynolds() > 0.0) {
@@ -1011,53 +513,21 @@ fn usable(wing: &Wing) -> Result<(), String> {
 /// a finite Re, V_ref and forces (exhaustive: 5 bases x every leaf x 11 values).
 #[test]
 fn loaded_models_give_finite_forces() {
-    let fixed = [
-        Repl::Nan,
-        Repl::Inf,
-        Repl::NegInf,
-        Repl::Zero,
-        Repl::ZeroInt,
-        Repl::Negate,
-        Repl::MinusOneInt,
-        Repl::Huge,
-        Repl::NegHuge,
-        Repl::Tiny,
-        Repl::HugeInt,
-    ];
-    let mut failures = Vec::new();
-    let mut tried = 0;
-    for (name, v0) in bases_cached() {
+    let all_leaves = |v: &Value| {
         let mut ls = Vec::new();
-        leaves(v0, &mut Vec::new(), &mut ls);
-        for p in &ls {
-            for r in &fixed {
-                let path = path_str(p);
-                if known_bug_extreme(&path, r) {
-                    continue;
-                }
-                let mut v = v0.clone();
-                let slot = get_mut(&mut v, p);
-                *slot = r.value(slot);
-                let text = toml::to_string(&v).unwrap();
-                tried += 1;
-                match load(&text) {
-                    Ok(w) => {
-                        if let Err(why) = usable(&w) {
-                            failures.push(format!("{name}: {path} = {r:?} loads but {why}"));
-                        }
-                    }
-                    Err(e) => {
-                        if let Err(f) = check_error(&e, &text) {
-                            failures.push(format!("{name}: {path} = {r:?}: {f}"));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    assert!(tried > 1000, "only {tried} inputs");
-    eprintln!("loaded_models_give_finite_forces: {tried} inputs");
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+        leaves(v, &mut Vec::new(), &mut ls);
+        ls
+    };
+    assert_special_values(
+        "loaded_models_give_finite_forces",
+        bases_cached(),
+        all_leaves,
+        KNOWN_BUG_EXTREME,
+        |text| match load(text) {
+            Ok(w) => usable(&w).err().map(|why| format!(" loads but {why}")),
+            Err(e) => check_error(&e, text).err().map(|f| format!(": {f}")),
+        },
+    );
 }
 
 proptest! {

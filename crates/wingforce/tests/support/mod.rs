@@ -1,0 +1,3 @@
+//! Helpers shared by the wingforce integration tests.
+
+pub mod toml_mutation;
