@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::flapwing_in;
+use common::{argv, flapwing_in};
 
 const AMPLITUDE_AOA: &str = include_str!("../../../examples/studies/drosophila_amplitude_aoa.toml");
 const WAKE_L18: &str = include_str!("../../../examples/studies/wake_l18.toml");
@@ -255,28 +255,12 @@ fn analyze_gives_snr_main_effects_regression_and_a_plot() {
     );
     let run = flapwing_in(
         dir.path(),
-        &[
-            "sweep",
-            "analyze",
-            "wake_l18.csv",
-            "--response",
-            "aero_power_w",
-            "--ln",
-            "nu",
-        ],
+        &argv("sweep analyze wake_l18.csv --response aero_power_w --ln nu"),
     );
     run.assert_bad_input();
     let run = flapwing_in(
         dir.path(),
-        &[
-            "sweep",
-            "analyze",
-            "wake_l18.csv",
-            "--response",
-            "aero_power_w",
-            "--snr",
-            "nominal",
-        ],
+        &argv("sweep analyze wake_l18.csv --response aero_power_w --snr nominal"),
     );
     run.assert_bad_input();
     assert!(run.stderr.contains("replicate"), "{run:?}");

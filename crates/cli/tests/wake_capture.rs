@@ -2,21 +2,14 @@
 
 mod common;
 
-use common::{flapwing, sig5};
+use common::{argv, flapwing, sig5};
 
 #[test]
 fn v1_row_of_table5_in_json() {
     // Seed paper Table 5, run V1: Re 272, dtau_D 0.06, dtau_A 0.09.
-    let run = flapwing(&[
-        "wake-capture",
-        "--re",
-        "272",
-        "--dtau-a",
-        "0.09",
-        "--dtau-d",
-        "0.06",
-        "--json",
-    ]);
+    let run = flapwing(&argv(
+        "wake-capture --re 272 --dtau-a 0.09 --dtau-d 0.06 --json",
+    ));
     assert_eq!(run.code, 0, "{run:?}");
     let j = run.json();
     let raw = &j["raw"];
@@ -46,16 +39,9 @@ fn v1_row_of_table5_in_json() {
 fn v2_row_reports_the_clamped_deceleration() {
     // Run V2 has dtau_D = 0.03, below the fitted 0.06-0.18: the raw formula still gives the
     // published 0.65305, the simulator evaluates it at 0.06.
-    let run = flapwing(&[
-        "wake-capture",
-        "--re",
-        "408",
-        "--dtau-a",
-        "0.12",
-        "--dtau-d",
-        "0.03",
-        "--json",
-    ]);
+    let run = flapwing(&argv(
+        "wake-capture --re 408 --dtau-a 0.12 --dtau-d 0.03 --json",
+    ));
     assert_eq!(run.code, 0, "{run:?}");
     let j = run.json();
     assert!((sig5(j["raw"]["dcl_bar"].as_f64().unwrap()) - 0.65305).abs() < 1e-12);
@@ -69,15 +55,7 @@ fn v2_row_reports_the_clamped_deceleration() {
 
 #[test]
 fn text_report_shows_both_columns() {
-    let run = flapwing(&[
-        "wake-capture",
-        "--re",
-        "1360",
-        "--dtau-a",
-        "0.12",
-        "--dtau-d",
-        "0.12",
-    ]);
+    let run = flapwing(&argv("wake-capture --re 1360 --dtau-a 0.12 --dtau-d 0.12"));
     assert_eq!(run.code, 0, "{run:?}");
     for needle in [
         "dCL_bar",
@@ -102,15 +80,7 @@ fn bad_values_exit_2() {
         ("--dtau-d", "0"),
         ("--dtau-d", "abc"),
     ] {
-        let mut args = vec![
-            "wake-capture",
-            "--re",
-            "272",
-            "--dtau-a",
-            "0.09",
-            "--dtau-d",
-            "0.06",
-        ];
+        let mut args = argv("wake-capture --re 272 --dtau-a 0.09 --dtau-d 0.06");
         let i = args.iter().position(|a| *a == flag).unwrap();
         args[i + 1] = value;
         let run = flapwing(&args);

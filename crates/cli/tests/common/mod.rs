@@ -61,3 +61,9 @@ pub fn sig5(x: f64) -> f64 {
     let mag = 10f64.powf(x.abs().log10().floor() - 4.0);
     (x / mag).round() * mag
 }
+
+/// A command line split at white space (so no argument may contain a space):
+/// `argv("forces --cycles 1")` is `["forces", "--cycles", "1"]`.
+pub fn argv(line: &str) -> Vec<&str> {
+    line.split_whitespace().collect()
+}
