@@ -290,6 +290,7 @@ impl Json {
     }
 
     /// `[x, y, z, w]` of the object at `path`.
+    #[cfg_attr(not(feature = "rerun"), allow(dead_code))]
     pub fn quat_at(&self, path: &str) -> Option<[f64; 4]> {
         let v = self.path(path)?;
         Some([

@@ -46,6 +46,7 @@
 pub mod check;
 mod error;
 mod json;
+mod mcap_write;
 mod messages;
 mod recorder;
 pub mod replay;

@@ -22,7 +22,7 @@
 
 use std::collections::BTreeMap;
 use std::fs::File;
-use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvError, Sender, SyncSender, TryRecvError, TrySendError};
@@ -31,9 +31,8 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use flapsim::{Controls, StepOutput, Vehicle};
-use mcap::records::{MessageHeader, Metadata};
-use mcap::{Attachment, Compression, WriteOptions, Writer};
 
+use crate::mcap_write::McapWriter;
 use crate::messages::{self, Built, SAMPLE_MESSAGES, SampleJson, WingStatic};
 use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING};
 use crate::{Error, Level, LogOptions, Result, RunInfo};
@@ -171,7 +170,7 @@ pub struct LogStats {
 }
 
 struct McapSink {
-    writer: Writer<PosFile>,
+    writer: McapWriter<BufWriter<File>>,
     path: PathBuf,
     channel_ids: [u16; 11],
     sequences: [u32; 11],
@@ -180,15 +179,22 @@ struct McapSink {
 impl McapSink {
     #[inline]
     fn write(&mut self, index: usize, t_ns: u64, data: &[u8]) -> Result<()> {
-        let header = MessageHeader {
-            channel_id: self.channel_ids[index],
-            sequence: self.sequences[index],
-            log_time: t_ns,
-            publish_time: t_ns,
-        };
-        self.sequences[index] = self.sequences[index].wrapping_add(1);
-        self.writer.write_to_known_channel(&header, data)?;
-        Ok(())
+        let sequence = self.sequences[index];
+        self.sequences[index] = sequence.wrapping_add(1);
+        let res = self
+            .writer
+            .message(self.channel_ids[index], sequence, t_ns, data);
+        res.map_err(|e| self.io_error(e))
+    }
+
+    fn io_error(&self, e: std::io::Error) -> Error {
+        Error::io("cannot write", &self.path, e)
+    }
+
+    /// Closes the open chunk and writes it to the file.
+    fn flush(&mut self) -> Result<()> {
+        let res = self.writer.flush();
+        res.map_err(|e| self.io_error(e))
     }
 }
 
@@ -293,10 +299,15 @@ impl Sinks {
                 Item::Built(s) => self.sample(&batch.bytes, s)?,
             }
         }
-        if batch.close
-            && let Some(m) = &mut self.mcap
-        {
-            m.writer.flush()?;
+        if let Some(m) = &mut self.mcap {
+            if batch.close {
+                m.flush()?;
+            } else {
+                // Compress what came; when a close is near, all of it, so that the close
+                // (which the simulation thread waits for) has little left to do.
+                let res = m.writer.pump(batch.poll_next);
+                res.map_err(|e| m.io_error(e))?;
+            }
         }
         Ok(())
     }
@@ -305,7 +316,7 @@ impl Sinks {
         if let Some(m) = &mut self.mcap {
             let data = messages::log_message(t_ns, level as u8, message)?;
             m.write(EVENTS, t_ns, &data)?;
-            m.writer.flush()?;
+            m.flush()?;
         }
         #[cfg(feature = "rerun")]
         if let Some(r) = &self.rerun {
@@ -319,26 +330,18 @@ impl Sinks {
         let mut first_error = None;
         let mut mcap_bytes = 0;
         if let Some(mut m) = self.mcap.take() {
-            let res = (|| -> Result<u64> {
-                m.writer.write_metadata(&Metadata {
-                    name: schema::METADATA_END.into(),
-                    metadata: end,
-                })?;
+            let res = (|| -> std::io::Result<u64> {
+                m.writer.metadata(schema::METADATA_END, &end)?;
                 m.writer.finish()?;
                 let mut file = m
                     .writer
                     .into_inner()
-                    .inner
                     .into_inner()
-                    .map_err(|e| Error::io("cannot write", &m.path, e.into_error()))?;
-                file.flush()
-                    .map_err(|e| Error::io("cannot write", &m.path, e))?;
-                let len = file
-                    .metadata()
-                    .map_err(|e| Error::io("cannot write", &m.path, e))?
-                    .len();
-                Ok(len)
-            })();
+                    .map_err(|e| e.into_error())?;
+                file.flush()?;
+                Ok(file.metadata()?.len())
+            })()
+            .map_err(|e| Error::io("cannot write", &m.path, e));
             match res {
                 Ok(len) => mcap_bytes = len,
                 Err(e) => first_error = Some(e),
@@ -977,47 +980,6 @@ fn schema_texts() -> &'static [String; 11] {
     TEXTS.get_or_init(|| CHANNELS.map(|(_, name)| schema::schema_text(name).unwrap_or_default()))
 }
 
-/// The MCAP file, buffered, keeping track of its position: the MCAP writer asks for it
-/// often, and `BufWriter` answers by flushing and asking the system.
-struct PosFile {
-    inner: BufWriter<File>,
-    pos: u64,
-}
-
-impl Write for PosFile {
-    #[inline]
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        let n = self.inner.write(buf)?;
-        self.pos += n as u64;
-        Ok(n)
-    }
-
-    #[inline]
-    fn write_all(&mut self, buf: &[u8]) -> std::io::Result<()> {
-        self.inner.write_all(buf)?;
-        self.pos += buf.len() as u64;
-        Ok(())
-    }
-
-    fn flush(&mut self) -> std::io::Result<()> {
-        self.inner.flush()
-    }
-}
-
-impl Seek for PosFile {
-    fn seek(&mut self, from: SeekFrom) -> std::io::Result<u64> {
-        if from == SeekFrom::Current(0) {
-            return Ok(self.pos);
-        }
-        self.pos = self.inner.seek(from)?;
-        Ok(self.pos)
-    }
-
-    fn stream_position(&mut self) -> std::io::Result<u64> {
-        Ok(self.pos)
-    }
-}
-
 /// An MCAP file created by [`Recorder::create`] and what the writer thread writes first.
 struct McapStart {
     file: File,
@@ -1072,43 +1034,38 @@ fn open_mcap(start: McapStart) -> Result<McapSink> {
         attachment_name,
         model_toml,
     } = start;
-    let mut writer = WriteOptions::new()
-        .compression(Some(Compression::Zstd))
-        // Level 1: about half the CPU of zstd's default level 3 for a few percent more bytes;
-        // logging must not slow the simulation much (see the logging benchmark).
-        .compression_level(1)
-        .compression_threads(0)
-        // Chunks are closed by the recorder (see CHUNK_SAMPLES), never by size here.
-        .chunk_size(None)
-        // Compress each chunk into memory and write it whole when it closes, instead of
-        // streaming it to the file and seeking back to patch its header: fewer system calls,
-        // and the file only grows by whole chunks.
-        .disable_seeking(true)
-        .library(format!("flapwing-flightlog/{}", env!("CARGO_PKG_VERSION")))
-        .create(PosFile {
-            // Large enough for a whole compressed chunk: about one write call per chunk.
-            inner: BufWriter::with_capacity(128 * 1024, file),
-            pos: 0,
-        })?;
-    writer.write_metadata(&Metadata {
-        name: schema::METADATA_RUN.into(),
-        metadata,
-    })?;
-    writer.attach(&Attachment {
-        log_time: 0,
-        create_time: 0,
-        name: attachment_name,
-        media_type: "application/toml".into(),
-        data: std::borrow::Cow::Borrowed(model_toml.as_bytes()),
-    })?;
+    let io = |e| Error::io("cannot write", &path, e);
+    // Chunks are written whole (about 130 kB each at full rate): the buffer only gathers the
+    // small records.
+    let mut writer = McapWriter::new(
+        BufWriter::with_capacity(64 * 1024, file),
+        "",
+        &format!("flapwing-flightlog/{}", env!("CARGO_PKG_VERSION")),
+    )
+    .map_err(io)?;
+    writer
+        .metadata(schema::METADATA_RUN, &metadata)
+        .map_err(io)?;
+    writer
+        .attachment(
+            0,
+            0,
+            &attachment_name,
+            "application/toml",
+            model_toml.as_bytes(),
+        )
+        .map_err(io)?;
     let mut channel_ids = [0u16; 11];
     for (i, ((topic, schema_name), text)) in CHANNELS.iter().zip(schema_texts()).enumerate() {
-        let schema_id = writer.add_schema(schema_name, SCHEMA_ENCODING, text.as_bytes())?;
-        channel_ids[i] =
-            writer.add_channel(schema_id, topic, MESSAGE_ENCODING, &BTreeMap::new())?;
+        let schema_id = writer
+            .add_schema(schema_name, SCHEMA_ENCODING, text.as_bytes())
+            .map_err(io)?;
+        channel_ids[i] = writer
+            .add_channel(schema_id, topic, MESSAGE_ENCODING)
+            .map_err(io)?;
     }
     // The channel definitions get a chunk of their own right away.
-    writer.flush()?;
+    writer.flush().map_err(io)?;
     Ok(McapSink {
         writer,
         path,
