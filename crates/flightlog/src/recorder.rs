@@ -10,10 +10,11 @@
 //!
 //! Chunks are closed from the simulation thread's side, from the samples alone (every
 //! [`FLUSH_INTERVAL_NS`] of simulated time, every [`CHUNK_SAMPLES`] samples, after every
-//! event), and `record` returns only once such a chunk is in the file. Each chunk is
-//! compressed in memory and written whole, so the file grows by whole chunks only. The file's
-//! bytes do not depend on thread timing, and a run killed after a close keeps everything up
-//! to it.
+//! event). At a close `record` waits until the previous chunk is in the file (and at an
+//! event, until every chunk is), so the writer thread compresses one chunk while the
+//! simulation fills the next, and a killed run loses at most the two newest chunks. Each
+//! chunk is compressed in memory and written whole, so the file grows by whole chunks only.
+//! The file's bytes do not depend on thread timing.
 //!
 //! Waiting: a thread asleep on a queue must be woken by the other one, which costs tens of
 //! microseconds on a virtual machine. So the idle writer thread polls the queue every
@@ -440,6 +441,8 @@ struct Pipe {
     /// Serializes samples on this thread while the writer thread lags behind.
     json: SampleJson,
     mcap: bool,
+    /// Chunk closes sent and not yet acknowledged (at most one after `send_batch`).
+    unacked: usize,
     /// Chunk rule state (see [`Recorder::record`]): time of the last periodic close, samples
     /// written to the open chunk, time of the previous sample.
     last_close_ns: u64,
@@ -548,10 +551,24 @@ impl Pipe {
         }
         if close {
             self.chunk_samples = 0;
-            self.wait()
-        } else {
-            Ok(())
+            // Wait for the previous close, not this one: the writer thread compresses and
+            // writes this chunk while the simulation fills the next.
+            self.unacked += 1;
+            while self.unacked > 1 {
+                self.wait()?;
+                self.unacked -= 1;
+            }
         }
+        Ok(())
+    }
+
+    /// Waits until every close sent so far is acknowledged.
+    fn wait_all(&mut self) -> Result<()> {
+        while self.unacked > 0 {
+            self.wait()?;
+            self.unacked -= 1;
+        }
+        Ok(())
     }
 
     fn sample(&mut self, out: &StepOutput) -> Result<()> {
@@ -602,6 +619,7 @@ impl Pipe {
     fn event(&mut self, t_ns: u64, level: Level, message: &str) -> Result<()> {
         self.check()?;
         self.flush(false)?;
+        self.wait_all()?;
         self.send_urgent(Job::Event {
             t_ns,
             level,
@@ -803,6 +821,7 @@ impl Recorder {
                 batch: Batch::new(),
                 json: SampleJson::new(wings, vehicle.weight_n()),
                 mcap,
+                unacked: 0,
                 last_close_ns: 0,
                 chunk_samples: 0,
                 prev_t_ns: u64::MAX,
