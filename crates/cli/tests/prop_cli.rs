@@ -25,6 +25,9 @@ use std::time::{Duration, Instant};
 use proptest::prelude::*;
 use proptest::sample::Index;
 
+#[path = "../../wingforce/tests/support/prop_config.rs"]
+mod prop_config;
+
 /// A run of the binary.
 #[derive(Debug)]
 struct Run {
@@ -122,18 +125,9 @@ fn check_json(r: &Run, json: bool) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// Each shrink step runs the binary: keep shrinking short.
 fn config(cases: u32) -> ProptestConfig {
-    let scale = std::env::var("FLAPWING_PROP_SCALE")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .unwrap_or(1);
-    ProptestConfig {
-        cases: cases * scale,
-        // Each shrink step runs the binary: keep shrinking short.
-        max_shrink_iters: 64,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
+    prop_config::scaled_config(cases, 64)
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -37,6 +37,8 @@ use proptest::prelude::*;
 use proptest::sample::Index;
 use toml::Value;
 
+#[path = "../../wingforce/tests/support/prop_config.rs"]
+mod prop_config;
 #[path = "../../wingforce/tests/support/toml_mutation.rs"]
 mod toml_mutation;
 use toml_mutation::{

@@ -38,6 +38,9 @@ use flightlog::{Error, LogOptions, Recorder, RunInfo, SimSettings};
 use proptest::prelude::*;
 use proptest::sample::Index;
 
+#[path = "../../wingforce/tests/support/prop_config.rs"]
+mod prop_config;
+
 // ---------------------------------------------------------------------------------------------
 // The fixture: a short drosophila run recorded exactly as `flapwing simulate --mcap` does.
 // ---------------------------------------------------------------------------------------------
@@ -185,16 +188,7 @@ fn check_with_limit(
 }
 
 fn config(cases: u32) -> ProptestConfig {
-    let scale = std::env::var("FLAPWING_PROP_SCALE")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .unwrap_or(1);
-    ProptestConfig {
-        cases: cases * scale,
-        max_shrink_iters: 500,
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
+    prop_config::scaled_config(cases, 500)
 }
 
 /// Maps a `Result<(), TestCaseError>` of a plain test to a panic.

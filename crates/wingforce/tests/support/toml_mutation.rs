@@ -43,19 +43,9 @@ pub fn guarded<T>(text: &str, load: impl FnOnce(&str) -> T) -> Result<T, TestCas
     })
 }
 
-/// `cases` generated inputs, times `FLAPWING_PROP_SCALE` if set (for long local soak runs).
+/// The property tests' configuration (see `prop_config.rs`).
 pub fn config(cases: u32) -> ProptestConfig {
-    let scale = std::env::var("FLAPWING_PROP_SCALE")
-        .ok()
-        .and_then(|s| s.parse::<u32>().ok())
-        .unwrap_or(1);
-    ProptestConfig {
-        cases: cases * scale,
-        max_shrink_iters: 2000,
-        // No regression files in the source tree; failures print their minimal input.
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
+    super::prop_config::scaled_config(cases, 2000)
 }
 
 // ---------------------------------------------------------------------------------------------
