@@ -341,14 +341,23 @@ impl Scan {
 /// longer than [`MAX_CHUNK_BYTES`] (so a corrupt length cannot ask for absurd memory).
 fn read_chunk(whole: &[u8]) -> mcap::McapResult<Vec<Record<'static>>> {
     let limit = (MAX_CHUNK_BYTES as usize).max(whole.len());
-    let mut reader = LinearReader::new_with_options(
+    let reader = LinearReader::new_with_options(
         LinearReaderOptions::default()
             .with_skip_start_magic(true)
             .with_skip_end_magic(true)
             .with_prevalidate_chunk_crcs(true)
             .with_record_length_limit(limit),
     );
-    let mut buf = whole;
+    linear_records(reader, whole)
+}
+
+/// Every record `reader` (the `mcap` crate's linear reader, with its options) finds in
+/// `bytes`, parsed and owned; the first error ends the reading.
+pub fn linear_records(
+    mut reader: LinearReader,
+    bytes: &[u8],
+) -> mcap::McapResult<Vec<Record<'static>>> {
+    let mut buf = bytes;
     let mut out = Vec::new();
     while let Some(event) = reader.next_event() {
         match event? {

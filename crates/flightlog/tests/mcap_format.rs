@@ -7,7 +7,7 @@ use flapsim::{Mode, Simulation, Vehicle};
 use flightlog::{Level, LogOptions, Recorder, RunInfo, SimSettings};
 use mcap::records::Record;
 use mcap::sans_io::indexed_reader::{IndexedReadEvent, IndexedReader};
-use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
+use mcap::sans_io::{LinearReader, LinearReaderOptions};
 
 /// A full-rate drosophila run with events in the middle; the file's bytes and the message
 /// count.
@@ -44,7 +44,7 @@ fn record(rate: Option<f64>) -> (Vec<u8>, u64) {
 
 /// Every record, read with every CRC (chunks, data section, summary section) checked.
 fn records(bytes: &[u8]) -> Vec<Record<'static>> {
-    let mut reader = LinearReader::new_with_options(
+    let reader = LinearReader::new_with_options(
         LinearReaderOptions::default()
             .with_validate_chunk_crcs(true)
             .with_validate_data_section_crc(true)
@@ -52,22 +52,7 @@ fn records(bytes: &[u8]) -> Vec<Record<'static>> {
             .with_emit_chunks(true)
             .with_check_finishes_after_end_magic(true),
     );
-    let mut buf = bytes;
-    let mut out = Vec::new();
-    while let Some(event) = reader.next_event() {
-        match event.unwrap() {
-            LinearReadEvent::ReadRequest(need) => {
-                let n = need.min(buf.len());
-                reader.insert(n).copy_from_slice(&buf[..n]);
-                reader.notify_read(n);
-                buf = &buf[n..];
-            }
-            LinearReadEvent::Record { opcode, data } => {
-                out.push(mcap::parse_record(opcode, data).unwrap().into_owned());
-            }
-        }
-    }
-    out
+    flightlog::replay::linear_records(reader, bytes).unwrap()
 }
 
 fn check(rate: Option<f64>) {
