@@ -76,26 +76,7 @@ fn merged_shards_equal_the_unsharded_run() {
 #[test]
 fn wake_l18_runs_table_2() {
     // Table 2's (Re, dtau_D, dtau_A) level numbers, tests 1-18.
-    let table2: [[usize; 3]; 18] = [
-        [1, 1, 1],
-        [1, 2, 2],
-        [1, 3, 3],
-        [2, 1, 1],
-        [2, 2, 2],
-        [2, 3, 3],
-        [3, 1, 2],
-        [3, 2, 3],
-        [3, 3, 1],
-        [4, 1, 3],
-        [4, 2, 1],
-        [4, 3, 2],
-        [5, 1, 2],
-        [5, 2, 3],
-        [5, 3, 1],
-        [6, 1, 3],
-        [6, 2, 1],
-        [6, 3, 2],
-    ];
+    let table2 = flapsim::study::taguchi::SEED_PAPER_TABLE2;
     let dir = dir_with(&[("wake_l18.toml", WAKE_L18)]);
     let run = flapwing_in(dir.path(), &["sweep", "wake_l18.toml"]);
     assert_eq!(run.code, 0, "{run:?}");
@@ -111,7 +92,7 @@ fn wake_l18_runs_table_2() {
     nu.dedup();
     let dtau = [0.06, 0.12, 0.18];
     for (row, want) in rows.iter().zip(table2) {
-        let level = |levels: &[f64], x: f64| levels.iter().position(|&l| l == x).unwrap() + 1;
+        let level = |levels: &[f64], x: f64| levels.iter().position(|&l| l == x).unwrap() as u8 + 1;
         // Re level 1 is the largest viscosity.
         assert_eq!(
             [

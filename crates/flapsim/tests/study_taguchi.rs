@@ -8,37 +8,14 @@
 
 use flapsim::study::fit_wake::{PAPER_TABLE4_CSV, WakeCaptureData, fit_linear_ln};
 use flapsim::study::regression::{fit_full_quadratic, full_quadratic_terms};
-use flapsim::study::taguchi::{OrthogonalArray, SnrKind, main_effects, snr};
-
-/// The seed paper's Table 2, L18(6^1 x 3^2): (Re level, dtau_D level, dtau_A level) of
-/// tests 1-18.
-const PAPER_TABLE2: [[u8; 3]; 18] = [
-    [1, 1, 1],
-    [1, 2, 2],
-    [1, 3, 3],
-    [2, 1, 1],
-    [2, 2, 2],
-    [2, 3, 3],
-    [3, 1, 2],
-    [3, 2, 3],
-    [3, 3, 1],
-    [4, 1, 3],
-    [4, 2, 1],
-    [4, 3, 2],
-    [5, 1, 2],
-    [5, 2, 3],
-    [5, 3, 1],
-    [6, 1, 3],
-    [6, 2, 1],
-    [6, 3, 2],
-];
+use flapsim::study::taguchi::{OrthogonalArray, SEED_PAPER_TABLE2, SnrKind, main_effects, snr};
 
 #[test]
 fn l18_matches_the_papers_table_2_row_by_row() {
     let oa = OrthogonalArray::l18();
     assert_eq!(oa.runs(), 18);
     assert_eq!(oa.levels, [6, 3, 3, 3, 3, 3, 3]);
-    for (i, (row, paper)) in oa.rows.iter().zip(PAPER_TABLE2).enumerate() {
+    for (i, (row, paper)) in oa.rows.iter().zip(SEED_PAPER_TABLE2).enumerate() {
         assert_eq!(row[..3], paper, "test number {}", i + 1);
     }
     // Three factors of 6, 3 and 3 levels take exactly those three columns.
@@ -65,7 +42,7 @@ fn every_pair_of_columns_is_balanced() {
     // Explicitly, the paper's three columns pairwise: (Re, dtau_D) each of the 18 pairs
     // once, (Re, dtau_A) once, (dtau_D, dtau_A) each of the 9 pairs twice.
     let mut pairs = std::collections::HashMap::new();
-    for r in PAPER_TABLE2 {
+    for r in SEED_PAPER_TABLE2 {
         *pairs.entry((r[1], r[2])).or_insert(0) += 1;
     }
     assert!(pairs.len() == 9 && pairs.values().all(|&c| c == 2));

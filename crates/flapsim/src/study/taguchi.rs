@@ -24,6 +24,29 @@ use serde::{Deserialize, Serialize};
 
 use super::error::{StudyError, StudyResult};
 
+/// The seed paper's Table 2, L18(6^1 x 3^2): the (Re, dtau_D, dtau_A) levels (numbered from
+/// 1) of its CFD tests 1-18. Published data, for checking designs against the paper.
+pub const SEED_PAPER_TABLE2: [[u8; 3]; 18] = [
+    [1, 1, 1],
+    [1, 2, 2],
+    [1, 3, 3],
+    [2, 1, 1],
+    [2, 2, 2],
+    [2, 3, 3],
+    [3, 1, 2],
+    [3, 2, 3],
+    [3, 3, 1],
+    [4, 1, 3],
+    [4, 2, 1],
+    [4, 3, 2],
+    [5, 1, 2],
+    [5, 2, 3],
+    [5, 3, 1],
+    [6, 1, 3],
+    [6, 2, 1],
+    [6, 3, 2],
+];
+
 /// An orthogonal array: `rows[i][j]` is the level (1-based) of column j in run i.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct OrthogonalArray {
