@@ -21,6 +21,15 @@ fn drosophila() -> Vehicle {
     Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "models/drosophila.toml").unwrap()
 }
 
+/// The vehicle at its initial attitude, not moving.
+fn hovering_still(v: &Vehicle) -> FrozenState {
+    FrozenState {
+        world_from_body: v.initial_attitude,
+        velocity_body_m_s: Vector3::zeros(),
+        angular_velocity_body_rad_s: Vector3::zeros(),
+    }
+}
+
 #[test]
 fn free_fall_matches_the_discrete_analytic_solution() {
     for iterations in [1usize, 4] {
@@ -81,15 +90,7 @@ fn tethered_mean_equals_wingforce_cycle_mean() {
 #[test]
 fn symmetric_wings_give_no_mean_side_force_roll_or_yaw() {
     let v = drosophila();
-    let m = mean_loads(
-        &v,
-        &FrozenState {
-            world_from_body: v.initial_attitude,
-            velocity_body_m_s: Vector3::zeros(),
-            angular_velocity_body_rad_s: Vector3::zeros(),
-        },
-        200,
-    );
+    let m = mean_loads(&v, &hovering_still(&v), 200);
     let lift = m.total.force_n.norm();
     let arm = v.length_m;
     assert!(m.total.force_n.y.abs() < 1e-12 * lift);
@@ -131,15 +132,7 @@ fn drosophila_lifts_its_weight_within_25_percent() {
     // The flapsim issue: with literature hover kinematics (Fry et al. 2005: 218 Hz, 140 deg)
     // the mean lift is within 25% of the weight.
     let v = drosophila();
-    let m = mean_loads(
-        &v,
-        &FrozenState {
-            world_from_body: v.initial_attitude,
-            velocity_body_m_s: Vector3::zeros(),
-            angular_velocity_body_rad_s: Vector3::zeros(),
-        },
-        400,
-    );
+    let m = mean_loads(&v, &hovering_still(&v), 400);
     let ratio = m.force_world_n(&v.initial_attitude).z / v.weight_n();
     println!("drosophila mean lift / weight = {ratio:.4}");
     assert!((ratio - 1.0).abs() < 0.25, "lift/weight {ratio}");
