@@ -155,8 +155,10 @@ pub struct Simulation {
     periodic: bool,
     /// Both wings' [`KinematicLoads`] at each step of the wingbeat (periodic runs only),
     /// computed the first time the step comes round and reused every wingbeat after until
-    /// the controls change.
-    phase_table: Vec<Option<[KinematicLoads; 2]>>,
+    /// the controls change. An entry holds for the controls of generation `table_gen` only
+    /// (so that a control change needs no clearing).
+    phase_table: Vec<Option<(u64, [KinematicLoads; 2])>>,
+    table_gen: u64,
     /// The wingbeat frequency the step was sized for, Hz.
     sized_for_hz: f64,
     /// What the last step computed (boxed so that it moves cheaply).
@@ -261,6 +263,7 @@ impl Simulation {
             steps_per_wingbeat,
             periodic: true,
             phase_table: Vec::new(),
+            table_gen: 0,
             sized_for_hz: vehicle_freq_hz,
             out: None,
             pending: None,
@@ -386,7 +389,7 @@ impl Simulation {
     pub fn loads(&self) -> StepOutput {
         let (cycles, table_phase, j) = self.phase_parts();
         let kin = match j.and_then(|j| self.phase_table.get(j)) {
-            Some(Some(k)) => *k,
+            Some(Some((g, k))) if *g == self.table_gen => *k,
             _ => self.kinematic_loads(table_phase),
         };
         let mut out = StepOutput::empty();
@@ -473,10 +476,11 @@ impl Simulation {
             .unwrap_or_else(|| Box::new(StepOutput::empty()));
         match j {
             Some(j) if j < self.phase_table.len() => {
-                if self.phase_table[j].is_none() {
-                    self.phase_table[j] = Some(self.kinematic_loads(table_phase));
+                let generation = self.table_gen;
+                if !matches!(&self.phase_table[j], Some((g, _)) if *g == generation) {
+                    self.phase_table[j] = Some((generation, self.kinematic_loads(table_phase)));
                 }
-                if let Some(kin) = &self.phase_table[j] {
+                if let Some((_, kin)) = &self.phase_table[j] {
                     self.loads_into(kin, cycles, table_phase, &mut out);
                 }
             }
@@ -515,10 +519,15 @@ impl Simulation {
         } else {
             freq_hz * self.dt_s
         };
-        self.phase_table.clear();
-        if self.periodic && self.steps_per_wingbeat <= MAX_TABLE_STEPS {
-            self.phase_table
-                .resize(self.steps_per_wingbeat as usize, None);
+        self.table_gen += 1;
+        let len = if self.periodic && self.steps_per_wingbeat <= MAX_TABLE_STEPS {
+            self.steps_per_wingbeat as usize
+        } else {
+            0
+        };
+        if self.phase_table.len() != len {
+            self.phase_table.clear();
+            self.phase_table.resize(len, None);
         }
         Ok(())
     }
