@@ -165,16 +165,153 @@ struct OpenChunk {
     index: BTreeMap<u16, Vec<(u64, u64)>>,
 }
 
+/// A chunk closed and compressed, ready to be written (see [`McapWriter::write_chunk`]).
+pub(crate) struct BuiltChunk {
+    compressed: Vec<u8>,
+    /// The uncompressed records' buffer, returned for reuse.
+    pending: Vec<u8>,
+    size: u64,
+    crc: u32,
+    bounds: Option<(u64, u64)>,
+    index: BTreeMap<u16, Vec<(u64, u64)>>,
+}
+
+/// Builds chunks: message records in, one zstd frame out. The writer thread has one inside
+/// its [`McapWriter`]; the simulation thread has one for the chunks it builds itself. A chunk
+/// is the same bytes whichever builds it (the zstd stream restarts at every chunk).
+pub(crate) struct ChunkBuilder {
+    cctx: CCtx<'static>,
+    chunk: Option<OpenChunk>,
+    /// Buffers kept between chunks.
+    spare: Option<(Vec<u8>, Vec<u8>)>,
+}
+
+impl ChunkBuilder {
+    pub fn new() -> io::Result<Self> {
+        let mut cctx = CCtx::try_create().ok_or_else(|| io::Error::other("zstd: no context"))?;
+        zstd_params(&mut cctx)?;
+        Ok(Self {
+            cctx,
+            chunk: None,
+            spare: None,
+        })
+    }
+
+    fn open(&mut self) -> io::Result<&mut OpenChunk> {
+        if self.chunk.is_none() {
+            self.cctx
+                .reset(ResetDirective::SessionOnly)
+                .map_err(zstd_error)?;
+            let (mut pending, mut compressed) = self
+                .spare
+                .take()
+                .unwrap_or_else(|| (Vec::with_capacity(2 * PUMP_AT), Vec::new()));
+            pending.clear();
+            compressed.clear();
+            self.chunk = Some(OpenChunk {
+                pending,
+                compressed,
+                size: 0,
+                crc: Hasher::new(),
+                bounds: None,
+                index: BTreeMap::new(),
+            });
+        }
+        Ok(self.chunk.as_mut().expect("opened above"))
+    }
+
+    /// Appends a message to the open chunk (opening one if needed).
+    pub fn message(
+        &mut self,
+        channel_id: u16,
+        sequence: u32,
+        t_ns: u64,
+        data: &[u8],
+    ) -> io::Result<()> {
+        let mut head = [0u8; MESSAGE_HEADER_LEN];
+        message_header(&mut head, channel_id, sequence, t_ns, data.len());
+        let c = self.open()?;
+        widen(&mut c.bounds, t_ns);
+        let offset = c.size + c.pending.len() as u64;
+        c.index.entry(channel_id).or_default().push((t_ns, offset));
+        c.pending.extend_from_slice(&head);
+        c.pending.extend_from_slice(data);
+        if c.pending.len() >= PUMP_AT {
+            self.pump(false)?;
+        }
+        Ok(())
+    }
+
+    /// Gives the pending records to zstd; `flush`: and have it write out everything so far.
+    pub fn pump(&mut self, flush: bool) -> io::Result<()> {
+        let directive = if flush {
+            ZSTD_EndDirective::ZSTD_e_flush
+        } else {
+            ZSTD_EndDirective::ZSTD_e_continue
+        };
+        self.compress(directive)
+    }
+
+    fn compress(&mut self, directive: ZSTD_EndDirective) -> io::Result<()> {
+        let Some(c) = self.chunk.as_mut() else {
+            return Ok(());
+        };
+        c.crc.update(&c.pending);
+        c.size += c.pending.len() as u64;
+        let mut input = InBuffer::around(&c.pending);
+        loop {
+            // zstd writes at most a block (128 KiB) plus a little per call when it has room.
+            let need = zstd::zstd_safe::CCtx::out_size().max(input.src.len() / 2 + 1024);
+            c.compressed.reserve(need);
+            let len = c.compressed.len();
+            let mut output = OutBuffer::around_pos(&mut c.compressed, len);
+            let left = self
+                .cctx
+                .compress_stream2(&mut output, &mut input, directive)
+                .map_err(zstd_error)?;
+            let consumed = input.pos() == input.src.len();
+            let done = match directive {
+                ZSTD_EndDirective::ZSTD_e_continue => consumed,
+                _ => consumed && left == 0,
+            };
+            if done {
+                break;
+            }
+        }
+        c.pending.clear();
+        Ok(())
+    }
+
+    /// Closes the open chunk (if any) and returns it compressed.
+    pub fn finish(&mut self) -> io::Result<Option<BuiltChunk>> {
+        if self.chunk.is_none() {
+            return Ok(None);
+        }
+        self.compress(ZSTD_EndDirective::ZSTD_e_end)?;
+        Ok(self.chunk.take().map(|c| BuiltChunk {
+            compressed: c.compressed,
+            pending: c.pending,
+            size: c.size,
+            crc: c.crc.finalize(),
+            bounds: c.bounds,
+            index: c.index,
+        }))
+    }
+
+    /// Takes back a written chunk's buffers for the next chunk.
+    pub fn recycle(&mut self, chunk: BuiltChunk) {
+        self.spare = Some((chunk.pending, chunk.compressed));
+    }
+}
+
 /// Writes an MCAP file to `W` (see the module docs).
 pub(crate) struct McapWriter<W: Write> {
     out: W,
     /// Bytes written to `out`, and the CRC of all of them (the data section's CRC).
     pos: u64,
     crc: Hasher,
-    cctx: CCtx<'static>,
-    chunk: Option<OpenChunk>,
-    /// Buffers kept between chunks.
-    spare: Option<(Vec<u8>, Vec<u8>)>,
+    /// The chunk this writer builds from the messages given to it.
+    builder: ChunkBuilder,
     rec: Vec<u8>,
     schemas: Vec<Schema>,
     channels: Vec<Channel>,
@@ -197,15 +334,11 @@ fn widen(bounds: &mut Option<(u64, u64)>, t: u64) {
 impl<W: Write> McapWriter<W> {
     /// Writes the magic and the header record.
     pub fn new(out: W, profile: &str, library: &str) -> io::Result<Self> {
-        let mut cctx = CCtx::try_create().ok_or_else(|| io::Error::other("zstd: no context"))?;
-        zstd_params(&mut cctx)?;
         let mut w = Self {
             out,
             pos: 0,
             crc: Hasher::new(),
-            cctx,
-            chunk: None,
-            spare: None,
+            builder: ChunkBuilder::new()?,
             rec: Vec::with_capacity(4096),
             schemas: Vec::new(),
             channels: Vec::new(),
@@ -345,33 +478,9 @@ impl<W: Write> McapWriter<W> {
         res.map(|()| id)
     }
 
-    fn open(&mut self) -> io::Result<&mut OpenChunk> {
-        if self.chunk.is_none() {
-            self.cctx
-                .reset(ResetDirective::SessionOnly)
-                .map_err(zstd_error)?;
-            let (mut pending, mut compressed) = self
-                .spare
-                .take()
-                .unwrap_or_else(|| (Vec::with_capacity(2 * PUMP_AT), Vec::new()));
-            pending.clear();
-            compressed.clear();
-            self.chunk = Some(OpenChunk {
-                pending,
-                compressed,
-                size: 0,
-                crc: Hasher::new(),
-                bounds: None,
-                index: BTreeMap::new(),
-            });
-        }
-        Ok(self.chunk.as_mut().expect("opened above"))
-    }
-
     /// Appends a whole record to the open chunk.
     fn chunk_record(&mut self, record: &[u8]) -> io::Result<()> {
-        let c = self.open()?;
-        c.pending.extend_from_slice(record);
+        self.builder.open()?.pending.extend_from_slice(record);
         Ok(())
     }
 
@@ -383,93 +492,50 @@ impl<W: Write> McapWriter<W> {
         t_ns: u64,
         data: &[u8],
     ) -> io::Result<()> {
-        let mut head = [0u8; MESSAGE_HEADER_LEN];
-        message_header(&mut head, channel_id, sequence, t_ns, data.len());
-        self.message_record(channel_id, t_ns, &head, data)
-    }
-
-    /// Appends a message record given as its header (see [`message_header`]) and data.
-    pub fn message_record(
-        &mut self,
-        channel_id: u16,
-        t_ns: u64,
-        head: &[u8],
-        data: &[u8],
-    ) -> io::Result<()> {
-        widen(&mut self.bounds, t_ns);
-        *self.counts.entry(channel_id).or_insert(0) += 1;
-        let c = self.open()?;
-        widen(&mut c.bounds, t_ns);
-        let offset = c.size + c.pending.len() as u64;
-        c.index.entry(channel_id).or_default().push((t_ns, offset));
-        c.pending.extend_from_slice(head);
-        c.pending.extend_from_slice(data);
-        if c.pending.len() >= PUMP_AT {
-            self.pump(false)?;
-        }
-        Ok(())
+        self.builder.message(channel_id, sequence, t_ns, data)
     }
 
     /// Gives the pending records to zstd; `flush`: and have it write out everything so far
     /// (so that closing the chunk soon after has little left to do).
     pub fn pump(&mut self, flush: bool) -> io::Result<()> {
-        let directive = if flush {
-            ZSTD_EndDirective::ZSTD_e_flush
-        } else {
-            ZSTD_EndDirective::ZSTD_e_continue
-        };
-        self.compress(directive)
-    }
-
-    fn compress(&mut self, directive: ZSTD_EndDirective) -> io::Result<()> {
-        let Some(c) = self.chunk.as_mut() else {
-            return Ok(());
-        };
-        c.crc.update(&c.pending);
-        c.size += c.pending.len() as u64;
-        let mut input = InBuffer::around(&c.pending);
-        loop {
-            // zstd writes at most a block (128 KiB) plus a little per call when it has room.
-            let need = zstd::zstd_safe::CCtx::out_size().max(input.src.len() / 2 + 1024);
-            c.compressed.reserve(need);
-            let len = c.compressed.len();
-            let mut output = OutBuffer::around_pos(&mut c.compressed, len);
-            let left = self
-                .cctx
-                .compress_stream2(&mut output, &mut input, directive)
-                .map_err(zstd_error)?;
-            let consumed = input.pos() == input.src.len();
-            let done = match directive {
-                ZSTD_EndDirective::ZSTD_e_continue => consumed,
-                _ => consumed && left == 0,
-            };
-            if done {
-                break;
-            }
-        }
-        c.pending.clear();
-        Ok(())
+        self.builder.pump(flush)
     }
 
     /// Closes the open chunk, if any: compresses the rest and writes the chunk record and its
     /// message indexes.
     pub fn close_chunk(&mut self) -> io::Result<()> {
-        if self.chunk.is_none() {
-            return Ok(());
+        match self.builder.finish()? {
+            Some(chunk) => {
+                let res = self.write_chunk(&chunk);
+                self.builder.recycle(chunk);
+                res
+            }
+            None => Ok(()),
         }
-        self.compress(ZSTD_EndDirective::ZSTD_e_end)?;
-        let Some(c) = self.chunk.take() else {
-            return Ok(());
-        };
-        let OpenChunk {
-            pending,
+    }
+
+    /// Writes a chunk built elsewhere (by a [`ChunkBuilder`] of another thread) after closing
+    /// the open one: the chunk record, its message indexes, and its part of the summary.
+    pub fn write_chunk(&mut self, chunk: &BuiltChunk) -> io::Result<()> {
+        if self.builder.chunk.is_some() {
+            self.close_chunk()?;
+        }
+        let BuiltChunk {
             compressed,
             size,
             crc,
             bounds,
             index,
-        } = c;
+            ..
+        } = chunk;
+        for (channel, entries) in index {
+            *self.counts.entry(*channel).or_insert(0) += entries.len() as u64;
+        }
         let (start, end) = bounds.unwrap_or((0, 0));
+        if bounds.is_some() {
+            widen(&mut self.bounds, start);
+            widen(&mut self.bounds, end);
+        }
         let chunk_offset = self.pos;
         let mut b = std::mem::take(&mut self.rec);
         b.clear();
@@ -478,20 +544,20 @@ impl<W: Write> McapWriter<W> {
         put_u64(&mut b, body as u64);
         put_u64(&mut b, start);
         put_u64(&mut b, end);
-        put_u64(&mut b, size);
-        put_u32(&mut b, crc.finalize());
+        put_u64(&mut b, *size);
+        put_u32(&mut b, *crc);
         put_str(&mut b, "zstd");
         put_u64(&mut b, compressed.len() as u64);
         self.rec = b;
         self.emit_rec()?;
-        self.emit(&compressed)?;
+        self.emit(compressed)?;
         let chunk_length = self.pos - chunk_offset;
         // Message indexes, by channel id.
         let mut b = std::mem::take(&mut self.rec);
         b.clear();
         let index_start = self.pos;
         let mut offsets = Vec::with_capacity(index.len());
-        for (channel, entries) in &index {
+        for (channel, entries) in index {
             offsets.push((*channel, index_start + b.len() as u64));
             let at = begin_record(&mut b, op::MESSAGE_INDEX);
             put_u16(&mut b, *channel);
@@ -512,9 +578,8 @@ impl<W: Write> McapWriter<W> {
             message_index_offsets: offsets,
             message_index_length: index_length,
             compressed_size: compressed.len() as u64,
-            uncompressed_size: size,
+            uncompressed_size: *size,
         });
-        self.spare = Some((pending, compressed));
         Ok(())
     }
 
