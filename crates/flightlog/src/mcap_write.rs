@@ -168,8 +168,6 @@ struct OpenChunk {
 /// A chunk closed and compressed, ready to be written (see [`McapWriter::write_chunk`]).
 pub(crate) struct BuiltChunk {
     compressed: Vec<u8>,
-    /// The uncompressed records' buffer, returned for reuse.
-    pending: Vec<u8>,
     size: u64,
     crc: u32,
     bounds: Option<(u64, u64)>,
@@ -182,8 +180,8 @@ pub(crate) struct BuiltChunk {
 pub(crate) struct ChunkBuilder {
     cctx: CCtx<'static>,
     chunk: Option<OpenChunk>,
-    /// Buffers kept between chunks.
-    spare: Option<(Vec<u8>, Vec<u8>)>,
+    /// Buffers kept between chunks (records, compressed).
+    spare: (Vec<u8>, Vec<u8>),
 }
 
 impl ChunkBuilder {
@@ -193,7 +191,7 @@ impl ChunkBuilder {
         Ok(Self {
             cctx,
             chunk: None,
-            spare: None,
+            spare: (Vec::with_capacity(2 * PUMP_AT), Vec::new()),
         })
     }
 
@@ -202,10 +200,7 @@ impl ChunkBuilder {
             self.cctx
                 .reset(ResetDirective::SessionOnly)
                 .map_err(zstd_error)?;
-            let (mut pending, mut compressed) = self
-                .spare
-                .take()
-                .unwrap_or_else(|| (Vec::with_capacity(2 * PUMP_AT), Vec::new()));
+            let (mut pending, mut compressed) = std::mem::take(&mut self.spare);
             pending.clear();
             compressed.clear();
             self.chunk = Some(OpenChunk {
@@ -288,19 +283,22 @@ impl ChunkBuilder {
             return Ok(None);
         }
         self.compress(ZSTD_EndDirective::ZSTD_e_end)?;
-        Ok(self.chunk.take().map(|c| BuiltChunk {
-            compressed: c.compressed,
-            pending: c.pending,
-            size: c.size,
-            crc: c.crc.finalize(),
-            bounds: c.bounds,
-            index: c.index,
+        Ok(self.chunk.take().map(|c| {
+            // The records' buffer stays for the next chunk.
+            self.spare.0 = c.pending;
+            BuiltChunk {
+                compressed: c.compressed,
+                size: c.size,
+                crc: c.crc.finalize(),
+                bounds: c.bounds,
+                index: c.index,
+            }
         }))
     }
 
     /// Takes back a written chunk's buffers for the next chunk.
     pub fn recycle(&mut self, chunk: BuiltChunk) {
-        self.spare = Some((chunk.pending, chunk.compressed));
+        self.spare.1 = chunk.compressed;
     }
 }
 
