@@ -55,6 +55,10 @@ const BATCH: usize = 8;
 const QUEUE: usize = 32;
 /// With this many batches not yet written, the simulation thread serializes samples itself.
 const HELP_AT: usize = 2;
+/// With this many batches not yet written when a chunk starts, the simulation thread builds
+/// that chunk itself (MCAP only; at the default rate the writer thread is never this far
+/// behind).
+const BUILD_AT: usize = 8;
 /// Batches are sent at once from this many samples before a chunk close.
 const NEAR: u64 = 2;
 /// How long the writer thread polls for the close that follows an early batch, and the
@@ -620,9 +624,10 @@ impl Pipe {
         let t_ns = messages::time_ns(out.t_s);
         let behind = self.shared.in_flight.load(Ordering::Acquire) >= HELP_AT;
         if self.chunk_samples == 0 {
-            // A chunk starts: while the writer thread is still busy with the last one, build
-            // this one here.
-            self.self_build = self.builder.is_some() && behind;
+            // A chunk starts: while the writer thread is still well behind with the last one
+            // (logging every step), build this one here.
+            self.self_build = self.builder.is_some()
+                && self.shared.in_flight.load(Ordering::Acquire) >= BUILD_AT;
         }
         let sequence = self.samples;
         self.samples = self.samples.wrapping_add(1);
