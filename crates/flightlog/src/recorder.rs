@@ -626,8 +626,8 @@ impl Pipe {
         if self.chunk_samples == 0 {
             // A chunk starts: while the writer thread is still well behind with the last one
             // (logging every step), build this one here.
-            self.self_build = self.builder.is_some()
-                && self.shared.in_flight.load(Ordering::Acquire) >= BUILD_AT;
+            self.self_build =
+                self.builder.is_some() && self.shared.in_flight.load(Ordering::Acquire) >= BUILD_AT;
         }
         let sequence = self.samples;
         self.samples = self.samples.wrapping_add(1);
