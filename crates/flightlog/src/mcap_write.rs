@@ -232,19 +232,15 @@ impl ChunkBuilder {
         c.pending.extend_from_slice(&head);
         c.pending.extend_from_slice(data);
         if c.pending.len() >= PUMP_AT {
-            self.pump(false)?;
+            self.pump()?;
         }
         Ok(())
     }
 
-    /// Gives the pending records to zstd; `flush`: and have it write out everything so far.
-    pub fn pump(&mut self, flush: bool) -> io::Result<()> {
-        let directive = if flush {
-            ZSTD_EndDirective::ZSTD_e_flush
-        } else {
-            ZSTD_EndDirective::ZSTD_e_continue
-        };
-        self.compress(directive)
+    /// Gives the pending records to zstd. Never a flush before the chunk ends: a flush ends a
+    /// zstd block, and a chunk must be the same bytes however its records arrived.
+    pub fn pump(&mut self) -> io::Result<()> {
+        self.compress(ZSTD_EndDirective::ZSTD_e_continue)
     }
 
     fn compress(&mut self, directive: ZSTD_EndDirective) -> io::Result<()> {
@@ -493,10 +489,9 @@ impl<W: Write> McapWriter<W> {
         self.builder.message(channel_id, sequence, t_ns, data)
     }
 
-    /// Gives the pending records to zstd; `flush`: and have it write out everything so far
-    /// (so that closing the chunk soon after has little left to do).
-    pub fn pump(&mut self, flush: bool) -> io::Result<()> {
-        self.builder.pump(flush)
+    /// Gives the pending records to zstd (see [`ChunkBuilder::pump`]).
+    pub fn pump(&mut self) -> io::Result<()> {
+        self.builder.pump()
     }
 
     /// Closes the open chunk, if any: compresses the rest and writes the chunk record and its

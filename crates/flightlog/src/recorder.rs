@@ -13,8 +13,8 @@
 //! samples. The bytes are the same either way.
 //!
 //! Chunks are closed from the simulation thread's side, from the samples alone (every
-//! [`FLUSH_INTERVAL_NS`] of simulated time, every [`CHUNK_SAMPLES`] samples, after every
-//! event). At a close `record` waits until the previous chunk is in the file (and at an
+//! [`FLUSH_INTERVAL_NS`] of simulated time, every [`CHUNK_SAMPLES`] samples, before and
+//! after every event). At a close `record` waits until the previous chunk is in the file (and at an
 //! event, until every chunk is), so the writer thread compresses one chunk while the
 //! simulation fills the next, and a killed run loses at most the two newest chunks. Each
 //! chunk is compressed in memory and written whole, so the file grows by whole chunks only.
@@ -331,9 +331,9 @@ impl Sinks {
             if batch.close {
                 m.flush()?;
             } else {
-                // Compress what came; when a close is near, all of it, so that the close
-                // (which the simulation thread waits for) has little left to do.
-                let res = m.writer.pump(batch.poll_next);
+                // Compress what came. Never flush zstd mid-chunk: a flush ends a zstd block,
+                // and a chunk must be the same bytes whichever thread builds it.
+                let res = m.writer.pump();
                 res.map_err(|e| m.io_error(e))?;
             }
         }
@@ -343,6 +343,9 @@ impl Sinks {
     fn event(&mut self, t_ns: u64, level: Level, message: &str) -> Result<()> {
         if let Some(m) = &mut self.mcap {
             let data = messages::log_message(t_ns, level as u8, message)?;
+            // An event gets a chunk of its own: the samples before it are in a chunk that
+            // either thread may have built.
+            m.flush()?;
             m.write(EVENTS, t_ns, &data)?;
             m.flush()?;
         }
