@@ -151,26 +151,23 @@ struct ChunkIndex {
     uncompressed_size: u64,
 }
 
-/// The chunk being written.
+/// The chunk being written: the compressed part so far in `body` (its `crc` is set when it
+/// closes), the records not yet given to zstd, and the running CRC of all records.
 struct OpenChunk {
+    body: BuiltChunk,
     /// Message records not yet given to zstd.
     pending: Vec<u8>,
-    /// The compressed stream so far.
-    compressed: Vec<u8>,
-    /// Uncompressed bytes so far, and their CRC.
-    size: u64,
     crc: Hasher,
-    bounds: Option<(u64, u64)>,
-    /// Per channel: (log time, offset in the uncompressed chunk) of each message.
-    index: BTreeMap<u16, Vec<(u64, u64)>>,
 }
 
 /// A chunk closed and compressed, ready to be written (see [`McapWriter::write_chunk`]).
 pub(crate) struct BuiltChunk {
     compressed: Vec<u8>,
+    /// Uncompressed bytes and their CRC.
     size: u64,
     crc: u32,
     bounds: Option<(u64, u64)>,
+    /// Per channel: (log time, offset in the uncompressed chunk) of each message.
     index: BTreeMap<u16, Vec<(u64, u64)>>,
 }
 
@@ -204,12 +201,15 @@ impl ChunkBuilder {
             pending.clear();
             compressed.clear();
             self.chunk = Some(OpenChunk {
+                body: BuiltChunk {
+                    compressed,
+                    size: 0,
+                    crc: 0,
+                    bounds: None,
+                    index: BTreeMap::new(),
+                },
                 pending,
-                compressed,
-                size: 0,
                 crc: Hasher::new(),
-                bounds: None,
-                index: BTreeMap::new(),
             });
         }
         Ok(self.chunk.as_mut().expect("opened above"))
@@ -226,9 +226,13 @@ impl ChunkBuilder {
         let mut head = [0u8; MESSAGE_HEADER_LEN];
         message_header(&mut head, channel_id, sequence, t_ns, data.len());
         let c = self.open()?;
-        widen(&mut c.bounds, t_ns);
-        let offset = c.size + c.pending.len() as u64;
-        c.index.entry(channel_id).or_default().push((t_ns, offset));
+        widen(&mut c.body.bounds, t_ns);
+        let offset = c.body.size + c.pending.len() as u64;
+        c.body
+            .index
+            .entry(channel_id)
+            .or_default()
+            .push((t_ns, offset));
         c.pending.extend_from_slice(&head);
         c.pending.extend_from_slice(data);
         if c.pending.len() >= PUMP_AT {
@@ -248,14 +252,14 @@ impl ChunkBuilder {
             return Ok(());
         };
         c.crc.update(&c.pending);
-        c.size += c.pending.len() as u64;
+        c.body.size += c.pending.len() as u64;
         let mut input = InBuffer::around(&c.pending);
         loop {
             // zstd writes at most a block (128 KiB) plus a little per call when it has room.
             let need = zstd::zstd_safe::CCtx::out_size().max(input.src.len() / 2 + 1024);
-            c.compressed.reserve(need);
-            let len = c.compressed.len();
-            let mut output = OutBuffer::around_pos(&mut c.compressed, len);
+            c.body.compressed.reserve(need);
+            let len = c.body.compressed.len();
+            let mut output = OutBuffer::around_pos(&mut c.body.compressed, len);
             let left = self
                 .cctx
                 .compress_stream2(&mut output, &mut input, directive)
@@ -283,11 +287,8 @@ impl ChunkBuilder {
             // The records' buffer stays for the next chunk.
             self.spare.0 = c.pending;
             BuiltChunk {
-                compressed: c.compressed,
-                size: c.size,
                 crc: c.crc.finalize(),
-                bounds: c.bounds,
-                index: c.index,
+                ..c.body
             }
         }))
     }
