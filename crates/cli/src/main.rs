@@ -9,6 +9,7 @@ mod input;
 mod interrupt;
 mod logging;
 mod output;
+mod plot;
 mod progress;
 mod vehicle;
 

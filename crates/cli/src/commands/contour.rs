@@ -86,25 +86,11 @@ pub fn run(args: ContourArgs) -> anyhow::Result<()> {
         origin, args.response, args.x, args.y
     );
     let labels = (args.x.as_str(), args.y.as_str());
-    if args.plot.extension().and_then(|e| e.to_str()) == Some("png") {
-        draw(
-            BitMapBackend::new(&args.plot, (900, 700)).into_drawing_area(),
-            &cells,
-            &ux,
-            &uy,
-            labels,
-            &title,
-        )?;
-    } else {
-        draw(
-            SVGBackend::new(&args.plot, (900, 700)).into_drawing_area(),
-            &cells,
-            &ux,
-            &uy,
-            labels,
-            &title,
-        )?;
-    }
+    crate::plot::render!(
+        &args.plot,
+        (900, 700),
+        draw(&cells, &ux, &uy, labels, &title)
+    )?;
     print_stdout(&format!(
         "wrote {} ({} cells)\n",
         args.plot.display(),

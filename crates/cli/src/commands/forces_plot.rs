@@ -42,24 +42,7 @@ pub fn plot(wing: &Wing, path: &Path, title: &str) -> anyhow::Result<()> {
         ("C_D with wake capture", cd_on, RED.mix(1.0)),
         ("C_D without", cd_off, RED.mix(0.4)),
     ];
-    let png = path.extension().and_then(|e| e.to_str()) == Some("png");
-    if png {
-        draw(
-            BitMapBackend::new(path, (900, 550)).into_drawing_area(),
-            &curves,
-            lo - pad,
-            hi + pad,
-            title,
-        )
-    } else {
-        draw(
-            SVGBackend::new(path, (900, 550)).into_drawing_area(),
-            &curves,
-            lo - pad,
-            hi + pad,
-            title,
-        )
-    }
+    crate::plot::render!(path, (900, 550), draw(&curves, lo - pad, hi + pad, title))
 }
 
 fn draw<DB: DrawingBackend>(

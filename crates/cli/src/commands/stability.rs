@@ -138,23 +138,7 @@ fn plot(r: &StabilityReport, path: &Path, name: &str) -> Result<()> {
     }
     let xmax = pts.iter().map(|p| p.0.abs()).fold(1.0, f64::max) * 1.1;
     let ymax = pts.iter().map(|p| p.1.abs()).fold(1.0, f64::max) * 1.2;
-    if path.extension().and_then(|e| e.to_str()) == Some("png") {
-        draw(
-            BitMapBackend::new(path, (800, 600)).into_drawing_area(),
-            &pts,
-            xmax,
-            ymax,
-            name,
-        )
-    } else {
-        draw(
-            SVGBackend::new(path, (800, 600)).into_drawing_area(),
-            &pts,
-            xmax,
-            ymax,
-            name,
-        )
-    }
+    crate::plot::render!(path, (800, 600), draw(&pts, xmax, ymax, name))
 }
 
 fn draw<DB: DrawingBackend>(

@@ -634,19 +634,7 @@ fn plot_effects(
     let width = (360 * effects.len() as u32).clamp(480, 2400);
     let size = (width, 420);
     let title = format!("{response}: SNR main effects ({})", snr_name(kind));
-    if path.extension().and_then(|e| e.to_str()) == Some("png") {
-        draw_effects(
-            BitMapBackend::new(path, size).into_drawing_area(),
-            effects,
-            &title,
-        )
-    } else {
-        draw_effects(
-            SVGBackend::new(path, size).into_drawing_area(),
-            effects,
-            &title,
-        )
-    }
+    crate::plot::render!(path, size, draw_effects(effects, &title))
 }
 
 fn draw_effects<DB: DrawingBackend>(
