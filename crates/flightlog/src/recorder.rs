@@ -6,17 +6,20 @@
 //! streams. Events travel through the same queue, so everything stays in order. On a
 //! two-core machine the writing then costs the simulation little wall time. When the writer
 //! thread falls behind (logging every step), the simulation thread takes work over: with an
-//! MCAP file only, it serializes and compresses whole chunks itself, one chunk in two while
-//! the writer thread is still busy with the previous one, so that only compressed bytes cross
-//! between the cores (the JSON itself crossing cost a third of the simulation thread's time
-//! when the two cores did not share a cache); with a Rerun output, it serializes single
-//! samples. The bytes are the same either way.
+//! MCAP file only, it serializes and compresses a whole chunk itself whenever a chunk starts
+//! while the writer thread still has at least [`BUILD_AT`] raw samples to serialize (so the
+//! writer thread stays busy meanwhile, and the share of chunks built here settles where the
+//! two threads are equally busy), and only compressed bytes of that chunk cross between the
+//! cores (the JSON itself crossing cost a third of the simulation thread's time when the two
+//! cores did not share a cache); with a Rerun output, it serializes single samples. The bytes
+//! are the same either way.
 //!
 //! Chunks are closed from the simulation thread's side, from the samples alone (every
 //! [`FLUSH_INTERVAL_NS`] of simulated time, every [`CHUNK_SAMPLES`] samples, before and
-//! after every event). At a close `record` waits until the previous chunk is in the file (and at an
-//! event, until every chunk is), so the writer thread compresses one chunk while the
-//! simulation fills the next, and a killed run loses at most the two newest chunks. Each
+//! after every event). At a close `record` waits until all but the [`MAX_UNACKED`] newest
+//! chunks are in the file (and at an event, until every chunk is), so the writer thread
+//! works through a backlog of up to two chunks while the simulation fills the next, and a
+//! killed run loses at most its three newest chunks. Each
 //! chunk is compressed in memory and written whole, so the file grows by whole chunks only.
 //! The file's bytes do not depend on thread timing.
 //!
@@ -51,14 +54,22 @@ const CHUNK_SAMPLES: u64 = 200;
 const EVENTS: usize = 10;
 /// Samples per batch sent to the writer thread at most.
 const BATCH: usize = 8;
-/// Batches queued for the writer thread at most (a whole chunk of raw samples fits).
-const QUEUE: usize = 32;
+/// Batches queued for the writer thread at most (room for [`BUILD_AT`] raw samples and a
+/// whole chunk more).
+const QUEUE: usize = 64;
 /// With this many batches not yet written, the simulation thread serializes samples itself.
 const HELP_AT: usize = 2;
-/// With this many batches not yet written when a chunk starts, the simulation thread builds
-/// that chunk itself (MCAP only; at the default rate the writer thread is never this far
-/// behind).
-const BUILD_AT: usize = 8;
+/// With this many raw samples not yet serialized by the writer thread when a chunk starts,
+/// the simulation thread builds that chunk itself (MCAP only; at the default rate the writer
+/// thread is never this far behind). A chunk built here takes the simulation thread about as
+/// long as the writer thread needs for this backlog, so the writer thread stays busy while
+/// the simulation thread builds, and the simulation thread builds only the share of the
+/// chunks that balances the two threads (about one in four at full rate).
+const BUILD_AT: usize = 200;
+/// Chunk closes not yet in the file that `record` lets pass: at a close it waits until all
+/// but this many are written. One would stall the simulation thread whenever the writer
+/// thread's backlog exceeds a chunk, which [`BUILD_AT`] needs.
+const MAX_UNACKED: usize = 2;
 /// Batches are sent at once from this many samples before a chunk close.
 const NEAR: u64 = 2;
 /// How long the writer thread polls for the close that follows an early batch, and the
@@ -227,6 +238,8 @@ enum Item {
 /// Consecutive samples for the writer thread.
 struct Batch {
     items: Vec<Item>,
+    /// The [`Item::Raw`] items among them (counted in [`Shared::raw_backlog`]).
+    raw: usize,
     /// The messages of the [`Item::Built`] items.
     bytes: Vec<u8>,
     /// A whole chunk the simulation thread built and compressed itself, and its number of
@@ -243,6 +256,7 @@ impl Batch {
     fn new() -> Self {
         Self {
             items: Vec::with_capacity(BATCH),
+            raw: 0,
             bytes: Vec::new(),
             built: None,
             close: false,
@@ -270,6 +284,8 @@ enum Job {
 struct Shared {
     /// Sample batches sent and not yet written.
     in_flight: AtomicUsize,
+    /// Raw samples sent and not yet serialized (the writer thread's backlog).
+    raw_backlog: AtomicUsize,
     /// The writer thread stopped on an error (kept in `error` until reported).
     failed: AtomicBool,
     error: Mutex<Option<Error>>,
@@ -415,12 +431,14 @@ fn writer_thread(
                 Job::Samples(mut batch) => {
                     sinks.batch(&mut batch)?;
                     spin = batch.poll_next;
+                    shared.raw_backlog.fetch_sub(batch.raw, Ordering::Release);
                     shared.in_flight.fetch_sub(1, Ordering::Release);
                     if batch.close {
                         // The simulation thread waits for it: nothing is queued behind.
                         let _ = acks.send(());
                     }
                     batch.items.clear();
+                    batch.raw = 0;
                     batch.bytes.clear();
                     batch.close = false;
                     batch.poll_next = false;
@@ -591,6 +609,9 @@ impl Pipe {
             batch.built = built.map(|chunk| (chunk, self.built_samples));
             self.built_samples = 0;
         }
+        self.shared
+            .raw_backlog
+            .fetch_add(batch.raw, Ordering::AcqRel);
         // After a close the writer thread waits for the next batch; if it has been lagging
         // behind, that batch comes at once.
         let behind = self.shared.in_flight.fetch_add(1, Ordering::AcqRel) >= HELP_AT;
@@ -602,10 +623,10 @@ impl Pipe {
         }
         if close {
             self.chunk_samples = 0;
-            // Wait for the previous close, not this one: the writer thread compresses and
-            // writes this chunk while the simulation fills the next.
+            // Wait for the closes before the MAX_UNACKED newest: the writer thread works
+            // through its backlog while the simulation fills the next chunk.
             self.unacked += 1;
-            while self.unacked > 1 {
+            while self.unacked > MAX_UNACKED {
                 self.wait()?;
                 self.unacked -= 1;
             }
@@ -627,10 +648,10 @@ impl Pipe {
         let t_ns = messages::time_ns(out.t_s);
         let behind = self.shared.in_flight.load(Ordering::Acquire) >= HELP_AT;
         if self.chunk_samples == 0 {
-            // A chunk starts: while the writer thread is still well behind with the last one
-            // (logging every step), build this one here.
-            self.self_build =
-                self.builder.is_some() && self.shared.in_flight.load(Ordering::Acquire) >= BUILD_AT;
+            // A chunk starts: while the writer thread has a backlog that keeps it busy as long
+            // as building a chunk takes (logging every step), build this one here.
+            self.self_build = self.builder.is_some()
+                && self.shared.raw_backlog.load(Ordering::Acquire) >= BUILD_AT;
         }
         let sequence = self.samples;
         self.samples = self.samples.wrapping_add(1);
@@ -643,6 +664,7 @@ impl Pipe {
             self.batch.items.push(Item::Built(s));
         } else {
             self.batch.items.push(Item::Raw(*out));
+            self.batch.raw += 1;
         }
         if !self.mcap {
             if self.batch.items.len() >= BATCH {
@@ -817,7 +839,7 @@ impl Recorder {
             mcap: None,
             #[cfg(feature = "rerun")]
             rerun: None,
-            json: SampleJson::new(wings, vehicle.weight_n()),
+            json: SampleJson::new(wings, vehicle.weight_n(), vehicle.sim.steps_per_wingbeat),
             buf: Vec::with_capacity(8192),
         };
         // Viewers first (they fail most often), then files; on failure remove what was
@@ -901,7 +923,7 @@ impl Recorder {
                 shared,
                 thread: Some(thread),
                 batch: Batch::new(),
-                json: SampleJson::new(wings, vehicle.weight_n()),
+                json: SampleJson::new(wings, vehicle.weight_n(), vehicle.sim.steps_per_wingbeat),
                 mcap,
                 builder: if mcap && !rerun {
                     Some(ChunkBuilder::new().map_err(|e| Error::io("cannot write", &path, e))?)

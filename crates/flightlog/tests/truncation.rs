@@ -171,11 +171,19 @@ fn a_killed_run_keeps_its_flushed_chunks() {
     assert!(s.end_metadata.is_none());
     let d = s.damage.unwrap();
     assert!(d.contains("truncated"), "{d}");
-    // At least everything up to the flush at 0.05 s (`record` returned after the close that
-    // followed it, and a close waits until the chunk before it is in the file).
+    // Chunks close every 200 samples and at 0.05 s (sample 1090), then 200 samples later
+    // (1290). `record` returned after that last close, and a close waits until every chunk
+    // but the two newest is in the file: at least the samples before the last 200-sample
+    // close ahead of 0.05 s are in it.
+    let periodic = (0.05 / sim.dt_s()).ceil();
+    let at_least = (periodic / 200.0).floor() * 200.0;
     assert!(
-        s.samples as f64 >= 0.05 / sim.dt_s() - 1.0,
-        "{} samples: {d}",
+        n as f64 > periodic + 200.0,
+        "the run ends before the second close"
+    );
+    assert!(
+        s.samples as f64 >= at_least,
+        "{} samples, {at_least} expected at least: {d}",
         s.samples
     );
     assert!(s.samples < n);
