@@ -140,7 +140,7 @@ fn bench(c: &mut Criterion) {
                     for _ in 0..steps {
                         let out = sim.step().expect("tethered step");
                         if let Some(r) = rec.as_mut() {
-                            r.record(&out).expect("record");
+                            r.record(out).expect("record");
                         }
                         black_box(&out);
                     }

@@ -173,17 +173,28 @@ fn boolean(b: &mut Vec<u8>, v: bool) {
     b.extend_from_slice(if v { b"true" } else { b"false" });
 }
 
+/// The text before each number of an object of numbers: `{"k0":`, `,"k1":`, ...
+type Keys<const N: usize> = [&'static [u8]; N];
+const XYZW: Keys<4> = [b"{\"x\":", b",\"y\":", b",\"z\":", b",\"w\":"];
+const XYZ: Keys<3> = [XYZW[0], XYZW[1], XYZW[2]];
+const PHI_THETA_ETA: Keys<3> = [b"{\"phi\":", b",\"theta\":", b",\"eta\":"];
+const ROLL_PITCH_YAW: Keys<3> = [b"{\"roll\":", b",\"pitch\":", b",\"yaw\":"];
+
+/// `{"k0":a0,"k1":a1,...}` (the numbers finite). Constant keys keep their copies inlined.
+#[inline]
+fn object<const N: usize>(b: &mut Vec<u8>, keys: Keys<N>, a: [f64; N]) {
+    for (key, x) in keys.into_iter().zip(a) {
+        b.extend_from_slice(key);
+        num(b, x);
+    }
+    b.push(b'}');
+}
+
 /// `{"x":..,"y":..,"z":..}`, sanitized; returns the numbers written.
 #[inline]
 fn vec3(b: &mut Vec<u8>, fin: &mut Fin, v: &Vector3<f64>) -> [f64; 3] {
     let a = [fin.f(v.x), fin.f(v.y), fin.f(v.z)];
-    b.extend_from_slice(b"{\"x\":");
-    num(b, a[0]);
-    b.extend_from_slice(b",\"y\":");
-    num(b, a[1]);
-    b.extend_from_slice(b",\"z\":");
-    num(b, a[2]);
-    b.push(b'}');
+    object(b, XYZ, a);
     a
 }
 
@@ -191,28 +202,14 @@ fn vec3(b: &mut Vec<u8>, fin: &mut Fin, v: &Vector3<f64>) -> [f64; 3] {
 #[inline]
 fn quat(b: &mut Vec<u8>, fin: &mut Fin, q: &UnitQuaternion<f64>) -> [f64; 4] {
     let a = [fin.f(q.i), fin.f(q.j), fin.f(q.k), fin.f(q.w)];
-    b.extend_from_slice(b"{\"x\":");
-    num(b, a[0]);
-    b.extend_from_slice(b",\"y\":");
-    num(b, a[1]);
-    b.extend_from_slice(b",\"z\":");
-    num(b, a[2]);
-    b.extend_from_slice(b",\"w\":");
-    num(b, a[3]);
-    b.push(b'}');
+    object(b, XYZW, a);
     a
 }
 
 /// `{"phi":..,"theta":..,"eta":..}`, sanitized.
 #[inline]
 fn angles3(b: &mut Vec<u8>, fin: &mut Fin, phi: f64, theta: f64, eta: f64) {
-    b.extend_from_slice(b"{\"phi\":");
-    num(b, fin.f(phi));
-    b.extend_from_slice(b",\"theta\":");
-    num(b, fin.f(theta));
-    b.extend_from_slice(b",\"eta\":");
-    num(b, fin.f(eta));
-    b.push(b'}');
+    object(b, PHI_THETA_ETA, [fin.f(phi), fin.f(theta), fin.f(eta)]);
 }
 
 /// Longest wingbeat, in steps, whose text [`SampleJson`] keeps (about 3 KB per step); a longer
@@ -539,13 +536,9 @@ impl SampleJson {
                 fin.f(pitch.to_degrees()),
                 fin.f(yaw.to_degrees()),
             ];
-            b.extend_from_slice(b",\"euler_deg\":{\"roll\":");
-            num(b, euler_deg[0]);
-            b.extend_from_slice(b",\"pitch\":");
-            num(b, euler_deg[1]);
-            b.extend_from_slice(b",\"yaw\":");
-            num(b, euler_deg[2]);
-            b.extend_from_slice(b"},\"body_rates_rad_s\":");
+            b.extend_from_slice(b",\"euler_deg\":");
+            object(b, ROLL_PITCH_YAW, euler_deg);
+            b.extend_from_slice(b",\"body_rates_rad_s\":");
             vec3(b, &mut fin, w);
             b.extend_from_slice(b",\"applied_force_body_n\":");
             vec3(b, &mut fin, f);

@@ -6,6 +6,8 @@ use serde::{Deserialize, Serialize};
 /// Lee et al. (2016) translational coefficients at Reynolds number `re`, eq 3-4 of the seed
 /// paper: returns (K_l, C_d0, K_d) so that C_l = K_l sin 2 alpha and
 /// C_d = C_d0 + K_d (1 - cos 2 alpha).
+// 3.14 is the paper's fitted coefficient of K_d, not an approximation of pi.
+#[allow(clippy::approx_constant)]
 pub fn lee2016_factors(re: f64) -> (f64, f64, f64) {
     (
         1.966 - 3.95 * re.powf(-0.429),
