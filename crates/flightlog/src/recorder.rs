@@ -64,7 +64,7 @@ const HELP_AT: usize = 2;
 /// thread is never this far behind). A chunk built here takes the simulation thread about as
 /// long as the writer thread needs for this backlog, so the writer thread stays busy while
 /// the simulation thread builds, and the simulation thread builds only the share of the
-/// chunks that balances the two threads (about one in four at full rate).
+/// chunks that balances the two threads (about one in three at full rate).
 const BUILD_AT: usize = 200;
 /// Chunk closes not yet in the file that `record` lets pass: at a close it waits until all
 /// but this many are written. One would stall the simulation thread whenever the writer
