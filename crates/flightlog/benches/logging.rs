@@ -40,16 +40,17 @@ fn recorder(vehicle: &Vehicle, path: std::path::PathBuf, rate: Option<f64>) -> R
     Recorder::create(&opts, &info, vehicle).expect("recorder")
 }
 
-/// One 20-wingbeat run from a fresh simulation at rest, logged at `rate` (`None`: no log;
-/// `Some(None)`: every step): wall time from `Recorder::create` to `finish`.
+/// A 20-wingbeat run of `sim`, logged at `rate` (`None`: no log; `Some(None)`: every step)
+/// to a new file at `path`: wall time from `Recorder::create` to `finish`.
 fn timed_run(
     vehicle: &Vehicle,
-    mode: Mode,
+    sim: &mut Simulation,
     path: &std::path::Path,
     rate: Option<Option<f64>>,
 ) -> Duration {
-    let mut sim = Simulation::new(vehicle.clone(), mode);
     let steps = WINGBEATS * vehicle.sim.steps_per_wingbeat;
+    // A new file each time, as a real run writes (replacing a file makes ext4 write it back
+    // on close, which a run does not pay).
     let _ = std::fs::remove_file(path);
     let start = Instant::now();
     let mut rec = rate.map(|r| recorder(vehicle, path.to_owned(), r));
@@ -92,7 +93,8 @@ fn overhead_ratio() {
             let mut t = [0.0; 3];
             for k in 0..3 {
                 let v = (round + k) % 3;
-                t[v] = timed_run(&vehicle, mode, &path, variants[v]).as_secs_f64() * 1e3;
+                let mut sim = Simulation::new(vehicle.clone(), mode);
+                t[v] = timed_run(&vehicle, &mut sim, &path, variants[v]).as_secs_f64() * 1e3;
             }
             for v in 0..3 {
                 ms[v].push(t[v]);
@@ -130,26 +132,9 @@ fn bench(c: &mut Criterion) {
             let mut sim = Simulation::new(vehicle.clone(), Mode::Tethered);
             let path = dir.join(format!("{name}.mcap"));
             b.iter_custom(|iters| {
-                let mut total = Duration::ZERO;
-                for _ in 0..iters {
-                    // A new file each time, as a real run writes (replacing a file makes
-                    // ext4 write it back on close, which a run does not pay).
-                    let _ = std::fs::remove_file(&path);
-                    let start = Instant::now();
-                    let mut rec = rate.map(|r| recorder(&vehicle, path.clone(), r));
-                    for _ in 0..steps {
-                        let out = sim.step().expect("tethered step");
-                        if let Some(r) = rec.as_mut() {
-                            r.record(out).expect("record");
-                        }
-                        black_box(&out);
-                    }
-                    if let Some(r) = rec {
-                        black_box(r.finish().expect("finish"));
-                    }
-                    total += start.elapsed();
-                }
-                total
+                (0..iters)
+                    .map(|_| timed_run(&vehicle, &mut sim, &path, rate))
+                    .sum()
             });
         });
     }
