@@ -55,12 +55,12 @@ const PUMP_AT: usize = 32 * 1024;
 /// also stores the literals without Huffman coding). Any zstd decoder reads it (the window is
 /// 2 MiB).
 ///
-/// Measured on drosophila samples (2026-12-01, chunks of 200 samples, one thread): tethered
-/// 3.4 us per sample instead of 6.3 at level 1. Free flight, hash log 16 / 14 / 13 / 12:
-/// 8.1 / 7.4 / 6.9 / 6.5 us per sample for 4.3 / 3.8 / 3.5 / 3.3x smaller. In the recorder
-/// (interleaved runs, see the `overhead_ratio` benchmark), 14 instead of 16 took the
-/// full-rate overhead from 3.13-3.37x to 2.82-3.21x in free flight and from 2.26-2.36x to
-/// 2.17-2.29x tethered, for files 11% larger.
+/// Measured on drosophila samples (2026-12-01, chunks of 200 samples, one thread, with the
+/// VM's minute-to-minute drift): free flight, hash log 16 / 14 / 13 / 12: 8.1 / 7.4 / 6.9 /
+/// 6.5 us per sample for 4.3 / 3.8 / 3.5 / 3.3x smaller; tethered, 16 / 14: 4.8 us per sample
+/// both, for 8.4 / 7.4x. In the recorder (interleaved runs, see the `overhead_ratio`
+/// benchmark), 14 instead of 16 took the full-rate overhead from 3.13-3.37x to 2.82-3.21x
+/// in free flight and from 2.26-2.36x to 2.17-2.29x tethered, for files 11% larger.
 fn zstd_params(cctx: &mut CCtx<'static>) -> io::Result<()> {
     for p in [
         CParameter::CompressionLevel(1),
