@@ -6,8 +6,8 @@
 //! - the messages of a chunk are appended to one buffer as MCAP message records, and that
 //!   buffer goes to zstd in large pieces (the `mcap` crate feeds zstd one small write per
 //!   record field: about half its time was that overhead);
-//! - zstd runs with parameters picked for speed on this JSON ([`zstd_params`]): about half
-//!   the CPU of level 1 for about 10% more bytes;
+//! - zstd runs with parameters picked for speed on this JSON ([`zstd_params`]): less CPU
+//!   than level 1 for larger chunks (figures there);
 //! - each chunk is compressed in memory and written whole when it closes, so the file only
 //!   grows by whole chunks (a killed run keeps every closed chunk).
 //!
