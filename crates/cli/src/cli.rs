@@ -38,6 +38,8 @@ pub enum Command {
     Sweep(crate::commands::sweep::SweepArgs),
     /// Maximize lift per aerodynamic power over a study's factors while supporting the weight.
     Optimize(crate::commands::sweep::OptimizeArgs),
+    /// Frequency response of a tethered actuated vehicle: stroke, pitch, phase and lift per drive frequency.
+    FrequencyResponse(crate::commands::frequency_response::FrequencyResponseArgs),
     /// Summarize an MCAP log; convert it (--rrd), export a channel (--csv) or re-run it (--check).
     Replay(crate::commands::replay::ReplayArgs),
 }

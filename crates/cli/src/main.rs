@@ -36,6 +36,7 @@ fn main() -> ExitCode {
         Command::Sweep(args) => commands::sweep::run(args),
         Command::Optimize(args) => commands::sweep::run_optimize(args),
         Command::Replay(args) => commands::replay::run(args),
+        Command::FrequencyResponse(args) => commands::frequency_response::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

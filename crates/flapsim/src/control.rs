@@ -260,6 +260,7 @@ pub fn run_hover(
     duration_s: f64,
     mut observer: impl FnMut(&StepOutput) -> bool,
 ) -> Result<HoverOutcome> {
+    crate::actuated::require_prescribed(vehicle, "closed-loop hover")?;
     let mut v = vehicle.clone();
     v.apply_controls(&trim.controls)?;
     let q_trim = trim.attitude();

@@ -9,6 +9,7 @@ use wingforce::{
     AeroSpec, Fluid, FluidSpec, Kinematics, KinematicsSpec, Mount, Side, Validator, Wing, WingSpec,
 };
 
+use crate::actuated::{Actuation, ActuationSpec};
 use crate::error::Result;
 
 /// Rigid body of the vehicle (wings excluded unless `wing_mass_kg` is set).
@@ -198,6 +199,10 @@ pub struct VehicleSpec {
     /// Initial state.
     #[serde(default)]
     pub initial: InitialSpec,
+    /// Actuated wings (stroke driven by an actuator, pitch passive about a hinge); absent
+    /// for prescribed kinematics. See [`crate::actuated`].
+    #[serde(default)]
+    pub actuation: Option<ActuationSpec>,
 }
 
 fn default_gravity() -> f64 {
@@ -236,6 +241,8 @@ pub struct Vehicle {
     /// Both wings have identical kinematics now (set by [`Vehicle::apply_controls`]), so the
     /// right wing can be evaluated as the mirror image of the left.
     pub mirror_symmetric: bool,
+    /// The wings' dynamics and drives when the vehicle is actuated.
+    pub actuation: Option<Actuation>,
 }
 
 impl VehicleSpec {
@@ -397,6 +404,11 @@ impl VehicleSpec {
             initial_velocity_m_s: vel,
             initial_angular_velocity_rad_s: rate.map(f64::to_radians),
             mirror_symmetric: false,
+            actuation: self
+                .actuation
+                .as_ref()
+                .map(|a| a.build(&v, "actuation"))
+                .transpose()?,
         };
         // The controlled kinematics must stay valid (checked before applying them, so the
         // error names the controls field rather than a wing).
@@ -446,6 +458,12 @@ impl Vehicle {
 
     /// Applies control inputs to both wings (call between wingbeats).
     pub fn apply_controls(&mut self, c: &Controls) -> Result<()> {
+        if self.actuation.is_some() && *c != Controls::default() {
+            return Err(crate::Error::Analysis(format!(
+                "{} is actuated: its wing motion comes from the drive, so the kinematic control offsets {:?} do not apply (drive-parameter controls are not implemented yet)",
+                self.name, c
+            )));
+        }
         for i in 0..2 {
             let k = self.controlled_kinematics(i, c);
             if !(k.amplitude_rad > 0.0
@@ -465,9 +483,13 @@ impl Vehicle {
         Ok(())
     }
 
-    /// Wingbeat frequency now, Hz (both wings share it).
+    /// Wingbeat frequency now, Hz (both wings share it): the drive frequency of an
+    /// actuated vehicle.
     pub fn freq_hz(&self) -> f64 {
-        self.wings[0].kinematics().freq_hz
+        match &self.actuation {
+            Some(a) => a.drives[0].freq_hz,
+            None => self.wings[0].kinematics().freq_hz,
+        }
     }
 }
 

@@ -12,6 +12,7 @@ use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
 use wingforce::{BodyMotion, KinematicLoads, Term, Wing, WingForces};
 
+use crate::actuated::{ActuatedWingOutput, DynamicWing};
 use crate::error::{Error, Result};
 use crate::frames::{from_glam, quat_from_glam, quat_to_glam, to_glam};
 use crate::model::{Controls, Vehicle};
@@ -98,6 +99,8 @@ pub struct StepOutput {
     pub total: BodyLoad,
     /// Controls in force during this step.
     pub controls: Controls,
+    /// Hinge and actuator state of each wing of an actuated vehicle (0 left, 1 right).
+    pub actuated: Option<[ActuatedWingOutput; 2]>,
 }
 
 /// Longest wingbeat, in steps, whose kinematic loads are kept (about 1 KB per step).
@@ -131,6 +134,7 @@ impl StepOutput {
             wing_inertia: BodyLoad::default(),
             total: BodyLoad::default(),
             controls: Controls::default(),
+            actuated: None,
         }
     }
 }
@@ -171,6 +175,8 @@ pub struct Simulation {
     wing_centroid_r_m: f64,
     /// Wings held still: no aerodynamic or wing-inertia loads (free fall, tests).
     wings_still: bool,
+    /// The wings' dynamics of an actuated vehicle (left, right).
+    dynamic: Option<Box<[DynamicWing; 2]>>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -185,8 +191,15 @@ impl std::fmt::Debug for Simulation {
 }
 
 impl Simulation {
-    /// A simulation of `vehicle` in `mode`, starting from the vehicle's initial state at t = 0.
+    /// A simulation of `vehicle` in `mode`, starting from the vehicle's initial state at t = 0
+    /// (an actuated vehicle's wings at rest at their springs' rest angles).
     pub fn new(vehicle: Vehicle, mode: Mode) -> Self {
+        let dynamic = vehicle.actuation.as_ref().map(|a| {
+            Box::new([0, 1].map(|i| {
+                DynamicWing::new(a.dynamics.clone(), a.drives[i])
+                    .expect("drives were checked against the voltage limit when the model was built")
+            }))
+        });
         let dt_s = 1.0 / (vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64);
         let mut world = PhysicsWorld::new();
         world.gravity = Vector::new(0.0, 0.0, -vehicle.gravity_m_s2);
@@ -271,6 +284,7 @@ impl Simulation {
             wind_world_m_s: Vector3::zeros(),
             wing_centroid_r_m,
             wings_still: false,
+            dynamic,
         };
         // Zero the velocities on locked axes (rapier leaves them as given).
         if let Mode::Locked {
@@ -387,6 +401,15 @@ impl Simulation {
 
     /// Loads at the current state without stepping.
     pub fn loads(&self) -> StepOutput {
+        if let Some(d) = &self.dynamic {
+            // The wings' accelerations come out of a step: step copies of them.
+            let mut d = d.clone();
+            let mut wings = self.vehicle.wings.clone();
+            let mut out = StepOutput::empty();
+            // A state the step would reject still gets its loads reported as far as known.
+            let _ = actuated_loads_into(&self.actuated_ctx(), &mut d, &mut wings, &mut out);
+            return out;
+        }
         let (cycles, table_phase, j) = self.phase_parts();
         let kin = match j.and_then(|j| self.phase_table.get(j)) {
             Some(Some((g, k))) if *g == self.table_gen => *k,
@@ -458,6 +481,25 @@ impl Simulation {
         out.controls = self.vehicle.controls;
     }
 
+    /// What an actuated step needs to know of the simulation.
+    fn actuated_ctx(&self) -> ActuatedCtx {
+        let state = self.state();
+        let body_from_world = state.world_from_body.inverse();
+        ActuatedCtx {
+            motion: BodyMotion {
+                velocity_m_s: body_from_world * (state.velocity_m_s - self.wind_world_m_s),
+                angular_velocity_rad_s: state.angular_velocity_body_rad_s,
+            },
+            state,
+            dt_s: self.dt_s,
+            t_s: self.time_s(),
+            step: self.step,
+            freq_hz: self.vehicle.freq_hz(),
+            controls: self.vehicle.controls,
+            wings_still: self.wings_still,
+        }
+    }
+
     /// Advances one step; returns what was applied during it.
     pub fn step(&mut self) -> Result<&StepOutput> {
         // Controls change only at the first step of a wingbeat.
@@ -468,6 +510,21 @@ impl Simulation {
             }
         }
         self.last_cycle = cycle;
+        if let Some(mut d) = self.dynamic.take() {
+            let mut out = self
+                .out
+                .take()
+                .unwrap_or_else(|| Box::new(StepOutput::empty()));
+            let ctx = self.actuated_ctx();
+            let r = actuated_loads_into(&ctx, &mut d, &mut self.vehicle.wings, &mut out);
+            self.dynamic = Some(d);
+            let r = r.and_then(|_| self.check(&out));
+            if let Err(e) = r {
+                self.out = Some(out);
+                return Err(e);
+            }
+            return Ok(self.apply_and_advance(out));
+        }
         let (cycles, table_phase, j) = self.phase_parts();
         // The output lives in a box that moves out and back (a pointer, not a kilobyte).
         let mut out = self
@@ -493,6 +550,11 @@ impl Simulation {
             self.out = Some(out);
             return Err(e);
         }
+        Ok(self.apply_and_advance(out))
+    }
+
+    /// Applies a step's loads to the body and advances the world by one step.
+    fn apply_and_advance(&mut self, out: Box<StepOutput>) -> &StepOutput {
         let rb = &mut self.world.bodies[self.body];
         let q = out.state.world_from_body;
         rb.reset_forces(false);
@@ -501,7 +563,7 @@ impl Simulation {
         rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
         self.world.step();
         self.step += 1;
-        Ok(self.out.insert(out))
+        self.out.insert(out)
     }
 
     /// Applies controls now and restarts the wingbeat bookkeeping from the current phase.
@@ -598,4 +660,68 @@ impl Simulation {
         })
         .map(|_| ())
     }
+}
+
+/// See [`Simulation::actuated_ctx`].
+#[derive(Debug, Clone, Copy)]
+struct ActuatedCtx {
+    state: State,
+    motion: BodyMotion,
+    dt_s: f64,
+    t_s: f64,
+    step: u64,
+    freq_hz: f64,
+    controls: Controls,
+    wings_still: bool,
+}
+
+/// The loads of an actuated vehicle's wings, advancing their dynamics by one step. The
+/// inertial reaction of the wings and actuators is reported in `wing_inertia`, apart from
+/// the aerodynamic terms, and both enter `total`.
+fn actuated_loads_into(
+    ctx: &ActuatedCtx,
+    dynamic: &mut [DynamicWing; 2],
+    wings: &mut [Wing; 2],
+    out: &mut StepOutput,
+) -> Result<()> {
+    let mut terms = [BodyLoad::default(); 4];
+    let mut total = BodyLoad::default();
+    let mut wing_inertia = BodyLoad::default();
+    let mut actuated = [ActuatedWingOutput::default(); 2];
+    for i in 0..2 {
+        let s = dynamic[i]
+            .step(&mut wings[i], &ctx.motion, ctx.dt_s)
+            .map_err(|e| match e {
+                Error::Diverged { reason, .. } => Error::Diverged {
+                    t_s: ctx.t_s,
+                    step: ctx.step,
+                    reason,
+                },
+                e => e,
+            })?;
+        let hinge = wings[i].mount().hinge_in_body_m;
+        if !ctx.wings_still {
+            for term in Term::ALL {
+                let t = s.forces.term(term);
+                let m = t.moment_about_com_nm(&hinge);
+                terms[term as usize].add(t.force_n, m);
+                total.add(t.force_n, m);
+            }
+            let m = s.inertial_moment_hinge_nm + hinge.cross(&s.inertial_force_n);
+            wing_inertia.add(s.inertial_force_n, m);
+            total.add(s.inertial_force_n, m);
+        }
+        out.wings[i] = s.forces;
+        actuated[i] = s.output();
+    }
+    out.step = ctx.step;
+    out.t_s = ctx.t_s;
+    out.phase = ctx.t_s * ctx.freq_hz;
+    out.state = ctx.state;
+    out.terms = terms;
+    out.wing_inertia = wing_inertia;
+    out.total = total;
+    out.controls = ctx.controls;
+    out.actuated = Some(actuated);
+    Ok(())
 }

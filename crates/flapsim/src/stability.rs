@@ -154,6 +154,7 @@ pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
 /// Trims `vehicle`, linearises the averaged model and classifies the modes; with
 /// `floquet`, also computes the longitudinal monodromy matrix from full simulations.
 pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
+    crate::actuated::require_prescribed(vehicle, "stability analysis")?;
     let t = trim(vehicle)?;
     let v = trimmed_vehicle(vehicle, &t)?;
     let model = AveragedModel::new(&v, t.attitude(), t.controls, 200);
@@ -216,6 +217,7 @@ fn one_wingbeat(v: &Vehicle, q_trim: &UnitQuaternion<f64>, y: &[f64; 4]) -> Resu
 
 /// Floquet multipliers and exponents of the longitudinal motion about the trim.
 pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
+    crate::actuated::require_prescribed(v, "Floquet analysis")?;
     let q = t.attitude();
     let speed = v.wings[0].v_ref_m_s();
     let eps = [speed * 1e-4, speed * 1e-4, 1e-5, 1e-3];

@@ -76,6 +76,7 @@ fn residual(vehicle: &Vehicle, x: &Vector3<f64>) -> Option<Vector3<f64>> {
 
 /// Finds the hover trim of `vehicle`, starting from its current controls and initial pitch.
 pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
+    crate::actuated::require_prescribed(vehicle, "hover trim")?;
     let (_, p0, _) = vehicle.initial_attitude.euler_angles();
     let mut x = Vector3::new(0.0, 0.0, -p0);
     let fail =

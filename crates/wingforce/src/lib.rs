@@ -18,6 +18,7 @@
 //! # Ok::<(), wingforce::Error>(())
 //! ```
 
+pub mod axes;
 pub mod coefficients;
 pub mod cycle;
 mod error;
@@ -27,11 +28,13 @@ pub mod planform;
 pub mod quad;
 pub mod wing;
 
+pub use axes::AxisMoments;
 pub use coefficients::{RangeFlags, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
 pub use error::{Error, Result, Validator};
 pub use kinematics::{Kinematics, KinematicsSpec, StrokePhase, WingAngles};
 pub use model::{AeroSpec, FluidSpec, WingModelSpec, WingSpec};
 pub use planform::{Geometry, GeometryOverrides, PlanformSpec};
 pub use wing::{
-    AeroOptions, BodyMotion, Fluid, KinematicLoads, Mount, Side, Term, TermForce, Wing, WingForces,
+    AeroOptions, BodyMotion, Fluid, KinematicLoads, Mount, Side, StrokeReference, Term, TermForce, Wing,
+    WingForces, WingFrame,
 };

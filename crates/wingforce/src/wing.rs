@@ -217,7 +217,23 @@ pub struct Wing {
     mount: Mount,
     fluid: Fluid,
     options: AeroOptions,
+    /// Measured stroke in place of the kinematics' own (dynamic wings).
+    stroke_reference: Option<StrokeReference>,
     cache: Cache,
+}
+
+/// The stroke quantities that set Re and the wake-capture inputs, for a wing whose stroke is
+/// an output of its dynamics rather than prescribed: measured from the motion the dynamics
+/// produce (peak stroke rate, and dtau_A / dtau_D by the half-peak rule of
+/// [`crate::kinematics::measure_acceleration_fractions`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrokeReference {
+    /// Peak |d phi / dt| over the wingbeat, rad/s.
+    pub peak_stroke_rate_rad_s: f64,
+    /// Acceleration fraction dtau_A.
+    pub dtau_a: f64,
+    /// Deceleration fraction dtau_D.
+    pub dtau_d: f64,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -283,6 +299,7 @@ impl WingBuilder {
             mount: self.mount,
             fluid: self.fluid,
             options: self.options,
+            stroke_reference: None,
             cache: Cache::empty(),
         };
         wing.refresh();
@@ -325,7 +342,7 @@ impl Wing {
     fn refresh(&mut self) {
         let g = &self.geometry;
         let rho = self.fluid.density_kg_m3;
-        let v_ref = self.kinematics.peak_stroke_rate_rad_s() * g.r_gyration_m;
+        let v_ref = self.peak_stroke_rate_rad_s() * g.r_gyration_m;
         let re = v_ref * g.mean_chord_m / self.fluid.kinematic_viscosity_m2_s;
         let corr = if self.options.ar_ro_corrections
             && self.options.translational == TranslationalModel::Lee2016
@@ -335,7 +352,10 @@ impl Wing {
             1.0
         };
         let (kl, cd0, kd) = coefficients::lee2016_factors(re);
-        let (da, dd) = self.kinematics.acceleration_fractions();
+        let (da, dd) = match &self.stroke_reference {
+            Some(r) => (r.dtau_a, r.dtau_d),
+            None => self.kinematics.acceleration_fractions(),
+        };
         let rot = Rotation3::from_axis_angle(&Vector3::y_axis(), self.mount.stroke_plane_tilt_rad);
         self.cache = Cache {
             strips: g
@@ -371,6 +391,27 @@ impl Wing {
         self.refresh();
     }
 
+    /// Sets (or, with `None`, clears) a measured stroke that replaces the kinematics' own
+    /// peak stroke rate and acceleration fractions in Re, V_ref and the wake-capture inputs
+    /// (a dynamic wing's stroke is an output; see [`StrokeReference`]).
+    pub fn set_stroke_reference(&mut self, reference: Option<StrokeReference>) {
+        self.stroke_reference = reference;
+        self.refresh();
+    }
+
+    /// The measured stroke in use, if any.
+    pub fn stroke_reference(&self) -> Option<&StrokeReference> {
+        self.stroke_reference.as_ref()
+    }
+
+    /// Peak stroke rate that sets V_ref: the measured one when set, else the kinematics'.
+    fn peak_stroke_rate_rad_s(&self) -> f64 {
+        match &self.stroke_reference {
+            Some(r) => r.peak_stroke_rate_rad_s,
+            None => self.kinematics.peak_stroke_rate_rad_s(),
+        }
+    }
+
     /// Replaces the fluid.
     pub fn set_fluid(&mut self, fluid: Fluid) {
         self.fluid = fluid;
@@ -381,7 +422,7 @@ impl Wing {
     /// (finite and > 0; anything else is refused with an error naming `--re`/`reynolds`).
     pub fn set_reynolds(&mut self, re: f64) -> crate::Result<()> {
         crate::Validator::new("set_reynolds").positive("reynolds", re)?;
-        let v_ref = self.kinematics.peak_stroke_rate_rad_s() * self.geometry.r_gyration_m;
+        let v_ref = self.peak_stroke_rate_rad_s() * self.geometry.r_gyration_m;
         self.fluid.kinematic_viscosity_m2_s = v_ref * self.geometry.mean_chord_m / re;
         self.refresh();
         Ok(())
@@ -472,6 +513,25 @@ impl Wing {
         body: &BodyMotion,
     ) -> WingForces {
         self.evaluate_with(&self.kinematic_loads_in(a, sp, frame), body)
+    }
+
+    /// `forces` with its rotational, added-mass and wake-capture terms replaced by those of
+    /// `k` and the total summed again (the translational term does not depend on the
+    /// angular accelerations, so a dynamic wing that learns its accelerations after the
+    /// strip loop keeps it).
+    pub fn with_kinematic_terms(forces: &WingForces, k: &KinematicLoads) -> WingForces {
+        let mut terms = k.terms;
+        terms[0] = forces.terms[0];
+        let mut total = TermForce::default();
+        for t in &terms {
+            total.add(t);
+        }
+        WingForces {
+            terms,
+            total,
+            angles: k.angles,
+            phase: k.phase,
+        }
     }
 
     /// The part of the loads at wingbeat `phase` that the kinematics alone decide (see

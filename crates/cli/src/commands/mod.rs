@@ -4,6 +4,8 @@ pub mod contour;
 pub mod fit_wake;
 pub mod forces;
 pub mod forces_plot;
+pub mod frequency_response;
+pub mod frequency_response_plot;
 pub mod hover;
 pub mod replay;
 pub mod simulate;

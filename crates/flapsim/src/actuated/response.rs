@@ -1,0 +1,210 @@
+//! Frequency response of a tethered actuated vehicle: for each drive frequency (and
+//! voltage), both wings are driven from rest until the response is periodic, then measured
+//! over whole drive periods. MAV builders pick the drive frequency from it.
+//!
+//! Per point: stroke and pitch amplitude (half the peak-to-peak), the pitch-to-stroke
+//! phase from the fundamental Fourier components, in the convention of wingforce's
+//! harmonic kinematics (`pitch_phase_deg`: 0 is symmetric rotation, positive is rotation
+//! advanced ahead of stroke reversal), mean lift (body z, both wings) and lift per volt.
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use wingforce::BodyMotion;
+
+use super::dynamics::DynamicWing;
+use crate::error::{Error, Result};
+use crate::model::Vehicle;
+
+/// What to sweep and how long to run each point.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ResponseOptions {
+    /// Drive frequencies, Hz.
+    pub freqs_hz: Vec<f64>,
+    /// Drive amplitudes, V (the model's when empty).
+    pub amplitudes_v: Vec<f64>,
+    /// Drive periods run before measuring.
+    pub settle_cycles: usize,
+    /// Drive periods measured.
+    pub measure_cycles: usize,
+    /// Steps per drive period.
+    pub steps_per_cycle: usize,
+}
+
+impl Default for ResponseOptions {
+    fn default() -> Self {
+        Self {
+            freqs_hz: Vec::new(),
+            amplitudes_v: Vec::new(),
+            settle_cycles: 30,
+            measure_cycles: 4,
+            steps_per_cycle: 100,
+        }
+    }
+}
+
+/// One frequency and voltage.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ResponsePoint {
+    /// Drive frequency, Hz.
+    pub freq_hz: f64,
+    /// Drive amplitude, V.
+    pub amplitude_v: f64,
+    /// Stroke amplitude (half peak-to-peak, left wing), deg.
+    pub stroke_amplitude_deg: f64,
+    /// Pitch amplitude (half peak-to-peak, left wing), deg.
+    pub pitch_amplitude_deg: f64,
+    /// Pitch-to-stroke phase, deg (0 symmetric rotation, positive advanced).
+    pub pitch_phase_deg: f64,
+    /// Phase of the stroke behind the drive voltage's fundamental, deg (90 at resonance
+    /// for a lightly damped system).
+    pub stroke_lag_deg: f64,
+    /// Mean lift of both wings (body z), N.
+    pub mean_lift_n: f64,
+    /// Mean lift over the drive amplitude, N/V.
+    pub lift_per_volt_n_v: f64,
+    /// Mean lift over the weight.
+    pub lift_to_weight: f64,
+    /// Re of the left wing from its measured stroke.
+    pub reynolds: f64,
+    /// Whether the measured wake-capture inputs fell outside the fitted range (clamped).
+    pub wake_capture_out_of_range: bool,
+    /// Why the point stopped early (the hinge hit its stops, the state blew up), if it did.
+    pub failed: Option<String>,
+}
+
+/// The whole sweep.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FrequencyResponse {
+    /// Undamped natural frequency of the stroke system from the model, Hz.
+    pub stroke_natural_freq_hz: f64,
+    /// Natural frequency of the pitch mode with the stroke held, Hz.
+    pub pitch_natural_freq_hz: f64,
+    /// The points, frequency-major.
+    pub points: Vec<ResponsePoint>,
+}
+
+/// Sweeps drive frequency (and amplitude) on the tethered vehicle; `on_point` is called as
+/// each point finishes (from worker threads), for a progress bar.
+pub fn frequency_response(
+    vehicle: &Vehicle,
+    options: &ResponseOptions,
+    on_point: &(dyn Fn() + Sync),
+) -> Result<FrequencyResponse> {
+    let act = vehicle.actuation.as_ref().ok_or_else(|| {
+        Error::Analysis(format!(
+            "{} has prescribed kinematics, no [actuation] section: a frequency response needs an actuated vehicle",
+            vehicle.name
+        ))
+    })?;
+    if options.freqs_hz.is_empty() || options.measure_cycles == 0 || options.steps_per_cycle < 20
+    {
+        return Err(Error::Analysis(
+            "a frequency response needs at least one frequency, one measured cycle and 20 steps per cycle".into(),
+        ));
+    }
+    let amps = if options.amplitudes_v.is_empty() {
+        vec![act.drives[0].amplitude_v]
+    } else {
+        options.amplitudes_v.clone()
+    };
+    let jobs: Vec<(f64, f64)> = options
+        .freqs_hz
+        .iter()
+        .flat_map(|&f| amps.iter().map(move |&a| (f, a)))
+        .collect();
+    let points = jobs
+        .par_iter()
+        .map(|&(f, a)| {
+            let p = point(vehicle, options, f, a);
+            on_point();
+            p
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(FrequencyResponse {
+        stroke_natural_freq_hz: act.dynamics.stroke_natural_freq_hz(),
+        pitch_natural_freq_hz: act.dynamics.pitch_natural_freq_hz(),
+        points,
+    })
+}
+
+fn point(vehicle: &Vehicle, o: &ResponseOptions, freq_hz: f64, amplitude_v: f64) -> Result<ResponsePoint> {
+    let act = vehicle.actuation.as_ref().expect("checked by the caller");
+    let mut wings = vehicle.wings.clone();
+    let mut dyns = Vec::with_capacity(2);
+    for d in &act.drives {
+        let mut drive = *d;
+        drive.freq_hz = freq_hz;
+        // Keep the left-right difference of the model; scale the common amplitude.
+        drive.amplitude_v = amplitude_v + (d.amplitude_v - act.drives[0].amplitude_v);
+        dyns.push(DynamicWing::new(act.dynamics.clone(), drive)?);
+    }
+    let n = o.steps_per_cycle;
+    let dt = 1.0 / (freq_hz * n as f64);
+    let body = BodyMotion::default();
+    let total = (o.settle_cycles + o.measure_cycles) * n;
+    let start = o.settle_cycles * n;
+    let w = 2.0 * std::f64::consts::PI * freq_hz;
+    let (mut phi_min, mut phi_max) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut th_min, mut th_max) = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut phi1 = (0.0, 0.0);
+    let mut th1 = (0.0, 0.0);
+    let mut v1 = (0.0, 0.0);
+    let mut lift = 0.0;
+    let mut failed = None;
+    'run: for k in 0..total {
+        let mut lz = 0.0;
+        for i in 0..2 {
+            match dyns[i].step(&mut wings[i], &body, dt) {
+                Ok(s) => {
+                    lz += s.forces.total.force_n.z;
+                    if i == 0 && k >= start {
+                        let t = k as f64 * dt;
+                        let (sn, cs) = (w * t).sin_cos();
+                        let a = &s.angles;
+                        phi_min = phi_min.min(a.phi);
+                        phi_max = phi_max.max(a.phi);
+                        th_min = th_min.min(a.theta);
+                        th_max = th_max.max(a.theta);
+                        phi1.0 += a.phi * cs;
+                        phi1.1 -= a.phi * sn;
+                        th1.0 += a.theta * cs;
+                        th1.1 -= a.theta * sn;
+                        let v = s.actuator.voltage_v;
+                        v1.0 += v * cs;
+                        v1.1 -= v * sn;
+                    }
+                }
+                Err(e) => {
+                    failed = Some(e.to_string());
+                    break 'run;
+                }
+            }
+        }
+        if k >= start {
+            lift += lz;
+        }
+    }
+    let m = (o.measure_cycles * n) as f64;
+    let arg = |z: (f64, f64)| z.1.atan2(z.0);
+    let wrap = |x: f64| {
+        let y = (x + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI);
+        y - std::f64::consts::PI
+    };
+    let mean_lift = if failed.is_some() { f64::NAN } else { lift / m };
+    let re = wings[0].reynolds();
+    let oor = wings[0].wake_capture().map(|p| p.flags.any()).unwrap_or(false);
+    Ok(ResponsePoint {
+        freq_hz,
+        amplitude_v,
+        stroke_amplitude_deg: 0.5 * (phi_max - phi_min).to_degrees(),
+        pitch_amplitude_deg: 0.5 * (th_max - th_min).to_degrees(),
+        pitch_phase_deg: wrap(arg(th1) - arg(phi1) + 0.5 * std::f64::consts::PI).to_degrees(),
+        stroke_lag_deg: wrap(arg(v1) - arg(phi1)).to_degrees(),
+        mean_lift_n: mean_lift,
+        lift_per_volt_n_v: mean_lift / amplitude_v,
+        lift_to_weight: mean_lift / vehicle.weight_n(),
+        reynolds: re,
+        wake_capture_out_of_range: oor,
+        failed,
+    })
+}
