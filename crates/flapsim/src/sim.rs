@@ -196,8 +196,9 @@ impl Simulation {
     pub fn new(vehicle: Vehicle, mode: Mode) -> Self {
         let dynamic = vehicle.actuation.as_ref().map(|a| {
             Box::new([0, 1].map(|i| {
-                DynamicWing::new(a.dynamics.clone(), a.drives[i])
-                    .expect("drives were checked against the voltage limit when the model was built")
+                DynamicWing::new(a.dynamics.clone(), a.drives[i]).expect(
+                    "drives were checked against the voltage limit when the model was built",
+                )
             }))
         });
         let dt_s = 1.0 / (vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64);

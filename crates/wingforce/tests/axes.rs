@@ -53,7 +53,10 @@ fn axis_moments_carry_the_aerodynamic_power() {
         for k in 0..12 {
             let a = angles(k);
             let frame = WingFrame::new(&a, side);
-            let f = wing.evaluate_with(&wing.kinematic_loads_in(&a, &PHASE, &frame), &BodyMotion::default());
+            let f = wing.evaluate_with(
+                &wing.kinematic_loads_in(&a, &PHASE, &frame),
+                &BodyMotion::default(),
+            );
             for t in Term::ALL.iter().map(|t| f.term(*t)).chain([&f.total]) {
                 let q = wing.axis_moments(&frame, t);
                 let m_s = wing.body_from_stroke().transpose() * t.moment_hinge_nm;
@@ -91,8 +94,10 @@ fn added_inertia_is_the_added_mass_terms_acceleration_part() {
                 q0.pitch_nm - (m[1][0] * a.phi_ddot + m[1][1] * a.theta_ddot),
             ];
             let scale = q.stroke_nm.abs() + q.pitch_nm.abs() + 1e-30;
-            assert!(((q.stroke_nm - pred[0]).abs() + (q.pitch_nm - pred[1]).abs()) < 1e-10 * scale,
-                "{side:?} case {k}: {q:?} vs {pred:?}");
+            assert!(
+                ((q.stroke_nm - pred[0]).abs() + (q.pitch_nm - pred[1]).abs()) < 1e-10 * scale,
+                "{side:?} case {k}: {q:?} vs {pred:?}"
+            );
             assert!((m[0][1] - m[1][0]).abs() <= 1e-15 * (m[0][0] + m[1][1]));
             assert!(m[0][0] >= 0.0 && m[1][1] >= 0.0);
             assert!(m[0][0] * m[1][1] - m[0][1] * m[1][0] >= -1e-12 * (m[0][0] * m[1][1]));

@@ -135,16 +135,25 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
     bar.finish_and_clear();
     if let (Some(file), Some(path)) = (plot_file, &args.plot) {
         drop(file);
-        super::frequency_response_plot::plot(&resp, path, &format!("frequency response of {}", src.origin))?;
+        super::frequency_response_plot::plot(
+            &resp,
+            path,
+            &format!("frequency response of {}", src.origin),
+        )?;
         crate::output::note(&format!("wrote {}", path.display()));
     }
     for p in &resp.points {
         if let Some(why) = &p.failed {
-            crate::output::note(&format!("warning: {:.1} Hz, {} V stopped early: {why}", p.freq_hz, p.amplitude_v));
+            crate::output::note(&format!(
+                "warning: {:.1} Hz, {} V stopped early: {why}",
+                p.freq_hz, p.amplitude_v
+            ));
         }
     }
     if resp.points.iter().any(|p| p.wake_capture_out_of_range) {
-        crate::output::note("warning: some points' measured wake-capture inputs are outside the fitted range (Re 136-6800, dtau 0.06-0.18): clamped");
+        crate::output::note(
+            "warning: some points' measured wake-capture inputs are outside the fitted range (Re 136-6800, dtau 0.06-0.18): clamped",
+        );
     }
     if args.json {
         return crate::output::print_json(&Report {
@@ -167,7 +176,16 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
     writeln!(
         o,
         "{:>9} {:>7} {:>10} {:>10} {:>10} {:>10} {:>11} {:>12} {:>6} {:>8}",
-        "freq_Hz", "volt_V", "stroke_deg", "pitch_deg", "phase_deg", "lag_deg", "lift_N", "lift_per_V", "L/W", "Re"
+        "freq_Hz",
+        "volt_V",
+        "stroke_deg",
+        "pitch_deg",
+        "phase_deg",
+        "lag_deg",
+        "lift_N",
+        "lift_per_V",
+        "L/W",
+        "Re"
     )?;
     for p in &resp.points {
         writeln!(
@@ -183,7 +201,11 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
             p.lift_per_volt_n_v,
             p.lift_to_weight,
             p.reynolds,
-            if p.failed.is_some() { "  (stopped)" } else { "" }
+            if p.failed.is_some() {
+                "  (stopped)"
+            } else {
+                ""
+            }
         )?;
     }
     writeln!(

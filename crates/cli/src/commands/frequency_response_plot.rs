@@ -42,7 +42,11 @@ where
                     .filter(|p| p.amplitude_v == *v && p.failed.is_none())
                     .map(|p| (p.freq_hz, f(p)))
                     .collect();
-                (format!("{what}, {v} V"), pts, colors[i % colors.len()].to_rgba())
+                (
+                    format!("{what}, {v} V"),
+                    pts,
+                    colors[i % colors.len()].to_rgba(),
+                )
             })
             .collect()
     };
@@ -58,7 +62,9 @@ where
     let (f0, f1) = resp
         .points
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.freq_hz), b.max(p.freq_hz)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.freq_hz), b.max(p.freq_hz))
+        });
     let f1 = if f1 > f0 { f1 } else { f0 + 1.0 };
     for (area, (s, ylabel)) in panels.iter().zip([
         (&amps, "amplitude (deg)"),
@@ -83,7 +89,10 @@ where
         let f_n = resp.stroke_natural_freq_hz;
         if (f0..=f1).contains(&f_n) {
             chart
-                .draw_series(LineSeries::new([(f_n, lo - pad), (f_n, hi + pad)], BLACK.mix(0.4)))
+                .draw_series(LineSeries::new(
+                    [(f_n, lo - pad), (f_n, hi + pad)],
+                    BLACK.mix(0.4),
+                ))
                 .map_err(e)?
                 .label(format!("stroke f_n {f_n:.1} Hz"))
                 .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.4)));
@@ -94,7 +103,9 @@ where
                 .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))
                 .map_err(e)?
                 .label(label.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
+                });
             chart
                 .draw_series(pts.iter().map(|p| Circle::new(*p, 3, c.filled())))
                 .map_err(e)?;

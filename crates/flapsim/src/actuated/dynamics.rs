@@ -335,8 +335,8 @@ impl DynamicWing {
         let s = &self.state;
         let m = self.mass_matrix(s.theta_rad, &[[0.0; 2]; 2]);
         let v = [s.phi_dot_rad_s, s.theta_dot_rad_s];
-        let ke = 0.5
-            * (m[0][0] * v[0] * v[0] + 2.0 * m[0][1] * v[0] * v[1] + m[1][1] * v[1] * v[1]);
+        let ke =
+            0.5 * (m[0][0] * v[0] * v[0] + 2.0 * m[0][1] * v[0] * v[1] + m[1][1] * v[1] * v[1]);
         let k = self.model.stroke_stiffness_nm_rad();
         let phi0 = self.stroke_rest();
         let dth = s.theta_rad - self.model.hinge.rest_rad;
@@ -409,10 +409,7 @@ impl DynamicWing {
             Stroke::Prescribed(_) => {
                 let a = prescribed.unwrap_or_default();
                 let m = self.mass_matrix(theta, &held.added);
-                [
-                    a.phi_ddot,
-                    (q_theta - m[1][0] * a.phi_ddot) / m[1][1],
-                ]
+                [a.phi_ddot, (q_theta - m[1][0] * a.phi_ddot) / m[1][1]]
             }
         }
     }
@@ -490,7 +487,12 @@ impl DynamicWing {
             let deriv = |a: [f64; 2], y: &[f64; 4]| [y[2], y[3], a[0], a[1]];
             let k1 = deriv(k1a, &y0);
             let add = |y: &[f64; 4], k: &[f64; 4], s: f64| {
-                [y[0] + s * k[0], y[1] + s * k[1], y[2] + s * k[2], y[3] + s * k[3]]
+                [
+                    y[0] + s * k[0],
+                    y[1] + s * k[1],
+                    y[2] + s * k[2],
+                    y[3] + s * k[3],
+                ]
             };
             let y2 = add(&y0, &k1, 0.5 * h);
             let k2 = deriv(self.accelerations(t0 + 0.5 * h, &y2, &held), &y2);
@@ -627,7 +629,8 @@ impl DynamicWing {
                 + c * (es * el.transpose() + el * es.transpose()));
         let ja = self.model.stroke_inertia_kg_m2() - j;
         let k_phi = WingFrame::stroke_axis(side);
-        let dh = i_h * frame.alpha + frame.omega.cross(&(i_h * frame.omega)) + ja * a.phi_ddot * k_phi;
+        let dh =
+            i_h * frame.alpha + frame.omega.cross(&(i_h * frame.omega)) + ja * a.phi_ddot * k_phi;
         let r = wing.body_from_stroke();
         let actuator = match &self.model.stroke {
             Stroke::Driven {

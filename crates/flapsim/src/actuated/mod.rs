@@ -24,7 +24,9 @@ pub mod spec;
 
 pub use actuator::{Actuator, ActuatorState, DcMotor, Piezo, Reflected};
 pub use drive::Drive;
-pub use dynamics::{ActuatedWingOutput, DynamicWing, Hinge, Stroke, WingDynamics, WingInertia, WingState, WingStep};
+pub use dynamics::{
+    ActuatedWingOutput, DynamicWing, Hinge, Stroke, WingDynamics, WingInertia, WingState, WingStep,
+};
 pub use response::{FrequencyResponse, ResponseOptions, ResponsePoint, frequency_response};
 pub use spec::{Actuation, ActuationSpec};
 

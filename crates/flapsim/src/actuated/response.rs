@@ -96,8 +96,7 @@ pub fn frequency_response(
             vehicle.name
         ))
     })?;
-    if options.freqs_hz.is_empty() || options.measure_cycles == 0 || options.steps_per_cycle < 20
-    {
+    if options.freqs_hz.is_empty() || options.measure_cycles == 0 || options.steps_per_cycle < 20 {
         return Err(Error::Analysis(
             "a frequency response needs at least one frequency, one measured cycle and 20 steps per cycle".into(),
         ));
@@ -127,7 +126,12 @@ pub fn frequency_response(
     })
 }
 
-fn point(vehicle: &Vehicle, o: &ResponseOptions, freq_hz: f64, amplitude_v: f64) -> Result<ResponsePoint> {
+fn point(
+    vehicle: &Vehicle,
+    o: &ResponseOptions,
+    freq_hz: f64,
+    amplitude_v: f64,
+) -> Result<ResponsePoint> {
     let act = vehicle.actuation.as_ref().expect("checked by the caller");
     let mut wings = vehicle.wings.clone();
     let mut dyns = Vec::with_capacity(2);
@@ -192,7 +196,10 @@ fn point(vehicle: &Vehicle, o: &ResponseOptions, freq_hz: f64, amplitude_v: f64)
     };
     let mean_lift = if failed.is_some() { f64::NAN } else { lift / m };
     let re = wings[0].reynolds();
-    let oor = wings[0].wake_capture().map(|p| p.flags.any()).unwrap_or(false);
+    let oor = wings[0]
+        .wake_capture()
+        .map(|p| p.flags.any())
+        .unwrap_or(false);
     Ok(ResponsePoint {
         freq_hz,
         amplitude_v,

@@ -138,10 +138,14 @@ impl ActuationSpec {
         let wi = &self.wing_inertia;
         let inertia = WingInertia {
             mass_kg: v.non_negative(&f("wing_inertia.mass_kg"), wi.mass_kg)?,
-            stroke_inertia_kg_m2: v
-                .positive(&f("wing_inertia.stroke_inertia_kg_m2"), wi.stroke_inertia_kg_m2)?,
-            pitch_inertia_kg_m2: v
-                .positive(&f("wing_inertia.pitch_inertia_kg_m2"), wi.pitch_inertia_kg_m2)?,
+            stroke_inertia_kg_m2: v.positive(
+                &f("wing_inertia.stroke_inertia_kg_m2"),
+                wi.stroke_inertia_kg_m2,
+            )?,
+            pitch_inertia_kg_m2: v.positive(
+                &f("wing_inertia.pitch_inertia_kg_m2"),
+                wi.pitch_inertia_kg_m2,
+            )?,
             com_span_m: v.within(&f("wing_inertia.com_span_m"), wi.com_span_m, 0.0, 1.0)?,
             com_chord_m: v.within(&f("wing_inertia.com_chord_m"), wi.com_chord_m, -1.0, 1.0)?,
         };
@@ -160,7 +164,9 @@ impl ActuationSpec {
         let hinge = Hinge {
             stiffness_nm_rad: v.positive(&f("hinge.stiffness_nm_rad"), h.stiffness_nm_rad)?,
             damping_nm_s_rad: v.non_negative(&f("hinge.damping_nm_s_rad"), h.damping_nm_s_rad)?,
-            rest_rad: v.within(&f("hinge.rest_deg"), h.rest_deg, 0.0, 180.0)?.to_radians(),
+            rest_rad: v
+                .within(&f("hinge.rest_deg"), h.rest_deg, 0.0, 180.0)?
+                .to_radians(),
             stop_rad: v
                 .within_open_low(&f("hinge.stop_deg"), h.stop_deg, 0.0, 180.0)?
                 .to_radians(),
@@ -206,7 +212,9 @@ impl ActuationSpec {
             actuator,
             flexure_nm_rad: v.non_negative(&f("stroke.flexure_nm_rad"), s.flexure_nm_rad)?,
             damping_nm_s_rad: v.non_negative(&f("stroke.damping_nm_s_rad"), s.damping_nm_s_rad)?,
-            rest_rad: v.within(&f("stroke.rest_deg"), s.rest_deg, -90.0, 90.0)?.to_radians(),
+            rest_rad: v
+                .within(&f("stroke.rest_deg"), s.rest_deg, -90.0, 90.0)?
+                .to_radians(),
         };
         let dynamics = WingDynamics {
             inertia,
@@ -230,7 +238,12 @@ impl ActuationSpec {
         let bias = v.finite(&f("drive.bias_v"), d.bias_v)?;
         let h2 = v.within(&f("drive.second_harmonic"), d.second_harmonic, -1.0, 1.0)?;
         let psi2 = v
-            .within(&f("drive.second_harmonic_phase_deg"), d.second_harmonic_phase_deg, -360.0, 360.0)?
+            .within(
+                &f("drive.second_harmonic_phase_deg"),
+                d.second_harmonic_phase_deg,
+                -360.0,
+                360.0,
+            )?
             .to_radians();
         let da = v.finite(&f("drive.diff_amplitude_v"), d.diff_amplitude_v)?;
         let db = v.finite(&f("drive.diff_bias_v"), d.diff_bias_v)?;
