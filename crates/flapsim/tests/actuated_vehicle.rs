@@ -68,8 +68,16 @@ fn a_stiffer_hinge_rotates_less_and_earlier() {
         let p = frequency_response(&v, &opts, &|| {}).unwrap().points[0].clone();
         assert!(p.failed.is_none(), "{:?}", p.failed);
         if let Some((amp, phase)) = prev {
-            assert!(p.pitch_amplitude_deg < amp, "x{scale}: pitch {} deg after {amp}", p.pitch_amplitude_deg);
-            assert!(p.pitch_phase_deg > phase, "x{scale}: phase {} deg after {phase}", p.pitch_phase_deg);
+            assert!(
+                p.pitch_amplitude_deg < amp,
+                "x{scale}: pitch {} deg after {amp}",
+                p.pitch_amplitude_deg
+            );
+            assert!(
+                p.pitch_phase_deg > phase,
+                "x{scale}: phase {} deg after {phase}",
+                p.pitch_phase_deg
+            );
         }
         prev = Some((p.pitch_amplitude_deg, p.pitch_phase_deg));
     }
@@ -105,12 +113,20 @@ fn free_flight_runs_and_kinematic_analyses_refuse_actuated_vehicles() {
 fn bad_actuation_values_are_named() {
     let over = flapsim::ROBOBEE_ACTUATED_TOML.replace("amplitude_v = 200.0", "amplitude_v = 400.0");
     let e = Vehicle::from_toml(&over, "m.toml").unwrap_err().to_string();
-    assert!(e.contains("m.toml") && e.contains("actuation.drive") && e.contains("250"), "{e}");
-    let neg = flapsim::ROBOBEE_ACTUATED_TOML.replace("stiffness_nm_rad = 2.5e-6", "stiffness_nm_rad = -2.5e-6");
+    assert!(
+        e.contains("m.toml") && e.contains("actuation.drive") && e.contains("250"),
+        "{e}"
+    );
+    let neg = flapsim::ROBOBEE_ACTUATED_TOML
+        .replace("stiffness_nm_rad = 2.5e-6", "stiffness_nm_rad = -2.5e-6");
     let e = Vehicle::from_toml(&neg, "m.toml").unwrap_err().to_string();
-    assert!(e.contains("actuation.hinge.stiffness_nm_rad") && e.contains("-0.0000025"), "{e}");
+    assert!(
+        e.contains("actuation.hinge.stiffness_nm_rad") && e.contains("-0.0000025"),
+        "{e}"
+    );
     // A hinge so soft the wing flips past its stops ends the run with an error that says so.
-    let soft = flapsim::ROBOBEE_ACTUATED_TOML.replace("stiffness_nm_rad = 2.5e-6", "stiffness_nm_rad = 1.0e-8");
+    let soft = flapsim::ROBOBEE_ACTUATED_TOML
+        .replace("stiffness_nm_rad = 2.5e-6", "stiffness_nm_rad = 1.0e-8");
     let mut sim = Simulation::new(Vehicle::from_toml(&soft, "soft").unwrap(), Mode::Tethered);
     let e = sim.run_for(0.1, |_| {}).unwrap_err().to_string();
     assert!(e.contains("stops") && e.contains("too soft"), "{e}");

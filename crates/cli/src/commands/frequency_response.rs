@@ -63,7 +63,7 @@ struct Report<'a> {
 
 /// Runs the command.
 pub fn run(args: FrequencyResponseArgs) -> Result<()> {
-    let src = read_vehicle(Some(&args.model))?;
+    let src = read_vehicle(Some(args.model.as_str()))?;
     let vehicle = build_vehicle(&src)?;
     let Some(act) = &vehicle.actuation else {
         return Err(input_error(format!(
