@@ -6,6 +6,7 @@
 use nalgebra::{UnitQuaternion, Vector3};
 use wingforce::{BodyMotion, Term};
 
+use crate::error::Result;
 use crate::model::Vehicle;
 use crate::sim::BodyLoad;
 
@@ -29,12 +30,18 @@ pub struct MeanLoads {
     pub total: BodyLoad,
 }
 
-/// Mean loads over one wingbeat at a frozen state, `steps` samples.
-pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> MeanLoads {
+/// Mean loads over one wingbeat at a frozen state: `steps` samples of the prescribed
+/// kinematics, or, for an actuated vehicle, the wings run into their periodic motion at
+/// that body state by the dynamics ([`crate::actuated::periodic`], which integrates at the
+/// simulation's step and ignores `steps`; its error says when there is no periodic motion).
+pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> Result<MeanLoads> {
     let motion = BodyMotion {
         velocity_m_s: state.velocity_body_m_s,
         angular_velocity_rad_s: state.angular_velocity_body_rad_s,
     };
+    if vehicle.actuation.is_some() {
+        return Ok(crate::actuated::periodic::settle(vehicle, &motion)?.mean);
+    }
     let mut out = MeanLoads::default();
     let w = 1.0 / steps as f64;
     for k in 0..steps {
@@ -53,7 +60,7 @@ pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> MeanL
             }
         }
     }
-    out
+    Ok(out)
 }
 
 impl MeanLoads {

@@ -1,7 +1,9 @@
 //! Hover control: a linear-quadratic regulator designed on the averaged model, discretised
-//! over one wingbeat, that sets the kinematics once per wingbeat (mean stroke angle for
+//! over one wingbeat, that sets the controls once per wingbeat (mean stroke angle for
 //! pitch, amplitude for height, left-right amplitude difference for roll, left-right pitch
-//! bias difference for yaw), with an optional sensor delay in whole wingbeats.
+//! bias difference for yaw; on an actuated vehicle the drive's bias, amplitude, amplitude
+//! difference and second-harmonic difference), with an optional sensor delay in whole
+//! wingbeats.
 
 use std::collections::VecDeque;
 
@@ -9,7 +11,7 @@ use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::linear::{AveragedModel, N_CONTROLS, N_STATES, controls_with};
+use crate::linear::{AveragedModel, N_CONTROLS, N_STATES};
 use crate::model::{Controls, Vehicle};
 use crate::sim::{Mode, Simulation, State, StepOutput};
 use crate::trim::Trim;
@@ -25,8 +27,14 @@ pub struct LqrWeights {
     pub attitude_rad: f64,
     /// Angular rate, rad per wingbeat.
     pub rate_rad_per_wingbeat: f64,
-    /// Control excursion, rad.
+    /// Control excursion, rad (kinematic controls).
     pub control_rad: f64,
+    /// Control excursion of a drive voltage channel, V (actuated vehicles).
+    #[serde(default = "default_control_v")]
+    pub control_v: f64,
+    /// Control excursion of the second-harmonic difference (actuated vehicles).
+    #[serde(default = "default_control_second_harmonic")]
+    pub control_second_harmonic: f64,
     /// Time scale of the position-error integral, s (its weight is 1/(position x this)^2).
     pub integral_time_s: f64,
 }
@@ -39,7 +47,33 @@ impl Default for LqrWeights {
             attitude_rad: 2f64.to_radians(),
             rate_rad_per_wingbeat: 1f64.to_radians(),
             control_rad: 10f64.to_radians(),
+            control_v: default_control_v(),
+            control_second_harmonic: default_control_second_harmonic(),
             integral_time_s: 0.1,
+        }
+    }
+}
+
+fn default_control_v() -> f64 {
+    10.0
+}
+
+fn default_control_second_harmonic() -> f64 {
+    0.1
+}
+
+impl LqrWeights {
+    /// The largest acceptable excursion of each of `vehicle`'s control channels.
+    pub fn control_max(&self, vehicle: &Vehicle) -> [f64; N_CONTROLS] {
+        if vehicle.drive_controlled() {
+            [
+                self.control_v,
+                self.control_v,
+                self.control_v,
+                self.control_second_harmonic,
+            ]
+        } else {
+            [self.control_rad; N_CONTROLS]
         }
     }
 }
@@ -53,7 +87,10 @@ pub struct HoverController {
     reference_m: Vector3<f64>,
     delay_wingbeats: usize,
     history: VecDeque<DVector<f64>>,
-    limit_rad: f64,
+    /// Saturation of each channel: three times its design excursion.
+    limits: [f64; N_CONTROLS],
+    /// The channels are drive parameters.
+    drive: bool,
     /// Integral of the position error, m s.
     integral: Vector3<f64>,
     period_s: f64,
@@ -107,7 +144,7 @@ impl HoverController {
         delay_wingbeats: usize,
     ) -> Result<Self> {
         let model = AveragedModel::new(vehicle, trim.attitude(), trim.controls, 100);
-        let (a, b) = model.linearize(&DVector::zeros(N_STATES));
+        let (a, b) = model.linearize(&DVector::zeros(N_STATES))?;
         let period = 1.0 / vehicle.freq_hz();
         let (ad, bd) = discretize(&a, &b, period);
         let l = vehicle.length_m;
@@ -147,7 +184,11 @@ impl HoverController {
                 .map(|x| 1.0 / (x * x))
                 .chain(std::iter::repeat_n(1.0 / (zmax * zmax), 3)),
         ));
-        let r = DMatrix::identity(N_CONTROLS, N_CONTROLS) / (w.control_rad * w.control_rad);
+        let umax = w.control_max(vehicle);
+        let r = DMatrix::from_diagonal(&DVector::from_iterator(
+            N_CONTROLS,
+            umax.iter().map(|u| 1.0 / (u * u)),
+        ));
         let gain = dlqr(&a_aug, &b_aug, &q, &r)?;
         Ok(Self {
             gain,
@@ -156,7 +197,8 @@ impl HoverController {
             reference_m: vehicle.initial_position_m,
             delay_wingbeats,
             history: VecDeque::new(),
-            limit_rad: 3.0 * w.control_rad,
+            limits: umax.map(|u| 3.0 * u),
+            drive: vehicle.drive_controlled(),
             integral: Vector3::zeros(),
             period_s: period,
         })
@@ -201,9 +243,12 @@ impl HoverController {
         );
         self.integral += self.period_s * p;
         let u = -(&self.gain * aug);
-        let lim = self.limit_rad;
-        let u: Vec<f64> = u.iter().map(|v| v.clamp(-lim, lim)).collect();
-        controls_with(&self.trim_controls, &u)
+        let u: Vec<f64> = u
+            .iter()
+            .zip(&self.limits)
+            .map(|(v, lim)| v.clamp(-lim, *lim))
+            .collect();
+        self.trim_controls.with_channels(self.drive, &u)
     }
 }
 
@@ -260,9 +305,18 @@ pub fn run_hover(
     duration_s: f64,
     mut observer: impl FnMut(&StepOutput) -> bool,
 ) -> Result<HoverOutcome> {
-    crate::actuated::require_prescribed(vehicle, "closed-loop hover")?;
     let mut v = vehicle.clone();
     v.apply_controls(&trim.controls)?;
+    // An actuated vehicle starts with its wings on their periodic motion at the trim (as a
+    // hover that has been going on), not from rest.
+    let periodic = if v.actuation.is_some() {
+        Some(crate::actuated::periodic::settle(
+            &v,
+            &wingforce::BodyMotion::default(),
+        )?)
+    } else {
+        None
+    };
     let q_trim = trim.attitude();
     let start_q = q_trim
         * UnitQuaternion::from_scaled_axis(Vector3::new(
@@ -276,6 +330,9 @@ pub fn run_hover(
     let reference = v.initial_position_m;
     let length = v.length_m;
     let mut sim = Simulation::new(v, Mode::Free);
+    if let Some(p) = &periodic {
+        sim.start_wings_from(p);
+    }
     let n = (duration_s / sim.dt_s()).round() as u64;
     let mut max_p: f64 = 0.0;
     let mut max_a: f64 = 0.0;

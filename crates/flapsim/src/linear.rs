@@ -2,13 +2,18 @@
 //!
 //! State (12): world position (3), world velocity (3), attitude error delta (3, a rotation
 //! vector in the body frame: world_from_body = q_ref * exp(delta)), body angular velocity (3).
-//! Controls (4): mean stroke angle (pitch), amplitude (height), left-minus-right amplitude
-//! (roll), left-minus-right pitch bias (yaw), all in radians, as offsets on a reference.
-//! Loads are cycle averages at the frozen state (the averaged model of Sun and Xiong 2005).
+//! Controls (4), as offsets on a reference: for prescribed kinematics the mean stroke angle
+//! (pitch), amplitude (height), left-minus-right amplitude (roll) and left-minus-right pitch
+//! bias (yaw), in radians; for an actuated vehicle the drive's bias (pitch), amplitude
+//! (height) and left-minus-right amplitude (roll), in volts, and the left-minus-right second
+//! harmonic (yaw) ([`Vehicle::control_channels`]). Loads are cycle averages at the frozen
+//! state (the averaged model of Sun and Xiong 2005); an actuated vehicle's wings are run
+//! into their periodic motion at that state ([`crate::actuated::periodic`]).
 
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 
 use crate::averaged::{FrozenState, mean_loads};
+use crate::error::Result;
 use crate::model::{Controls, Vehicle};
 
 /// Number of states.
@@ -30,28 +35,14 @@ pub const STATE_NAMES: [&str; N_STATES] = [
     "q_rad_s",
     "r_rad_s",
 ];
-/// Control names.
-pub const CONTROL_NAMES: [&str; N_CONTROLS] = [
-    "mean_stroke_rad",
-    "amplitude_rad",
-    "diff_amplitude_rad",
-    "diff_pitch_bias_rad",
-];
+/// Control names of a vehicle with prescribed kinematics (an actuated vehicle's are
+/// [`crate::model::DRIVE_CHANNELS`]; [`Vehicle::control_channels`] picks).
+pub const CONTROL_NAMES: [&str; N_CONTROLS] = crate::model::KINEMATIC_CHANNELS;
 
 /// Indices of the longitudinal states: vx, vz, pitch error, pitch rate.
 pub const LONGITUDINAL: [usize; 4] = [3, 5, 7, 10];
 /// Indices of the lateral states: vy, roll error, yaw error, roll rate, yaw rate.
 pub const LATERAL: [usize; 5] = [4, 6, 8, 9, 11];
-
-/// Adds the 4 control inputs to a base set of controls.
-pub fn controls_with(base: &Controls, u: &[f64]) -> Controls {
-    let mut c = *base;
-    c.mean_stroke_rad += u[0];
-    c.amplitude_rad += u[1];
-    c.diff_amplitude_rad += u[2];
-    c.diff_pitch_bias_rad += u[3];
-    c
-}
 
 /// The averaged model about a reference attitude and controls.
 #[derive(Debug, Clone)]
@@ -83,13 +74,12 @@ impl AveragedModel {
         self.q_ref
     }
 
-    /// dx/dt for state `x` and control offsets `u`.
-    pub fn rhs(&self, x: &DVector<f64>, u: &[f64]) -> DVector<f64> {
+    /// dx/dt for state `x` and control offsets `u` (on [`Vehicle::control_channels`]).
+    pub fn rhs(&self, x: &DVector<f64>, u: &[f64]) -> Result<DVector<f64>> {
         let mut v = self.vehicle.clone();
         if u.iter().any(|&x| x != 0.0) || v.controls != self.base_controls {
-            // Control changes keep the vehicle valid for small offsets; an invalid one
-            // (e.g. zero amplitude) leaves the controls unchanged and shows as no effect.
-            let _ = v.apply_controls(&controls_with(&self.base_controls, u));
+            let c = v.controls_with(&self.base_controls, u);
+            v.apply_controls(&c)?;
         }
         let delta = Vector3::new(x[6], x[7], x[8]);
         let q = self.q_ref * UnitQuaternion::from_scaled_axis(delta);
@@ -103,14 +93,14 @@ impl AveragedModel {
                 angular_velocity_body_rad_s: w_b,
             },
             self.samples,
-        );
+        )?;
         let acc = q * loads.total.force_n / v.mass_kg - Vector3::new(0.0, 0.0, v.gravity_m_s2);
         let i = &v.inertia_kg_m2;
         let i_inv = i.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
         let wdot = i_inv * (loads.total.moment_nm - w_b.cross(&(i * w_b)));
         // Attitude error rate: d/dt exp(delta) = exp(delta) [omega] to first order in delta.
         let ddot = w_b + 0.5 * delta.cross(&w_b);
-        DVector::from_iterator(
+        Ok(DVector::from_iterator(
             N_STATES,
             vel_w
                 .iter()
@@ -118,11 +108,12 @@ impl AveragedModel {
                 .chain(ddot.iter())
                 .chain(wdot.iter())
                 .copied(),
-        )
+        ))
     }
 
-    /// Jacobians (A, B) at state `x0` and zero control offset by central differences.
-    pub fn linearize(&self, x0: &DVector<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
+    /// Jacobians (A, B) at state `x0` and zero control offset by central differences
+    /// (control steps 1e-5 of each channel's scale, [`Vehicle::control_scales`]).
+    pub fn linearize(&self, x0: &DVector<f64>) -> Result<(DMatrix<f64>, DMatrix<f64>)> {
         let v = &self.vehicle;
         let l = v.length_m;
         let speed = v.wings[0].v_ref_m_s();
@@ -147,19 +138,21 @@ impl AveragedModel {
             let mut xm = x0.clone();
             xp[j] += hx[j];
             xm[j] -= hx[j];
-            let col = (self.rhs(&xp, &[0.0; 4]) - self.rhs(&xm, &[0.0; 4])) / (2.0 * hx[j]);
+            let col = (self.rhs(&xp, &[0.0; 4])? - self.rhs(&xm, &[0.0; 4])?) / (2.0 * hx[j]);
             a.set_column(j, &col);
         }
         let mut b = DMatrix::zeros(N_STATES, N_CONTROLS);
+        let scales = v.control_scales();
         for j in 0..N_CONTROLS {
+            let h = 1e-5 * scales[j];
             let mut up = [0.0; 4];
             let mut um = [0.0; 4];
-            up[j] = 1e-5;
-            um[j] = -1e-5;
-            let col = (self.rhs(x0, &up) - self.rhs(x0, &um)) / 2e-5;
+            up[j] = h;
+            um[j] = -h;
+            let col = (self.rhs(x0, &up)? - self.rhs(x0, &um)?) / (2.0 * h);
             b.set_column(j, &col);
         }
-        (a, b)
+        Ok((a, b))
     }
 }
 

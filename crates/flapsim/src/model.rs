@@ -57,6 +57,17 @@ pub struct ControlSpec {
     pub diff_pitch_bias_deg: f64,
     /// Left-minus-right mean stroke angle, deg.
     pub diff_mean_stroke_deg: f64,
+    /// Actuated vehicles: drive bias offset, V (shifts the mean stroke angle: pitch control).
+    pub bias_v: f64,
+    /// Actuated vehicles: drive amplitude offset, V (lift: height control).
+    pub amplitude_v: f64,
+    /// Actuated vehicles: left-minus-right drive amplitude, V (roll control).
+    pub diff_amplitude_v: f64,
+    /// Actuated vehicles: left-minus-right drive bias, V.
+    pub diff_bias_v: f64,
+    /// Actuated vehicles: left-minus-right second-harmonic fraction (split-cycle: unequal
+    /// down- and upstroke speeds, opposite on the two wings: yaw control).
+    pub diff_second_harmonic: f64,
 }
 
 /// Control inputs in SI units (radians, hertz); see [`ControlSpec`].
@@ -76,43 +87,98 @@ pub struct Controls {
     pub diff_pitch_bias_rad: f64,
     /// Left-minus-right mean stroke angle, rad.
     pub diff_mean_stroke_rad: f64,
+    /// Drive bias offset, V (actuated vehicles).
+    #[serde(default)]
+    pub bias_v: f64,
+    /// Drive amplitude offset, V (actuated vehicles).
+    #[serde(default)]
+    pub amplitude_v: f64,
+    /// Left-minus-right drive amplitude, V (actuated vehicles).
+    #[serde(default)]
+    pub diff_amplitude_v: f64,
+    /// Left-minus-right drive bias, V (actuated vehicles).
+    #[serde(default)]
+    pub diff_bias_v: f64,
+    /// Left-minus-right second-harmonic fraction (actuated vehicles).
+    #[serde(default)]
+    pub diff_second_harmonic: f64,
 }
 
+/// The four control channels of the averaged model, trim and the hover LQR, for a vehicle
+/// with prescribed kinematics (angles) or an actuated one (drive voltages).
+pub const KINEMATIC_CHANNELS: [&str; 4] = [
+    "mean_stroke_rad",
+    "amplitude_rad",
+    "diff_amplitude_rad",
+    "diff_pitch_bias_rad",
+];
+/// See [`KINEMATIC_CHANNELS`]: bias (pitch), amplitude (height), left-minus-right amplitude
+/// (roll) and left-minus-right second harmonic (yaw), the RoboBee's control scheme (Ma et
+/// al. 2013 steer pitch by the drive's bias, roll by the amplitude difference and yaw by
+/// split-cycle asymmetry).
+pub const DRIVE_CHANNELS: [&str; 4] = [
+    "bias_v",
+    "amplitude_v",
+    "diff_amplitude_v",
+    "diff_second_harmonic",
+];
+
 impl Controls {
-    /// The controls as a vector, in the order of [`Controls::NAMES`].
-    pub fn to_array(&self) -> [f64; 7] {
+    /// Adds offsets `u` on the four control channels of `channels` (see
+    /// [`KINEMATIC_CHANNELS`] and [`DRIVE_CHANNELS`]) to these controls.
+    pub fn with_channels(&self, drive: bool, u: &[f64]) -> Controls {
+        let mut c = *self;
+        if drive {
+            c.bias_v += u[0];
+            c.amplitude_v += u[1];
+            c.diff_amplitude_v += u[2];
+            c.diff_second_harmonic += u[3];
+        } else {
+            c.mean_stroke_rad += u[0];
+            c.amplitude_rad += u[1];
+            c.diff_amplitude_rad += u[2];
+            c.diff_pitch_bias_rad += u[3];
+        }
+        c
+    }
+
+    /// The values of the four channels (inverse of [`Controls::with_channels`] on zero).
+    pub fn channels(&self, drive: bool) -> [f64; 4] {
+        if drive {
+            [
+                self.bias_v,
+                self.amplitude_v,
+                self.diff_amplitude_v,
+                self.diff_second_harmonic,
+            ]
+        } else {
+            [
+                self.mean_stroke_rad,
+                self.amplitude_rad,
+                self.diff_amplitude_rad,
+                self.diff_pitch_bias_rad,
+            ]
+        }
+    }
+
+    /// The kinematic angle offsets are all zero (the frequency offset applies to both kinds).
+    fn kinematic_is_zero(&self) -> bool {
         [
             self.mean_stroke_rad,
             self.amplitude_rad,
             self.pitch_bias_rad,
-            self.freq_hz,
             self.diff_amplitude_rad,
             self.diff_pitch_bias_rad,
             self.diff_mean_stroke_rad,
         ]
+        .iter()
+        .all(|x| *x == 0.0)
     }
-    /// Inverse of [`Controls::to_array`].
-    pub fn from_array(a: [f64; 7]) -> Self {
-        Self {
-            mean_stroke_rad: a[0],
-            amplitude_rad: a[1],
-            pitch_bias_rad: a[2],
-            freq_hz: a[3],
-            diff_amplitude_rad: a[4],
-            diff_pitch_bias_rad: a[5],
-            diff_mean_stroke_rad: a[6],
-        }
+
+    /// The drive offsets are all zero.
+    fn drive_is_zero(&self) -> bool {
+        self.channels(true) == [0.0; 4] && self.diff_bias_v == 0.0
     }
-    /// Names (with units) of the array entries.
-    pub const NAMES: [&'static str; 7] = [
-        "mean_stroke_rad",
-        "amplitude_rad",
-        "pitch_bias_rad",
-        "freq_hz",
-        "diff_amplitude_rad",
-        "diff_pitch_bias_rad",
-        "diff_mean_stroke_rad",
-    ];
 }
 
 /// Simulation settings.
@@ -356,6 +422,16 @@ impl VehicleSpec {
                     60.0,
                 )?
                 .to_radians(),
+            bias_v: v.finite("controls.bias_v", c.bias_v)?,
+            amplitude_v: v.finite("controls.amplitude_v", c.amplitude_v)?,
+            diff_amplitude_v: v.finite("controls.diff_amplitude_v", c.diff_amplitude_v)?,
+            diff_bias_v: v.finite("controls.diff_bias_v", c.diff_bias_v)?,
+            diff_second_harmonic: v.within(
+                "controls.diff_second_harmonic",
+                c.diff_second_harmonic,
+                -1.0,
+                1.0,
+            )?,
         };
         let init = &self.initial;
         let vec = |name: &str, a: [f64; 3], lim: f64| -> Result<Vector3<f64>> {
@@ -456,12 +532,28 @@ impl Vehicle {
         k
     }
 
-    /// Applies control inputs to both wings (call between wingbeats).
+    /// Applies control inputs to both wings (call between wingbeats): kinematic offsets for
+    /// prescribed kinematics, drive offsets (on the model's drives) for an actuated vehicle;
+    /// offsets of the other kind are an error.
     pub fn apply_controls(&mut self, c: &Controls) -> Result<()> {
-        if self.actuation.is_some() && *c != Controls::default() {
+        if let Some(act) = &mut self.actuation {
+            if !c.kinematic_is_zero() {
+                return Err(crate::Error::Analysis(format!(
+                    "{} is actuated: its wing motion comes from the drive, so kinematic control offsets (mean stroke {:.2} deg, amplitude {:.2} deg, pitch bias {:.2} deg, ...) do not apply; use the drive controls (bias_v, amplitude_v, diff_amplitude_v, diff_bias_v, diff_second_harmonic)",
+                    self.name,
+                    c.mean_stroke_rad.to_degrees(),
+                    c.amplitude_rad.to_degrees(),
+                    c.pitch_bias_rad.to_degrees()
+                )));
+            }
+            act.drives = act.controlled_drives(c)?;
+            self.controls = *c;
+            return Ok(());
+        }
+        if !c.drive_is_zero() {
             return Err(crate::Error::Analysis(format!(
-                "{} is actuated: its wing motion comes from the drive, so the kinematic control offsets {:?} do not apply (drive-parameter controls are not implemented yet)",
-                self.name, c
+                "{} has prescribed kinematics: drive control offsets (bias {} V, amplitude {} V, ...) apply to actuated vehicles only",
+                self.name, c.bias_v, c.amplitude_v
             )));
         }
         for i in 0..2 {
@@ -481,6 +573,38 @@ impl Vehicle {
         self.controls = *c;
         self.mirror_symmetric = self.wings[0].kinematics() == self.wings[1].kinematics();
         Ok(())
+    }
+
+    /// Whether the control channels are drive parameters (an actuated vehicle).
+    pub fn drive_controlled(&self) -> bool {
+        self.actuation.is_some()
+    }
+
+    /// Names (with units) of the four control channels of this vehicle.
+    pub fn control_channels(&self) -> [&'static str; 4] {
+        if self.drive_controlled() {
+            DRIVE_CHANNELS
+        } else {
+            KINEMATIC_CHANNELS
+        }
+    }
+
+    /// `base` with offsets `u` on this vehicle's four control channels.
+    pub fn controls_with(&self, base: &Controls, u: &[f64]) -> Controls {
+        base.with_channels(self.drive_controlled(), u)
+    }
+
+    /// A typical excursion of each control channel (rad for kinematics; for a drive, a
+    /// tenth of the actuator's voltage limit and 0.1 of second harmonic): the scale of
+    /// finite differences and of the LQR's control weights.
+    pub fn control_scales(&self) -> [f64; 4] {
+        match &self.actuation {
+            Some(a) => {
+                let v = 0.1 * a.dynamics.stroke.voltage_limit_v();
+                [v, v, v, 0.1]
+            }
+            None => [1.0; 4],
+        }
     }
 
     /// Wingbeat frequency now, Hz (both wings share it): the drive frequency of an

@@ -51,7 +51,7 @@ pub struct BodyLoad {
 }
 
 impl BodyLoad {
-    fn add(&mut self, f: Vector3<f64>, m: Vector3<f64>) {
+    pub(crate) fn add(&mut self, f: Vector3<f64>, m: Vector3<f64>) {
         self.force_n += f;
         self.moment_nm += m;
     }
@@ -364,6 +364,19 @@ impl Simulation {
         self.pending = Some(controls);
     }
 
+    /// Continues an actuated vehicle's wings from a periodic motion found at a frozen body
+    /// state ([`crate::actuated::periodic::settle`] on this vehicle), instead of from rest.
+    /// The motion spans whole drive periods, so it joins the simulation's phase 0; call it
+    /// before the first step. Does nothing for prescribed kinematics.
+    pub fn start_wings_from(&mut self, p: &crate::actuated::PeriodicWings) {
+        if self.dynamic.is_some() {
+            self.dynamic = Some(Box::new(p.dynamic.clone()));
+            for (w, settled) in self.vehicle.wings.iter_mut().zip(&p.wings) {
+                w.set_stroke_reference(settled.stroke_reference().cloned());
+            }
+        }
+    }
+
     /// Holds the wings still (no aerodynamic loads at all) or lets them flap again.
     pub fn set_wings_still(&mut self, still: bool) {
         self.wings_still = still;
@@ -571,6 +584,11 @@ impl Simulation {
     fn apply_controls(&mut self, c: &Controls) -> Result<()> {
         let phase = self.phase();
         self.vehicle.apply_controls(c)?;
+        if let (Some(d), Some(a)) = (&mut self.dynamic, &self.vehicle.actuation) {
+            for (w, drive) in d.iter_mut().zip(a.drives) {
+                w.set_drive(drive)?;
+            }
+        }
         self.base_phase = phase;
         self.base_step = self.step;
         let freq_hz = self.vehicle.freq_hz();

@@ -154,11 +154,10 @@ pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
 /// Trims `vehicle`, linearises the averaged model and classifies the modes; with
 /// `floquet`, also computes the longitudinal monodromy matrix from full simulations.
 pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
-    crate::actuated::require_prescribed(vehicle, "stability analysis")?;
     let t = trim(vehicle)?;
     let v = trimmed_vehicle(vehicle, &t)?;
     let model = AveragedModel::new(&v, t.attitude(), t.controls, 200);
-    let (a, _) = model.linearize(&DVector::zeros(N_STATES));
+    let (a, _) = model.linearize(&DVector::zeros(N_STATES))?;
     let lon_names: Vec<&str> = LONGITUDINAL.iter().map(|&i| STATE_NAMES[i]).collect();
     let lat_names: Vec<&str> = LATERAL.iter().map(|&i| STATE_NAMES[i]).collect();
     let a_lon = submatrix(&a, &LONGITUDINAL);
@@ -200,8 +199,16 @@ fn lon_state(s: &State, q_trim: &UnitQuaternion<f64>) -> [f64; 4] {
 
 /// One wingbeat of the full simulation (longitudinal degrees of freedom) from a
 /// longitudinal perturbation `y` of the trim state.
-fn one_wingbeat(v: &Vehicle, q_trim: &UnitQuaternion<f64>, y: &[f64; 4]) -> Result<[f64; 4]> {
+fn one_wingbeat(
+    v: &Vehicle,
+    periodic: Option<&crate::actuated::PeriodicWings>,
+    q_trim: &UnitQuaternion<f64>,
+    y: &[f64; 4],
+) -> Result<[f64; 4]> {
     let mut sim = Simulation::new(v.clone(), SimMode::LONGITUDINAL);
+    if let Some(p) = periodic {
+        sim.start_wings_from(p);
+    }
     let s = State {
         position_m: Vector3::zeros(),
         world_from_body: q_trim * UnitQuaternion::from_scaled_axis(Vector3::new(0.0, y[2], 0.0)),
@@ -217,8 +224,17 @@ fn one_wingbeat(v: &Vehicle, q_trim: &UnitQuaternion<f64>, y: &[f64; 4]) -> Resu
 
 /// Floquet multipliers and exponents of the longitudinal motion about the trim.
 pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
-    crate::actuated::require_prescribed(v, "Floquet analysis")?;
     let q = t.attitude();
+    // An actuated vehicle's wings start every perturbed wingbeat on their periodic motion at
+    // the trim; the map is that of the body states with the wings' own states following.
+    let periodic = if v.actuation.is_some() {
+        Some(crate::actuated::periodic::settle(
+            v,
+            &wingforce::BodyMotion::default(),
+        )?)
+    } else {
+        None
+    };
     let speed = v.wings[0].v_ref_m_s();
     let eps = [speed * 1e-4, speed * 1e-4, 1e-5, 1e-3];
     let mut phi = DMatrix::zeros(4, 4);
@@ -227,7 +243,10 @@ pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
         let mut ym = [0.0; 4];
         yp[j] = eps[j];
         ym[j] = -eps[j];
-        let (p, m) = (one_wingbeat(v, &q, &yp)?, one_wingbeat(v, &q, &ym)?);
+        let (p, m) = (
+            one_wingbeat(v, periodic.as_ref(), &q, &yp)?,
+            one_wingbeat(v, periodic.as_ref(), &q, &ym)?,
+        );
         for i in 0..4 {
             phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);
         }

@@ -1,6 +1,9 @@
 //! Hover trim: the stroke amplitude (weight support), mean stroke angle (pitch-moment
 //! balance) and body pitch (no net horizontal force) at which the cycle-averaged forces and
-//! moments balance, found by Newton's method with finite-difference Jacobians.
+//! moments balance, found by Newton's method with finite-difference Jacobians. An actuated
+//! vehicle trims the same way on its drive: amplitude and bias voltage in place of stroke
+//! amplitude and mean stroke angle ([`Vehicle::control_channels`]), with its wings run into
+//! their periodic motion at every evaluation ([`crate::actuated::periodic`]).
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
@@ -48,12 +51,15 @@ pub fn attitude_for_pitch(pitch_rad: f64) -> UnitQuaternion<f64> {
     UnitQuaternion::from_euler_angles(0.0, -pitch_rad, 0.0)
 }
 
-fn residual(vehicle: &Vehicle, x: &Vector3<f64>) -> Option<Vector3<f64>> {
+/// The trim variables' offsets as control-channel offsets: x[0] on the amplitude channel,
+/// x[1] on the mean-stroke (or bias) channel.
+fn trim_controls(vehicle: &Vehicle, x: &Vector3<f64>) -> Controls {
+    vehicle.controls_with(&vehicle.controls, &[x[1], x[0], 0.0, 0.0])
+}
+
+fn residual(vehicle: &Vehicle, x: &Vector3<f64>) -> Result<Vector3<f64>> {
     let mut v = vehicle.clone();
-    let mut c = vehicle.controls;
-    c.amplitude_rad += x[0];
-    c.mean_stroke_rad += x[1];
-    v.apply_controls(&c).ok()?;
+    v.apply_controls(&trim_controls(vehicle, x))?;
     let q = attitude_for_pitch(x[2]);
     let m = mean_loads(
         &v,
@@ -63,11 +69,11 @@ fn residual(vehicle: &Vehicle, x: &Vector3<f64>) -> Option<Vector3<f64>> {
             angular_velocity_body_rad_s: Vector3::zeros(),
         },
         TRIM_SAMPLES,
-    );
+    )?;
     let f = q * m.total.force_n;
     let w = v.weight_n();
     let r_wing = v.wings[0].geometry().r_tip_m;
-    Some(Vector3::new(
+    Ok(Vector3::new(
         f.x / w,
         f.z / w - 1.0,
         m.total.moment_nm.y / (w * r_wing),
@@ -76,61 +82,74 @@ fn residual(vehicle: &Vehicle, x: &Vector3<f64>) -> Option<Vector3<f64>> {
 
 /// Finds the hover trim of `vehicle`, starting from its current controls and initial pitch.
 pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
-    crate::actuated::require_prescribed(vehicle, "hover trim")?;
     let (_, p0, _) = vehicle.initial_attitude.euler_angles();
     let mut x = Vector3::new(0.0, 0.0, -p0);
     let fail =
         |why: String| Error::Analysis(format!("no hover trim for `{}`: {why}", vehicle.name));
-    let mut r =
-        residual(vehicle, &x).ok_or_else(|| fail("the starting kinematics are invalid".into()))?;
+    let mut r = residual(vehicle, &x)
+        .map_err(|e| fail(format!("at the starting controls: {e}")))?;
+    // Finite-difference steps: 1e-6 rad of the kinematic channels, 1e-6 of a drive
+    // channel's scale (Vehicle::control_scales), 1e-6 rad of body pitch.
+    let scales = vehicle.control_scales();
+    let h = [1e-6 * scales[1], 1e-6 * scales[0], 1e-6];
     for it in 0..40 {
         if r.amax() < 1e-10 {
             return Ok(finish(vehicle, x, r, it));
         }
-        let h = 1e-6;
         let mut jac = Matrix3::zeros();
         for j in 0..3 {
             let mut xp = x;
             let mut xm = x;
-            xp[j] += h;
-            xm[j] -= h;
-            let (Some(rp), Some(rm)) = (residual(vehicle, &xp), residual(vehicle, &xm)) else {
-                return Err(fail(
-                    "the kinematics left the allowed range during the search".into(),
-                ));
-            };
-            jac.set_column(j, &((rp - rm) / (2.0 * h)));
+            xp[j] += h[j];
+            xm[j] -= h[j];
+            let rp = residual(vehicle, &xp).map_err(|e| fail(format!("during the search: {e}")))?;
+            let rm = residual(vehicle, &xm).map_err(|e| fail(format!("during the search: {e}")))?;
+            jac.set_column(j, &((rp - rm) / (2.0 * h[j])));
         }
         let Some(step) = jac.lu().solve(&(-r)) else {
             return Err(fail(
                 "the trim Jacobian is singular (the controls do not affect the balance)".into(),
             ));
         };
-        // Damped step: halve until the residual falls.
+        // Damped step: halve until the residual falls (or the controls become valid).
         let mut lambda = 1.0;
+        let mut last_error = None;
         loop {
             let cand = x + lambda * step;
-            if let Some(rc) = residual(vehicle, &cand) {
-                if rc.norm() < r.norm() || lambda < 1e-3 {
+            match residual(vehicle, &cand) {
+                Ok(rc) if rc.norm() < r.norm() || lambda < 1e-3 => {
                     x = cand;
                     r = rc;
                     break;
                 }
+                Ok(_) => {}
+                Err(e) => last_error = Some(e),
             }
             lambda *= 0.5;
             if lambda < 1e-4 {
+                return Err(fail(match last_error {
+                    Some(e) => format!(
+                        "Newton stalled with residual {:.3e}; the last step tried was refused: {e}",
+                        r.norm()
+                    ),
+                    None => format!("Newton stalled with residual {:.3e}", r.norm()),
+                }));
+            }
+        }
+        if !vehicle.drive_controlled() {
+            let amp =
+                vehicle.base_kinematics[0].amplitude_rad + vehicle.controls.amplitude_rad + x[0];
+            if !(0.0..=std::f64::consts::PI).contains(&amp) || x[1].abs() > 1.0 {
                 return Err(fail(format!(
-                    "Newton stalled with residual {:.3e}",
-                    r.norm()
+                    "the search left the allowed range (amplitude {:.1} deg of (0, 180], mean stroke offset {:.1} deg of [-57, 57])",
+                    amp.to_degrees(),
+                    x[1].to_degrees(),
                 )));
             }
         }
-        let amp = vehicle.base_kinematics[0].amplitude_rad + vehicle.controls.amplitude_rad + x[0];
-        if !(0.0..=std::f64::consts::PI).contains(&amp) || x[1].abs() > 1.0 || x[2].abs() > 1.5 {
+        if x[2].abs() > 1.5 {
             return Err(fail(format!(
-                "the search left the allowed range (amplitude {:.1} deg of (0, 180], mean stroke offset {:.1} deg of [-57, 57], pitch {:.1} deg of [-86, 86])",
-                amp.to_degrees(),
-                x[1].to_degrees(),
+                "the search left the allowed range (body pitch {:.1} deg of [-86, 86])",
                 x[2].to_degrees()
             )));
         }
@@ -146,11 +165,8 @@ pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
 }
 
 fn finish(vehicle: &Vehicle, x: Vector3<f64>, r: Vector3<f64>, iterations: usize) -> Trim {
-    let mut c = vehicle.controls;
-    c.amplitude_rad += x[0];
-    c.mean_stroke_rad += x[1];
     Trim {
-        controls: c,
+        controls: trim_controls(vehicle, &x),
         pitch_rad: x[2],
         residual_fx_over_weight: r[0],
         residual_fz_over_weight: r[1],

@@ -138,6 +138,9 @@ pub struct Geometry {
     pub sqrt_sxx_syy_m4: f64,
     /// S_x|x| = int x|x| dS, m^4 (derived, or a measured override).
     pub sx_absx_m4: f64,
+    /// S_|x|^3 = int |x|^3 dS, m^5 (derived): the pitch-only rotational term's moment about
+    /// the pitch axis (see `Wing::kinematic_loads_in`).
+    pub s_absx3_m5: f64,
     /// Blade-element strips, root to tip.
     pub strips: Vec<Strip>,
     /// Span integrals for the added-mass term.
@@ -413,12 +416,14 @@ fn fine_breaks(breaks: &[f64], n_strips: usize) -> Vec<f64> {
     out
 }
 
-/// Chordwise integrals over one strip cross-section between `x_te` and `x_le`.
-fn section_moments(x_le: f64, c: f64) -> (f64, f64) {
+/// Chordwise integrals over one strip cross-section between `x_te` and `x_le`: of x^2,
+/// x|x| and |x|^3 (antiderivatives x^3/3, x^2|x|/3 and x^3|x|/4).
+fn section_moments(x_le: f64, c: f64) -> (f64, f64, f64) {
     let x_te = x_le - c;
     let xx = (x_le.powi(3) - x_te.powi(3)) / 3.0;
     let x_absx = (x_le * x_le * x_le.abs() - x_te * x_te * x_te.abs()) / 3.0;
-    (xx, x_absx)
+    let absx3 = (x_le.powi(3) * x_le.abs() - x_te.powi(3) * x_te.abs()) / 4.0;
+    (xx, x_absx, absx3)
 }
 
 fn derive(
@@ -438,6 +443,7 @@ fn derive(
     let integ = |g: &dyn Fn(f64) -> f64| quad::piecewise(&fine, panels, g);
     let sxx = integ(&|r| section_moments(shape.le_offset(r), shape.chord(r)).0);
     let sx_absx = integ(&|r| section_moments(shape.le_offset(r), shape.chord(r)).1);
+    let s_absx3 = integ(&|r| section_moments(shape.le_offset(r), shape.chord(r)).2);
     let x_mid = |r: f64| shape.le_offset(r) - 0.5 * shape.chord(r);
     let c2 = |r: f64| shape.chord(r).powi(2);
     let added_mass = AddedMassIntegrals {
@@ -491,6 +497,7 @@ fn derive(
         syy_m4: syy,
         sqrt_sxx_syy_m4: overrides.sqrt_sxx_syy_m4.unwrap_or((sxx * syy).sqrt()),
         sx_absx_m4: overrides.sx_absx_m4.unwrap_or(sx_absx),
+        s_absx3_m5: s_absx3,
         strips,
         added_mass,
     })

@@ -585,7 +585,16 @@ impl Wing {
                 * rho
                 * (g.sqrt_sxx_syy_m4 * a.phi_dot.abs() * td - g.sx_absx_m4 * td * td.abs());
             let f = mag * frame.n;
-            let m = (g.r_gyration_m * frame.e_span).cross(&f);
+            // The pitch-only part is a sum of strip forces C_rot rho x|x| theta_dot|theta_dot|
+            // dS at their own chordwise stations x; applied on the pitch axis the force keeps
+            // its lift and stroke-axis moment, and its moment about the pitch axis is added
+            // from the same integrand: -C_rot rho S_|x|^3 theta_dot|theta_dot|, opposing the
+            // rotation (the rotational damping that a passive-pitch hinge relies on, as in
+            // Whitney & Wood 2010, J. Fluid Mech. 660:197). Prescribed kinematics only
+            // report it; a dynamic pitch feels it.
+            let damping = -self.options.c_rot * rho * g.s_absx3_m5 * td * td.abs();
+            let m = (g.r_gyration_m * frame.e_span).cross(&f)
+                + damping * frame.pitch_axis(self.mount.side);
             terms[1] = frame.term(f, m, c.q_ref_s_n, sp.downstroke);
         }
 

@@ -8,6 +8,8 @@
 //! - [`dynamics`]: the wing's two-degree-of-freedom equations and their sub-stepped
 //!   integrator (the module doc states both);
 //! - [`spec`]: the `[actuation]` section of a vehicle model file;
+//! - [`periodic`]: the wings run into their periodic motion at a frozen body state (what
+//!   trim, the averaged model and a hover start need);
 //! - [`response`]: the frequency response of the tethered vehicle (what a MAV builder reads
 //!   the resonance from).
 //!
@@ -19,6 +21,7 @@
 pub mod actuator;
 pub mod drive;
 pub mod dynamics;
+pub mod periodic;
 pub mod response;
 pub mod spec;
 
@@ -27,18 +30,6 @@ pub use drive::Drive;
 pub use dynamics::{
     ActuatedWingOutput, DynamicWing, Hinge, Stroke, WingDynamics, WingInertia, WingState, WingStep,
 };
+pub use periodic::{PERIODIC_TOLERANCE_RAD, PeriodicWings, settle};
 pub use response::{FrequencyResponse, ResponseOptions, ResponsePoint, frequency_response};
 pub use spec::{Actuation, ActuationSpec};
-
-/// Refuses an analysis that is built on prescribed kinematics (cycle averages of the wings'
-/// kinematic loads) for an actuated vehicle, whose wing motion those kinematics do not
-/// describe: an error rather than a silently wrong answer.
-pub(crate) fn require_prescribed(vehicle: &crate::Vehicle, what: &str) -> crate::Result<()> {
-    if vehicle.actuation.is_some() {
-        return Err(crate::Error::Analysis(format!(
-            "{what} of {}: not available for actuated vehicles yet (their controls are drive parameters, and this analysis averages prescribed kinematics); use `simulate` or `frequency-response`",
-            vehicle.name
-        )));
-    }
-    Ok(())
-}

@@ -97,6 +97,11 @@ pub struct ActuationSpec {
     /// Wing-dynamics sub-steps per body step.
     #[serde(default = "default_substeps")]
     pub substeps: usize,
+    /// Drive periods run from rest, at a frozen body state, before the wings' periodic motion
+    /// is averaged (trim, the averaged model, the start of a hover); the motion must then
+    /// repeat to within [`super::periodic::PERIODIC_TOLERANCE_RAD`] or the analysis stops.
+    #[serde(default = "default_settle_cycles")]
+    pub settle_cycles: usize,
     /// Wing mass properties.
     pub wing_inertia: WingInertiaSpec,
     /// The pitch hinge.
@@ -113,6 +118,10 @@ pub struct ActuationSpec {
     pub drive: DriveSpec,
 }
 
+fn default_settle_cycles() -> usize {
+    40
+}
+
 fn default_substeps() -> usize {
     1
 }
@@ -122,8 +131,43 @@ fn default_substeps() -> usize {
 pub struct Actuation {
     /// The wing's dynamic model.
     pub dynamics: WingDynamics,
-    /// Left and right drives.
+    /// Left and right drives now (the model's drives with the controls applied).
     pub drives: [Drive; 2],
+    /// Left and right drives of the model file (controls are offsets on these).
+    pub base_drives: [Drive; 2],
+    /// See [`ActuationSpec::settle_cycles`].
+    pub settle_cycles: usize,
+}
+
+impl Actuation {
+    /// The drives under drive controls `c` (offsets on the model's drives; left-minus-right
+    /// differences split half and half), checked against the actuator's voltage limit.
+    pub fn controlled_drives(&self, c: &crate::model::Controls) -> Result<[Drive; 2]> {
+        let lim = self.dynamics.stroke.voltage_limit_v();
+        let mut out = self.base_drives;
+        for (i, d) in out.iter_mut().enumerate() {
+            let half = if i == 0 { 0.5 } else { -0.5 };
+            d.freq_hz += c.freq_hz;
+            d.bias_v += c.bias_v + half * c.diff_bias_v;
+            d.amplitude_v += c.amplitude_v + half * c.diff_amplitude_v;
+            d.second_harmonic += half * c.diff_second_harmonic;
+            let side = if i == 0 { "left" } else { "right" };
+            if !(d.peak_bound_v() <= lim) || !(d.freq_hz > 0.0) {
+                return Err(crate::Error::Analysis(format!(
+                    "the drive controls (bias {:+.2} V, amplitude {:+.2} V, differences {:+.2} V amplitude, {:+.2} V bias, {:+.3} second harmonic, frequency {:+.2} Hz) give the {side} wing a peak |V| up to {:.1} V at {:.1} Hz; allowed: |V| <= {lim} V (the actuator's limit) and a frequency > 0",
+                    c.bias_v,
+                    c.amplitude_v,
+                    c.diff_amplitude_v,
+                    c.diff_bias_v,
+                    c.diff_second_harmonic,
+                    c.freq_hz,
+                    d.peak_bound_v(),
+                    d.freq_hz
+                )));
+            }
+        }
+        Ok(out)
+    }
 }
 
 impl ActuationSpec {
@@ -273,6 +317,20 @@ impl ActuationSpec {
                     .into());
             }
         }
-        Ok(Actuation { dynamics, drives })
+        if !(1..=10_000).contains(&self.settle_cycles) {
+            return Err(v
+                .invalid(
+                    &f("settle_cycles"),
+                    self.settle_cycles,
+                    "an integer in [1, 10000]",
+                )
+                .into());
+        }
+        Ok(Actuation {
+            dynamics,
+            drives,
+            base_drives: drives,
+            settle_cycles: self.settle_cycles,
+        })
     }
 }

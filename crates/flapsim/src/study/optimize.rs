@@ -234,7 +234,7 @@ pub fn optimize_hover(
     };
     let design = |values: Vec<f64>| -> crate::Result<HoverDesign> {
         let v = study.vehicle_at(&values)?;
-        let r = hover_responses(&v, study.steps_per_wingbeat);
+        let r = hover_responses(&v, study.steps_per_wingbeat)?;
         Ok(HoverDesign {
             values,
             lift_over_weight: r.vertical_force_n / r.weight_n,

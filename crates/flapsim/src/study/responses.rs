@@ -151,23 +151,40 @@ impl HoverResponses {
     }
 }
 
-/// Evaluates a vehicle tethered at its hover attitude over one wingbeat of `steps` samples.
-pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> HoverResponses {
+/// Evaluates a vehicle tethered at its hover attitude over one wingbeat of `steps` samples
+/// (an actuated vehicle: over one period of its wings' periodic motion, at the simulation's
+/// step; see [`crate::actuated::periodic`]).
+pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> crate::Result<HoverResponses> {
     let still = BodyMotion::default();
     let state = FrozenState {
         world_from_body: vehicle.initial_attitude,
         velocity_body_m_s: Vector3::zeros(),
         angular_velocity_body_rad_s: Vector3::zeros(),
     };
-    let loads = mean_loads(vehicle, &state, steps);
+    // The wings whose wake-capture inputs count: an actuated wing's are measured on its
+    // periodic motion.
+    let (loads, samples, wings) = if vehicle.actuation.is_some() {
+        let p = crate::actuated::periodic::settle(vehicle, &still)?;
+        (p.mean, p.samples, p.wings)
+    } else {
+        let samples = (0..steps)
+            .map(|k| {
+                let phase = k as f64 / steps as f64;
+                [0, 1].map(|i| vehicle.wings[i].evaluate(phase, &still))
+            })
+            .collect::<Vec<_>>();
+        (
+            mean_loads(vehicle, &state, steps)?,
+            samples,
+            vehicle.wings.clone(),
+        )
+    };
     let mut means = [CycleMean::default(); 2];
     let mut power = 0.0;
-    let w = 1.0 / steps as f64;
-    for k in 0..steps {
-        let phase = k as f64 * w;
-        for (wing, mean) in vehicle.wings.iter().zip(means.iter_mut()) {
-            let f = wing.evaluate(phase, &still);
-            mean.accumulate(&f, w);
+    let w = 1.0 / samples.len() as f64;
+    for forces in &samples {
+        for ((wing, mean), f) in vehicle.wings.iter().zip(means.iter_mut()).zip(forces) {
+            mean.accumulate(f, w);
             let omega_body =
                 wing.body_from_stroke() * WingFrame::new(&f.angles, wing.mount().side).omega;
             power -= w * f.total.moment_hinge_nm.dot(&omega_body);
@@ -183,13 +200,13 @@ pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> HoverResponses {
     }
     let mut peak = 0.0;
     let mut clamped = false;
-    for wing in &vehicle.wings {
+    for wing in &wings {
         if let Some(p) = wing.wake_capture() {
             peak += 0.5 * p.coefficients(p.mu_star).0;
             clamped |= p.flags.any();
         }
     }
-    HoverResponses {
+    Ok(HoverResponses {
         cl_mean,
         cd_mean,
         vertical_force_n: loads.force_world_n(&vehicle.initial_attitude).z,
@@ -200,5 +217,5 @@ pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> HoverResponses {
         reynolds: vehicle.wings[0].reynolds(),
         wake_capture_clamped: clamped,
         trim_feasible: None,
-    }
+    })
 }

@@ -35,7 +35,13 @@ impl Study {
     /// Evaluates one case.
     pub fn evaluate(&self, case: usize) -> StudyResult<CaseResult> {
         let vehicle = self.vehicle(case)?;
-        let mut all = hover_responses(&vehicle, self.steps_per_wingbeat);
+        let mut all = hover_responses(&vehicle, self.steps_per_wingbeat).map_err(|source| {
+            StudyError::Case {
+                case,
+                settings: self.settings_text(case),
+                source,
+            }
+        })?;
         if self.responses.contains(&Response::TrimFeasible) {
             all.trim_feasible = Some(crate::trim::trim(&vehicle).is_ok());
         }

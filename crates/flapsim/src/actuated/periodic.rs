@@ -1,0 +1,134 @@
+//! The wings' periodic motion at a frozen body state: what the averaged model, trim and the
+//! start of a hover need of an actuated vehicle, whose wing motion is not given but comes
+//! out of the drive.
+//!
+//! Both wings are integrated from rest (at their springs' rest angles) with the body held at
+//! the frozen velocity and angular velocity for [`super::Actuation::settle_cycles`] drive
+//! periods, then for one more period over which the aerodynamic loads are averaged. The run
+//! has a fixed length, so the mean loads are a smooth function of the drive and the body
+//! state (finite-difference Jacobians stay clean). The motion must have become periodic:
+//! the angles (and the rates times the period over 2 pi) at the start and the end of the
+//! averaged period agree to [`PERIODIC_TOLERANCE_RAD`], or the analysis stops with an error
+//! that says how far the motion still drifts.
+//!
+//! Only the aerodynamic loads are averaged: the wings' and actuators' inertial reaction is
+//! the time derivative of a periodic momentum (and angular momentum about the hinge), so
+//! its cycle mean is zero.
+
+use wingforce::{BodyMotion, Term, Wing, WingForces};
+
+use super::dynamics::{DynamicWing, WingState};
+use crate::averaged::MeanLoads;
+use crate::error::{Error, Result};
+use crate::model::Vehicle;
+
+/// Largest change of a wing angle over the averaged period for the motion to count as
+/// periodic, rad (0.06 deg).
+pub const PERIODIC_TOLERANCE_RAD: f64 = 1e-3;
+
+/// Two wings on their periodic motion at a frozen body state.
+#[derive(Debug, Clone)]
+pub struct PeriodicWings {
+    /// The wings' dynamics at the end of the averaged period (a whole number of drive
+    /// periods from the start: a simulation can continue from here at phase 0).
+    pub dynamic: [DynamicWing; 2],
+    /// The wings with the stroke reference (wake-capture inputs) measured on the way.
+    pub wings: [Wing; 2],
+    /// Mean aerodynamic loads over the averaged period (body frame, about the CoM).
+    pub mean: MeanLoads,
+    /// Each wing's forces at every step of the averaged period (phase k / steps).
+    pub samples: Vec<[WingForces; 2]>,
+    /// Largest change of an angle (or a rate times period / 2 pi) over that period, rad.
+    pub drift_rad: f64,
+    /// Drive periods run in all.
+    pub cycles: usize,
+}
+
+fn largest_change(a: &[WingState; 2], b: &[WingState; 2], period_s: f64) -> f64 {
+    let k = period_s / (2.0 * std::f64::consts::PI);
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| {
+            [
+                (a.phi_rad - b.phi_rad).abs(),
+                (a.theta_rad - b.theta_rad).abs(),
+                k * (a.phi_dot_rad_s - b.phi_dot_rad_s).abs(),
+                k * (a.theta_dot_rad_s - b.theta_dot_rad_s).abs(),
+            ]
+            .into_iter()
+            .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Runs the wings of actuated `vehicle` into their periodic motion with the body moving as
+/// `motion` (held fixed), and averages their aerodynamic loads over one period.
+pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
+    let Some(act) = &vehicle.actuation else {
+        return Err(Error::Analysis(format!(
+            "{} has prescribed kinematics: its wings have no dynamics to settle",
+            vehicle.name
+        )));
+    };
+    let n = vehicle.sim.steps_per_wingbeat;
+    let freq_hz = act.drives[0].freq_hz;
+    let period_s = 1.0 / freq_hz;
+    let dt_s = period_s / n as f64;
+    let mut dynamic = [
+        DynamicWing::new(act.dynamics.clone(), act.drives[0])?,
+        DynamicWing::new(act.dynamics.clone(), act.drives[1])?,
+    ];
+    let mut wings = vehicle.wings.clone();
+    let what = |e: Error| match e {
+        Error::Diverged { t_s, reason, .. } => Error::Analysis(format!(
+            "the wings of {} have no periodic motion at this drive and body state: {reason} (t = {t_s:.5} s after the start from rest)",
+            vehicle.name
+        )),
+        e => e,
+    };
+    for _ in 0..act.settle_cycles * n {
+        for i in 0..2 {
+            dynamic[i].step(&mut wings[i], motion, dt_s).map_err(what)?;
+        }
+    }
+    let start = [dynamic[0].state(), dynamic[1].state()];
+    let mut mean = MeanLoads::default();
+    let mut samples = Vec::with_capacity(n);
+    let w = 1.0 / n as f64;
+    for _ in 0..n {
+        let mut forces = [None, None];
+        for i in 0..2 {
+            let s = dynamic[i].step(&mut wings[i], motion, dt_s).map_err(what)?;
+            forces[i] = Some(s.forces);
+            let hinge = wings[i].mount().hinge_in_body_m;
+            for term in Term::ALL {
+                let t = s.forces.term(term);
+                let m = t.moment_about_com_nm(&hinge);
+                mean.terms[term as usize].add(w * t.force_n, w * m);
+                mean.total.add(w * t.force_n, w * m);
+            }
+        }
+        if let [Some(l), Some(r)] = forces {
+            samples.push([l, r]);
+        }
+    }
+    let end = [dynamic[0].state(), dynamic[1].state()];
+    let drift_rad = largest_change(&start, &end, period_s);
+    if !(drift_rad <= PERIODIC_TOLERANCE_RAD) {
+        return Err(Error::Analysis(format!(
+            "the wings of {} did not settle into a periodic motion in {} drive periods: an angle still changes by {:.3} deg per period (allowed: {:.3} deg); raise [actuation] settle_cycles",
+            vehicle.name,
+            act.settle_cycles,
+            drift_rad.to_degrees(),
+            PERIODIC_TOLERANCE_RAD.to_degrees()
+        )));
+    }
+    Ok(PeriodicWings {
+        dynamic,
+        wings,
+        mean,
+        samples,
+        drift_rad,
+        cycles: act.settle_cycles + 1,
+    })
+}
