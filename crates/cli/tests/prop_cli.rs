@@ -316,7 +316,7 @@ fn duration_text(max_s: f64) -> impl Strategy<Value = (String, bool)> {
 fn vehicle_model() -> impl Strategy<Value = (Option<String>, bool)> {
     prop_oneof![
         2 => Just((None, true)),
-        2 => prop::sample::select(vec!["drosophila", "robobee", "bumblebee"])
+        2 => prop::sample::select(vec!["drosophila", "robobee_kinematic", "bumblebee"])
             .prop_map(|s| (Some(s.to_owned()), true)),
         1 => prop::sample::select(vec![
             "Drosophila", "nonesuch.toml", "", ".", "/", "drosophila.toml",

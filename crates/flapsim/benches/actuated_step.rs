@@ -12,9 +12,9 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use flapsim::{Mode, Simulation, Vehicle};
 
 fn vehicles() -> (Vehicle, Vehicle) {
-    let prescribed = Vehicle::from_toml(flapsim::ROBOBEE_TOML, "robobee").expect("built-in");
-    let actuated =
-        Vehicle::from_toml(flapsim::ROBOBEE_ACTUATED_TOML, "robobee_actuated").expect("built-in");
+    let prescribed =
+        Vehicle::from_toml(flapsim::ROBOBEE_KINEMATIC_TOML, "robobee").expect("built-in");
+    let actuated = Vehicle::from_toml(flapsim::ROBOBEE_TOML, "robobee").expect("built-in");
     (prescribed, actuated)
 }
 
@@ -31,9 +31,9 @@ fn stepper(v: &Vehicle) -> impl FnMut() {
 fn bench(c: &mut Criterion) {
     let (prescribed, actuated) = vehicles();
     let mut p = stepper(&prescribed);
-    c.bench_function("robobee_prescribed_free_step", |b| b.iter(&mut p));
+    c.bench_function("robobee_kinematic_free_step", |b| b.iter(&mut p));
     let mut a = stepper(&actuated);
-    c.bench_function("robobee_actuated_free_step", |b| b.iter(&mut a));
+    c.bench_function("robobee_free_step", |b| b.iter(&mut a));
     ratio_rounds(&prescribed, &actuated);
 }
 

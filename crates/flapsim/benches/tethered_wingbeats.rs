@@ -29,7 +29,7 @@ fn bench(c: &mut Criterion) {
         b.iter(|| mean_loads(black_box(&vehicle), black_box(&state), STEPS_PER_WINGBEAT))
     });
     group.bench_function("study_case_hover_responses", |b| {
-        b.iter(|| hover_responses(black_box(&vehicle), STEPS_PER_WINGBEAT))
+        b.iter(|| hover_responses(black_box(&vehicle), STEPS_PER_WINGBEAT).expect("built-in"))
     });
     group.finish();
 }

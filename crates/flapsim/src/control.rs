@@ -55,7 +55,7 @@ impl Default for LqrWeights {
 }
 
 fn default_control_v() -> f64 {
-    10.0
+    30.0
 }
 
 fn default_control_second_harmonic() -> f64 {

@@ -29,23 +29,23 @@ pub use summary::{RunSummary, SummaryBuilder};
 
 /// The built-in default vehicle (a hovering fruit fly).
 pub const DROSOPHILA_TOML: &str = include_str!("../../../models/drosophila.toml");
-/// The built-in RoboBee-class vehicle.
+/// The built-in RoboBee-class vehicle with prescribed wing kinematics.
+pub const ROBOBEE_KINEMATIC_TOML: &str = include_str!("../../../models/robobee_kinematic.toml");
+/// The built-in RoboBee-class vehicle: actuated wings (piezo stroke, passive pitch).
 pub const ROBOBEE_TOML: &str = include_str!("../../../models/robobee.toml");
-/// The built-in RoboBee-class vehicle with actuated wings (piezo stroke, passive pitch).
-pub const ROBOBEE_ACTUATED_TOML: &str = include_str!("../../../models/robobee_actuated.toml");
 /// The built-in Purdue hummingbird robot (DC motors, passive pitch).
 pub const HUMMINGBIRD_TOML: &str = include_str!("../../../models/hummingbird.toml");
 /// The built-in bumblebee of Sun and Xiong (2005).
 pub const BUMBLEBEE_TOML: &str = include_str!("../../../models/bumblebee.toml");
 
-/// A built-in model's text by name (`drosophila`, `robobee`, `bumblebee`, and the actuated
-/// `robobee_actuated` and `hummingbird`).
+/// A built-in model's text by name (`drosophila`, `bumblebee`, `robobee_kinematic`, and the
+/// actuated `robobee` and `hummingbird`).
 pub fn builtin_model(name: &str) -> Option<&'static str> {
     match name {
         "drosophila" => Some(DROSOPHILA_TOML),
         "robobee" => Some(ROBOBEE_TOML),
+        "robobee_kinematic" => Some(ROBOBEE_KINEMATIC_TOML),
         "bumblebee" => Some(BUMBLEBEE_TOML),
-        "robobee_actuated" => Some(ROBOBEE_ACTUATED_TOML),
         "hummingbird" => Some(HUMMINGBIRD_TOML),
         _ => None,
     }

@@ -377,6 +377,21 @@ impl Simulation {
         }
     }
 
+    /// The wings' dynamic states (left, right) of an actuated vehicle.
+    pub fn wing_states(&self) -> Option<[crate::actuated::WingState; 2]> {
+        self.dynamic.as_ref().map(|d| [d[0].state(), d[1].state()])
+    }
+
+    /// Overwrites the wings' dynamic states of an actuated vehicle (Floquet perturbations);
+    /// does nothing for prescribed kinematics.
+    pub fn set_wing_states(&mut self, states: [crate::actuated::WingState; 2]) {
+        if let Some(d) = &mut self.dynamic {
+            for (w, s) in d.iter_mut().zip(states) {
+                w.set_state(s);
+            }
+        }
+    }
+
     /// Holds the wings still (no aerodynamic loads at all) or lets them flap again.
     pub fn set_wings_still(&mut self, still: bool) {
         self.wings_still = still;

@@ -198,17 +198,16 @@ fn lon_state(s: &State, q_trim: &UnitQuaternion<f64>) -> [f64; 4] {
 }
 
 /// One wingbeat of the full simulation (longitudinal degrees of freedom) from a
-/// longitudinal perturbation `y` of the trim state.
+/// longitudinal perturbation `y` of the trim state. For an actuated vehicle, `y` goes on
+/// with the wing states (stroke, pitch and their rates, the same on both wings: a symmetric
+/// perturbation) as offsets from the periodic motion `periodic` starts at.
 fn one_wingbeat(
     v: &Vehicle,
     periodic: Option<&crate::actuated::PeriodicWings>,
     q_trim: &UnitQuaternion<f64>,
-    y: &[f64; 4],
-) -> Result<[f64; 4]> {
+    y: &[f64],
+) -> Result<Vec<f64>> {
     let mut sim = Simulation::new(v.clone(), SimMode::LONGITUDINAL);
-    if let Some(p) = periodic {
-        sim.start_wings_from(p);
-    }
     let s = State {
         position_m: Vector3::zeros(),
         world_from_body: q_trim * UnitQuaternion::from_scaled_axis(Vector3::new(0.0, y[2], 0.0)),
@@ -216,17 +215,40 @@ fn one_wingbeat(
         angular_velocity_body_rad_s: Vector3::new(0.0, y[3], 0.0),
     };
     sim.set_state(&s);
+    let reference = periodic.map(|p| {
+        sim.start_wings_from(p);
+        p.dynamic[0].state()
+    });
+    if let Some(w0) = reference {
+        let w = crate::actuated::WingState {
+            phi_rad: w0.phi_rad + y[4],
+            theta_rad: w0.theta_rad + y[5],
+            phi_dot_rad_s: w0.phi_dot_rad_s + y[6],
+            theta_dot_rad_s: w0.theta_dot_rad_s + y[7],
+        };
+        sim.set_wing_states([w, w]);
+    }
     for _ in 0..v.sim.steps_per_wingbeat {
         sim.step()?;
     }
-    Ok(lon_state(&sim.state(), q_trim))
+    let mut out = lon_state(&sim.state(), q_trim).to_vec();
+    if let (Some(w0), Some([w, _])) = (reference, sim.wing_states()) {
+        out.extend([
+            w.phi_rad - w0.phi_rad,
+            w.theta_rad - w0.theta_rad,
+            w.phi_dot_rad_s - w0.phi_dot_rad_s,
+            w.theta_dot_rad_s - w0.theta_dot_rad_s,
+        ]);
+    }
+    Ok(out)
 }
 
-/// Floquet multipliers and exponents of the longitudinal motion about the trim.
+/// Floquet multipliers and exponents of the longitudinal motion about the trim. For an
+/// actuated vehicle the monodromy matrix also spans the wings' own states (stroke, pitch and
+/// their rates, symmetric), whose memory from one wingbeat to the next couples into the body
+/// modes: 8 multipliers, the body's 4 and the wings' 4, sorted by real exponent.
 pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
     let q = t.attitude();
-    // An actuated vehicle's wings start every perturbed wingbeat on their periodic motion at
-    // the trim; the map is that of the body states with the wings' own states following.
     let periodic = if v.actuation.is_some() {
         Some(crate::actuated::periodic::settle(
             v,
@@ -236,18 +258,23 @@ pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
         None
     };
     let speed = v.wings[0].v_ref_m_s();
-    let eps = [speed * 1e-4, speed * 1e-4, 1e-5, 1e-3];
-    let mut phi = DMatrix::zeros(4, 4);
-    for j in 0..4 {
-        let mut yp = [0.0; 4];
-        let mut ym = [0.0; 4];
+    let mut eps = vec![speed * 1e-4, speed * 1e-4, 1e-5, 1e-3];
+    if periodic.is_some() {
+        let w = 2.0 * std::f64::consts::PI * v.freq_hz();
+        eps.extend([1e-5, 1e-5, 1e-5 * w, 1e-5 * w]);
+    }
+    let n = eps.len();
+    let mut phi = DMatrix::zeros(n, n);
+    for j in 0..n {
+        let mut yp = vec![0.0; n];
+        let mut ym = vec![0.0; n];
         yp[j] = eps[j];
         ym[j] = -eps[j];
         let (p, m) = (
             one_wingbeat(v, periodic.as_ref(), &q, &yp)?,
             one_wingbeat(v, periodic.as_ref(), &q, &ym)?,
         );
-        for i in 0..4 {
+        for i in 0..n {
             phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);
         }
     }

@@ -86,8 +86,8 @@ pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
     let mut x = Vector3::new(0.0, 0.0, -p0);
     let fail =
         |why: String| Error::Analysis(format!("no hover trim for `{}`: {why}", vehicle.name));
-    let mut r = residual(vehicle, &x)
-        .map_err(|e| fail(format!("at the starting controls: {e}")))?;
+    let mut r =
+        residual(vehicle, &x).map_err(|e| fail(format!("at the starting controls: {e}")))?;
     // Finite-difference steps: 1e-6 rad of the kinematic channels, 1e-6 of a drive
     // channel's scale (Vehicle::control_scales), 1e-6 rad of body pitch.
     let scales = vehicle.control_scales();

@@ -65,7 +65,7 @@ fn structural(com_chord_m: f64, stroke_damping: f64) -> WingDynamics {
 
 /// A wing for the aerodynamic loads (the RoboBee-class built-in's left wing).
 fn robobee_wing() -> Wing {
-    Vehicle::from_toml(flapsim::ROBOBEE_TOML, "robobee")
+    Vehicle::from_toml(flapsim::ROBOBEE_KINEMATIC_TOML, "robobee")
         .unwrap()
         .wings[0]
         .clone()
@@ -179,7 +179,7 @@ fn coupled_stroke_and_pitch_conserve_energy() {
 /// A vehicle built from the RoboBee-class built-in with an actuation section whose
 /// aerodynamics are switched off (structural frequency response).
 fn vehicle_with(actuation: &str) -> Vehicle {
-    let text = format!("{}\n{actuation}", flapsim::ROBOBEE_TOML);
+    let text = format!("{}\n{actuation}", flapsim::ROBOBEE_KINEMATIC_TOML);
     Vehicle::from_toml(&text, "test").unwrap()
 }
 

@@ -90,7 +90,7 @@ fn tethered_mean_equals_wingforce_cycle_mean() {
 #[test]
 fn symmetric_wings_give_no_mean_side_force_roll_or_yaw() {
     let v = drosophila();
-    let m = mean_loads(&v, &hovering_still(&v), 200);
+    let m = mean_loads(&v, &hovering_still(&v), 200).unwrap();
     let lift = m.total.force_n.norm();
     let arm = v.length_m;
     assert!(m.total.force_n.y.abs() < 1e-12 * lift);
@@ -112,6 +112,7 @@ fn climbing_and_pitching_are_damped() {
             },
             200,
         )
+        .unwrap()
     };
     let rest = at(Vector3::zeros(), Vector3::zeros());
     let climb = at(Vector3::new(0.0, 0.0, 0.2), Vector3::zeros());
@@ -132,7 +133,7 @@ fn drosophila_lifts_its_weight_within_25_percent() {
     // The flapsim issue: with literature hover kinematics (Fry et al. 2005: 218 Hz, 140 deg)
     // the mean lift is within 25% of the weight.
     let v = drosophila();
-    let m = mean_loads(&v, &hovering_still(&v), 400);
+    let m = mean_loads(&v, &hovering_still(&v), 400).unwrap();
     let ratio = m.force_world_n(&v.initial_attitude).z / v.weight_n();
     println!("drosophila mean lift / weight = {ratio:.4}");
     assert!((ratio - 1.0).abs() < 0.25, "lift/weight {ratio}");

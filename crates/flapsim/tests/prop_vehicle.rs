@@ -132,7 +132,7 @@ fn merge(base: &mut Value, extra: &Value) {
 fn bases() -> Vec<(&'static str, Value)> {
     let mut out = vec![
         ("drosophila.toml", parse(flapsim::DROSOPHILA_TOML)),
-        ("robobee.toml", parse(flapsim::ROBOBEE_TOML)),
+        ("robobee.toml", parse(flapsim::ROBOBEE_KINEMATIC_TOML)),
         ("bumblebee.toml", parse(flapsim::BUMBLEBEE_TOML)),
     ];
     let mut full = parse(flapsim::DROSOPHILA_TOML);
@@ -460,7 +460,7 @@ proptest! {
     fn text_mutations_never_panic(which in 0usize..4, m in text_mutation()) {
         let base = match which {
             0 => flapsim::DROSOPHILA_TOML.to_owned(),
-            1 => flapsim::ROBOBEE_TOML.to_owned(),
+            1 => flapsim::ROBOBEE_KINEMATIC_TOML.to_owned(),
             2 => flapsim::BUMBLEBEE_TOML.to_owned(),
             _ => toml::to_string(&bases_cached()[3].1).unwrap(),
         };

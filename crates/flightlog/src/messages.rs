@@ -1155,7 +1155,7 @@ mod tests {
             (flapsim::DROSOPHILA_TOML, Mode::Free, false, 10),
             (flapsim::DROSOPHILA_TOML, Mode::Tethered, false, 15),
             (flapsim::DROSOPHILA_TOML, Mode::LONGITUDINAL, true, 0),
-            (flapsim::ROBOBEE_TOML, Mode::Free, true, 0),
+            (flapsim::ROBOBEE_KINEMATIC_TOML, Mode::Free, true, 0),
             (flapsim::BUMBLEBEE_TOML, Mode::Free, false, 10),
         ] {
             let (v, outs) = run(toml, mode, 400, controls);

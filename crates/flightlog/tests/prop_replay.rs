@@ -598,7 +598,7 @@ fn model_text() -> impl Strategy<Value = String> {
     let d = flapsim::DROSOPHILA_TOML;
     prop_oneof![
         3 => Just(d.to_owned()),
-        1 => Just(flapsim::ROBOBEE_TOML.to_owned()),
+        1 => Just(flapsim::ROBOBEE_KINEMATIC_TOML.to_owned()),
         1 => any::<Index>().prop_map(move |i| d[..i.index(d.len())].to_owned()),
         1 => Just(d.replace("freq_hz = 218.0", "freq_hz = 0.0")),
         1 => Just(d.replace("mass_kg = 1.0e-6", "mass_kg = 1.0e300")),

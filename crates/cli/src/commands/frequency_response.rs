@@ -17,8 +17,8 @@ use crate::vehicle::{build_vehicle, read_vehicle, sim_error};
 #[derive(Debug, clap::Args)]
 pub struct FrequencyResponseArgs {
     /// Actuated vehicle model: a TOML file with an [actuation] section or a built-in name
-    /// (robobee_actuated, hummingbird).
-    #[arg(long, value_name = "FILE|NAME", default_value = "robobee_actuated")]
+    /// (robobee, hummingbird).
+    #[arg(long, value_name = "FILE|NAME", default_value = "robobee")]
     pub model: String,
     /// Lowest drive frequency, Hz (default: half the stroke's natural frequency).
     #[arg(long)]
@@ -67,7 +67,7 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
     let vehicle = build_vehicle(&src)?;
     let Some(act) = &vehicle.actuation else {
         return Err(input_error(format!(
-            "{}: no [actuation] section: frequency-response needs an actuated vehicle (built-ins: robobee_actuated, hummingbird)",
+            "{}: no [actuation] section: frequency-response needs an actuated vehicle (built-ins: robobee, hummingbird)",
             src.origin
         )));
     };

@@ -11,7 +11,7 @@ use crate::vehicle::{build_vehicle, read_vehicle, sim_error};
 /// Arguments of `flapwing trim`.
 #[derive(Debug, clap::Args)]
 pub struct TrimArgs {
-    /// Vehicle model: a TOML file or a built-in name (drosophila, robobee, bumblebee).
+    /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic; actuated: robobee, hummingbird).
     #[arg(long, value_name = "FILE|NAME")]
     pub model: Option<String>,
     /// Write the trimmed model (controls and initial attitude set) to this TOML file.

@@ -1,0 +1,101 @@
+//! Actuated vehicles on their drive controls: the same trim, stability and hover LQR as a
+//! vehicle with prescribed kinematics, with the wings' motion coming out of the dynamics.
+//!
+//! Physics: a hovering flapper is balanced when the cycle-mean aerodynamic force equals the
+//! weight and the mean pitching moment vanishes; on the RoboBee that is the drive amplitude
+//! (lift) and the drive bias (which shifts the mean stroke angle and so the centre of lift
+//! fore and aft). Its hover, like an insect's (Sun & Xiong 2005; Taha et al. 2014), has one
+//! unstable longitudinal oscillation and two stable subsidences; the averaged model (wings
+//! in their periodic motion at each frozen body state) and the Floquet analysis of the full
+//! time-periodic system (body and wing states over one wingbeat) must agree on that
+//! structure. They cannot agree as closely as for prescribed kinematics (1%, tests/hover.rs):
+//! the RoboBee's slowest wing modes decay at 65 and 116 1/s, not far above the body's 5-17
+//! 1/s, and the averaged model assumes the wings settle at once. The bound below (a factor
+//! of 1.6 on the unstable pair's growth rate and frequency) is what that separation of time
+//! scales allows; the measured figures are in the README.
+
+use flapsim::Vehicle;
+use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover};
+use flapsim::stability::{ModeKind, analyze};
+use flapsim::trim::{trim, trimmed_vehicle};
+
+fn robobee() -> Vehicle {
+    Vehicle::from_toml(flapsim::ROBOBEE_TOML, "robobee").unwrap()
+}
+
+#[test]
+fn the_actuated_robobee_trims_on_its_drive() {
+    let v = robobee();
+    let t = trim(&v).unwrap();
+    assert!(t.max_residual() < 1e-6, "{t:?}");
+    // The drive at trim stays within the piezo's limit, and only the drive channels moved.
+    let tv = trimmed_vehicle(&v, &t).unwrap();
+    let a = tv.actuation.as_ref().unwrap();
+    assert!(a.drives.iter().all(|d| d.peak_bound_v() <= 250.0));
+    assert!(
+        t.controls.amplitude_v < 0.0,
+        "200 V lifts more than the weight: {t:?}"
+    );
+    assert_eq!(t.controls.amplitude_rad, 0.0);
+}
+
+#[test]
+fn averaged_and_floquet_modes_of_the_actuated_robobee_agree_in_structure() {
+    let r = analyze(&robobee(), true).unwrap();
+    let modes = &r.longitudinal_modes;
+    let osc: Vec<_> = modes
+        .iter()
+        .filter(|m| m.kind == ModeKind::Oscillatory)
+        .collect();
+    let real: Vec<_> = modes.iter().filter(|m| m.kind == ModeKind::Real).collect();
+    assert_eq!(osc.len(), 1, "{modes:#?}");
+    assert!(!osc[0].stable);
+    assert_eq!(real.len(), 2, "{modes:#?}");
+    assert!(real.iter().all(|m| m.stable));
+    // Floquet: 4 body and 4 wing multipliers; the leading pair is the unstable oscillation.
+    let f = &r.floquet_longitudinal;
+    assert_eq!(f.len(), 8);
+    assert!(
+        f[0].exponent.0 > 0.0 && f[0].exponent.1.abs() > 0.0,
+        "{f:?}"
+    );
+    assert!(f[2..].iter().all(|m| m.exponent.0 < 0.0), "{f:?}");
+    let ratio = |a: f64, b: f64| (a / b).abs().max((b / a).abs());
+    assert!(
+        ratio(f[0].exponent.0, osc[0].re_per_s) < 1.6
+            && ratio(f[0].exponent.1, osc[0].im_rad_s) < 1.6,
+        "Floquet {:?} vs averaged {} +- {} i",
+        f[0].exponent,
+        osc[0].re_per_s,
+        osc[0].im_rad_s
+    );
+}
+
+#[test]
+fn the_actuated_robobee_hovers_under_lqr_from_a_5_deg_pitch_disturbance() {
+    let v = robobee();
+    let t = trim(&v).unwrap();
+    let tv = trimmed_vehicle(&v, &t).unwrap();
+    let d = Disturbance {
+        pitch_deg: 5.0,
+        ..Default::default()
+    };
+    let open = run_hover(&tv, &t, None, &d, 0.6, |_| true).unwrap();
+    assert!(
+        open.diverged.is_some() || open.max_attitude_error_deg > 30.0,
+        "{open:?}"
+    );
+    let c = HoverController::design(&tv, &t, &LqrWeights::default(), 0).unwrap();
+    let closed = run_hover(&tv, &t, Some(c), &d, 0.6, |_| true).unwrap();
+    assert!(closed.diverged.is_none(), "{closed:?}");
+    // Back at the hover point (within 0.1 body length) and the trim attitude (within 3 deg:
+    // the wings' inertial reaction rocks the 80 mg body by about a degree within each
+    // wingbeat, and the averaged trim's attitude differs from the periodic hover's by about
+    // as much, so the 2 deg band of the fruit fly's test is too tight here).
+    assert!(closed.max_attitude_error_deg < 15.0, "{closed:?}");
+    assert!(
+        closed.final_position_error_m < 0.1 * tv.length_m,
+        "{closed:?}"
+    );
+    assert!(closed.final_attitude_error_deg < 3.0, "{closed:?}");
+}
