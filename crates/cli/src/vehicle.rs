@@ -53,3 +53,72 @@ pub fn check_duration(duration_s: f64) -> anyhow::Result<f64> {
         )))
     }
 }
+
+/// One trimmed control as the reports show it (degrees or volts: the CLI is the edge).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TrimRow {
+    /// What it is (`stroke amplitude`, `drive bias`, ...).
+    pub name: &'static str,
+    /// Its key in a model's `[controls]` table (what `trim --write` sets).
+    pub controls_field: &'static str,
+    /// The value at trim (the model's base plus the offset), in `unit`.
+    pub value: f64,
+    /// The offset on the model's base value that the trim found, in `unit`.
+    pub offset: f64,
+    /// `deg` or `V`.
+    pub unit: &'static str,
+}
+
+/// The two controls a hover trim solves for: stroke amplitude and mean stroke angle for
+/// prescribed kinematics, drive amplitude and bias for an actuated vehicle.
+pub fn trim_rows(vehicle: &flapsim::Vehicle, t: &flapsim::trim::Trim) -> [TrimRow; 2] {
+    let c = &t.controls;
+    match &vehicle.actuation {
+        Some(a) => [
+            TrimRow {
+                name: "drive amplitude",
+                controls_field: "amplitude_v",
+                value: a.base_drives[0].amplitude_v + c.amplitude_v,
+                offset: c.amplitude_v,
+                unit: "V",
+            },
+            TrimRow {
+                name: "drive bias",
+                controls_field: "bias_v",
+                value: a.base_drives[0].bias_v + c.bias_v,
+                offset: c.bias_v,
+                unit: "V",
+            },
+        ],
+        None => [
+            TrimRow {
+                name: "stroke amplitude",
+                controls_field: "amplitude_deg",
+                value: (vehicle.base_kinematics[0].amplitude_rad + c.amplitude_rad).to_degrees(),
+                offset: c.amplitude_rad.to_degrees(),
+                unit: "deg",
+            },
+            TrimRow {
+                name: "mean stroke angle",
+                controls_field: "mean_stroke_deg",
+                value: (vehicle.base_kinematics[0].mean_stroke_rad + c.mean_stroke_rad)
+                    .to_degrees(),
+                offset: c.mean_stroke_rad.to_degrees(),
+                unit: "deg",
+            },
+        ],
+    }
+}
+
+/// The trimmed controls in one line: `stroke amplitude 90.0 deg (+0.0), mean stroke ...`.
+pub fn trim_summary(vehicle: &flapsim::Vehicle, t: &flapsim::trim::Trim) -> String {
+    rows_summary(&trim_rows(vehicle, t))
+}
+
+/// See [`trim_summary`].
+pub fn rows_summary(rows: &[TrimRow]) -> String {
+    rows.iter()
+        .map(|r| format!("{} {:.3} {} ({:+.3})", r.name, r.value, r.unit, r.offset))
+        .collect::<Vec<_>>()
+        .join(", ")
+}

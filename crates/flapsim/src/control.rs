@@ -55,7 +55,7 @@ impl Default for LqrWeights {
 }
 
 fn default_control_v() -> f64 {
-    30.0
+    10.0
 }
 
 fn default_control_second_harmonic() -> f64 {

@@ -1,4 +1,4 @@
-//! Actuated vehicles on their drive controls: the same trim, stability and hover LQR as a
+//! The actuated RoboBee and hummingbird on their drive controls: the same trim, stability and hover LQR as a
 //! vehicle with prescribed kinematics, with the wings' motion coming out of the dynamics.
 //!
 //! Physics: a hovering flapper is balanced when the cycle-mean aerodynamic force equals the
@@ -72,30 +72,32 @@ fn averaged_and_floquet_modes_of_the_actuated_robobee_agree_in_structure() {
 }
 
 #[test]
-fn the_actuated_robobee_hovers_under_lqr_from_a_5_deg_pitch_disturbance() {
-    let v = robobee();
-    let t = trim(&v).unwrap();
-    let tv = trimmed_vehicle(&v, &t).unwrap();
-    let d = Disturbance {
-        pitch_deg: 5.0,
-        ..Default::default()
-    };
-    let open = run_hover(&tv, &t, None, &d, 0.6, |_| true).unwrap();
-    assert!(
-        open.diverged.is_some() || open.max_attitude_error_deg > 30.0,
-        "{open:?}"
-    );
-    let c = HoverController::design(&tv, &t, &LqrWeights::default(), 0).unwrap();
-    let closed = run_hover(&tv, &t, Some(c), &d, 0.6, |_| true).unwrap();
-    assert!(closed.diverged.is_none(), "{closed:?}");
-    // Back at the hover point (within 0.1 body length) and the trim attitude (within 3 deg:
-    // the wings' inertial reaction rocks the 80 mg body by about a degree within each
-    // wingbeat, and the averaged trim's attitude differs from the periodic hover's by about
-    // as much, so the 2 deg band of the fruit fly's test is too tight here).
-    assert!(closed.max_attitude_error_deg < 15.0, "{closed:?}");
-    assert!(
-        closed.final_position_error_m < 0.1 * tv.length_m,
-        "{closed:?}"
-    );
-    assert!(closed.final_attitude_error_deg < 3.0, "{closed:?}");
+fn the_actuated_robobee_and_hummingbird_hover_under_lqr_from_a_5_deg_pitch_disturbance() {
+    for name in ["robobee", "hummingbird"] {
+        let v = Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap();
+        let t = trim(&v).unwrap();
+        let tv = trimmed_vehicle(&v, &t).unwrap();
+        let d = Disturbance {
+            pitch_deg: 5.0,
+            ..Default::default()
+        };
+        let open = run_hover(&tv, &t, None, &d, 1.5, |_| true).unwrap();
+        assert!(
+            open.diverged.is_some() || open.max_attitude_error_deg > 30.0,
+            "{name}: {open:?}"
+        );
+        let c = HoverController::design(&tv, &t, &LqrWeights::default(), 0).unwrap();
+        let closed = run_hover(&tv, &t, Some(c), &d, 1.5, |_| true).unwrap();
+        assert!(closed.diverged.is_none(), "{name}: {closed:?}");
+        // Back at the hover point (within 0.1 body length) and the trim attitude (within
+        // 3 deg: the wings' inertial reaction rocks the body by about a degree within each
+        // wingbeat, and the averaged trim's attitude differs from the periodic hover's by
+        // about as much, so the 2 deg band of the fruit fly's test is too tight here).
+        assert!(closed.max_attitude_error_deg < 20.0, "{name}: {closed:?}");
+        assert!(
+            closed.final_position_error_m < 0.1 * tv.length_m,
+            "{name}: {closed:?}"
+        );
+        assert!(closed.final_attitude_error_deg < 3.0, "{name}: {closed:?}");
+    }
 }

@@ -91,8 +91,9 @@ struct Report<'a> {
     model: &'a str,
     disturbance: Disturbance,
     trim_pitch_deg: f64,
-    trim_amplitude_offset_deg: f64,
-    trim_mean_stroke_offset_deg: f64,
+    /// The trimmed controls (stroke amplitude and mean stroke angle in deg, or an actuated
+    /// vehicle's drive amplitude and bias in V).
+    trim_controls: [crate::vehicle::TrimRow; 2],
     delay_wingbeats: usize,
     outcome: &'a HoverOutcome,
 }
@@ -161,8 +162,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
         model: &src.origin,
         disturbance,
         trim_pitch_deg: trim.pitch_rad.to_degrees(),
-        trim_amplitude_offset_deg: trim.controls.amplitude_rad.to_degrees(),
-        trim_mean_stroke_offset_deg: trim.controls.mean_stroke_rad.to_degrees(),
+        trim_controls: crate::vehicle::trim_rows(&vehicle, &trim),
         delay_wingbeats: usize::from(args.delay_wingbeats),
         outcome: &outcome,
     };
@@ -198,8 +198,9 @@ fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()
     )?;
     writeln!(
         w,
-        "trim: body pitch {:.2} deg, amplitude offset {:+.3} deg, mean stroke offset {:+.3} deg",
-        report.trim_pitch_deg, report.trim_amplitude_offset_deg, report.trim_mean_stroke_offset_deg
+        "trim: body pitch {:.2} deg, {}",
+        report.trim_pitch_deg,
+        crate::vehicle::rows_summary(&report.trim_controls)
     )?;
     writeln!(
         w,

@@ -49,11 +49,10 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     let t = &report.trim;
     writeln!(
         o,
-        "hover stability of {} about its trim (pitch {:.2} deg, amplitude offset {:+.3} deg, mean stroke offset {:+.3} deg)",
+        "hover stability of {} about its trim (pitch {:.2} deg, {})",
         src.origin,
         t.pitch_rad.to_degrees(),
-        t.controls.amplitude_rad.to_degrees(),
-        t.controls.mean_stroke_rad.to_degrees()
+        crate::vehicle::trim_summary(&vehicle, t)
     )?;
     writeln!(
         o,

@@ -6,7 +6,7 @@ use std::fmt::Write;
 use anyhow::Result;
 use serde::Serialize;
 
-use crate::vehicle::{build_vehicle, read_vehicle, sim_error};
+use crate::vehicle::{TrimRow, build_vehicle, read_vehicle, sim_error, trim_rows};
 
 /// Arguments of `flapwing trim`.
 #[derive(Debug, clap::Args)]
@@ -28,9 +28,9 @@ pub struct TrimArgs {
 #[derive(Serialize)]
 struct Report<'a> {
     model: &'a str,
-    amplitude_deg: f64,
-    amplitude_offset_deg: f64,
-    mean_stroke_offset_deg: f64,
+    /// The trimmed controls (for prescribed kinematics, stroke amplitude and mean stroke
+    /// angle in deg; for an actuated vehicle, drive amplitude and bias in V).
+    controls: [TrimRow; 2],
     pitch_deg: f64,
     residual_fx_over_weight: f64,
     residual_fz_over_weight: f64,
@@ -53,10 +53,7 @@ pub fn run(args: TrimArgs) -> Result<()> {
     let t = flapsim::trim::trim(&vehicle).map_err(sim_error)?;
     let report = Report {
         model: &src.origin,
-        amplitude_deg: (vehicle.base_kinematics[0].amplitude_rad + t.controls.amplitude_rad)
-            .to_degrees(),
-        amplitude_offset_deg: t.controls.amplitude_rad.to_degrees(),
-        mean_stroke_offset_deg: t.controls.mean_stroke_rad.to_degrees(),
+        controls: trim_rows(&vehicle, &t),
         pitch_deg: t.pitch_rad.to_degrees(),
         residual_fx_over_weight: t.residual_fx_over_weight,
         residual_fz_over_weight: t.residual_fz_over_weight,
@@ -72,14 +69,9 @@ pub fn run(args: TrimArgs) -> Result<()> {
             .entry("controls")
             .or_insert_with(|| toml::Value::Table(Default::default()));
         if let Some(c) = controls.as_table_mut() {
-            c.insert(
-                "amplitude_deg".into(),
-                toml::Value::Float(report.amplitude_offset_deg),
-            );
-            c.insert(
-                "mean_stroke_deg".into(),
-                toml::Value::Float(report.mean_stroke_offset_deg),
-            );
+            for row in &report.controls {
+                c.insert(row.controls_field.into(), toml::Value::Float(row.offset));
+            }
         }
         let initial = table
             .entry("initial")
@@ -107,17 +99,14 @@ pub fn run(args: TrimArgs) -> Result<()> {
         "hover trim of {} ({} Newton iterations)",
         src.origin, t.iterations
     )?;
-    writeln!(
-        o,
-        "  stroke amplitude   {:.4} deg (offset {:+.4} deg)",
-        report.amplitude_deg, report.amplitude_offset_deg
-    )?;
-    writeln!(
-        o,
-        "  mean stroke offset {:+.4} deg",
-        report.mean_stroke_offset_deg
-    )?;
-    writeln!(o, "  body pitch         {:.4} deg", report.pitch_deg)?;
+    for row in &report.controls {
+        writeln!(
+            o,
+            "  {:<18} {:.4} {} (offset {:+.4} {})",
+            row.name, row.value, row.unit, row.offset, row.unit
+        )?;
+    }
+    writeln!(o, "  {:<18} {:.4} deg", "body pitch", report.pitch_deg)?;
     writeln!(
         o,
         "residuals: Fx/W {:.2e}, Fz/W - 1 {:.2e}, My/(W R) {:.2e}",
