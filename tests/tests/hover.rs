@@ -20,7 +20,7 @@ fn builtin(name: &str) -> Vehicle {
 #[test]
 fn trim_residuals_are_below_one_millionth() {
     // Issue 5: forces below 1e-6 of the weight, moments below 1e-6 of weight x wing length.
-    for name in ["drosophila", "bumblebee", "robobee"] {
+    for name in ["drosophila", "bumblebee", "robobee", "hummingbird"] {
         let t = trim(&builtin(name)).unwrap();
         assert!(t.residual_fx_over_weight.abs() < 1e-6, "{name}: {t:?}");
         assert!(t.residual_fz_over_weight.abs() < 1e-6, "{name}: {t:?}");

@@ -8,11 +8,8 @@
 //! unstable longitudinal oscillation and two stable subsidences; the averaged model (wings
 //! in their periodic motion at each frozen body state) and the Floquet analysis of the full
 //! time-periodic system (body and wing states over one wingbeat) must agree on that
-//! structure. They cannot agree as closely as for prescribed kinematics (1%, tests/hover.rs):
-//! the RoboBee's slowest wing modes decay at 65 and 116 1/s, not far above the body's 5-17
-//! 1/s, and the averaged model assumes the wings settle at once. The bound below (a factor
-//! of 1.6 on the unstable pair's growth rate and frequency) is what that separation of time
-//! scales allows; the measured figures are in the README.
+//! structure, and on the numbers as far as the wings' own modes are faster than the body's:
+//! the averaged model assumes the wings settle at once (see the bounds in the test).
 
 use flapsim::Vehicle;
 use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover};
@@ -40,35 +37,44 @@ fn the_actuated_robobee_trims_on_its_drive() {
 }
 
 #[test]
-fn averaged_and_floquet_modes_of_the_actuated_robobee_agree_in_structure() {
-    let r = analyze(&robobee(), true).unwrap();
-    let modes = &r.longitudinal_modes;
-    let osc: Vec<_> = modes
-        .iter()
-        .filter(|m| m.kind == ModeKind::Oscillatory)
-        .collect();
-    let real: Vec<_> = modes.iter().filter(|m| m.kind == ModeKind::Real).collect();
-    assert_eq!(osc.len(), 1, "{modes:#?}");
-    assert!(!osc[0].stable);
-    assert_eq!(real.len(), 2, "{modes:#?}");
-    assert!(real.iter().all(|m| m.stable));
-    // Floquet: 4 body and 4 wing multipliers; the leading pair is the unstable oscillation.
-    let f = &r.floquet_longitudinal;
-    assert_eq!(f.len(), 8);
-    assert!(
-        f[0].exponent.0 > 0.0 && f[0].exponent.1.abs() > 0.0,
-        "{f:?}"
-    );
-    assert!(f[2..].iter().all(|m| m.exponent.0 < 0.0), "{f:?}");
-    let ratio = |a: f64, b: f64| (a / b).abs().max((b / a).abs());
-    assert!(
-        ratio(f[0].exponent.0, osc[0].re_per_s) < 1.6
-            && ratio(f[0].exponent.1, osc[0].im_rad_s) < 1.6,
-        "Floquet {:?} vs averaged {} +- {} i",
-        f[0].exponent,
-        osc[0].re_per_s,
-        osc[0].im_rad_s
-    );
+fn averaged_and_floquet_modes_of_the_actuated_vehicles_agree() {
+    // (model, allowed ratio between the Floquet and averaged unstable pair's growth rate and
+    // frequency). The hummingbird's slowest wing mode decays at 80 1/s against body modes
+    // of 1-5 1/s: the averaged model holds to a few percent (measured 2%; bound 5%). The
+    // RoboBee's wing modes (65, 116 1/s) sit closer to its body modes (5-17 1/s): measured
+    // 26% and 44%, bound a factor 1.6.
+    for (name, bound) in [("hummingbird", 1.05), ("robobee", 1.6)] {
+        let v = Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap();
+        let r = analyze(&v, true).unwrap();
+        let modes = &r.longitudinal_modes;
+        let osc: Vec<_> = modes
+            .iter()
+            .filter(|m| m.kind == ModeKind::Oscillatory)
+            .collect();
+        let real: Vec<_> = modes.iter().filter(|m| m.kind == ModeKind::Real).collect();
+        assert_eq!(osc.len(), 1, "{name}: {modes:#?}");
+        assert!(!osc[0].stable);
+        assert_eq!(real.len(), 2, "{name}: {modes:#?}");
+        assert!(real.iter().all(|m| m.stable));
+        // Floquet: 4 body and 4 wing multipliers; the leading pair is the unstable
+        // oscillation, every other one decays.
+        let f = &r.floquet_longitudinal;
+        assert_eq!(f.len(), 8);
+        assert!(
+            f[0].exponent.0 > 0.0 && f[0].exponent.1.abs() > 0.0,
+            "{f:?}"
+        );
+        assert!(f[2..].iter().all(|m| m.exponent.0 < 0.0), "{f:?}");
+        let ratio = |a: f64, b: f64| (a / b).abs().max((b / a).abs());
+        assert!(
+            ratio(f[0].exponent.0, osc[0].re_per_s) < bound
+                && ratio(f[0].exponent.1, osc[0].im_rad_s) < bound,
+            "{name}: Floquet {:?} vs averaged {} +- {} i",
+            f[0].exponent,
+            osc[0].re_per_s,
+            osc[0].im_rad_s
+        );
+    }
 }
 
 #[test]

@@ -142,13 +142,12 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
         )?;
         crate::output::note(&format!("wrote {}", path.display()));
     }
-    for p in &resp.points {
-        if let Some(why) = &p.failed {
-            crate::output::note(&format!(
-                "warning: {:.1} Hz, {} V stopped early: {why}",
-                p.freq_hz, p.amplitude_v
-            ));
-        }
+    let stopped = resp.points.iter().filter(|p| p.failed.is_some()).count();
+    if stopped > 0 {
+        crate::output::note(&format!(
+            "warning: {stopped} of {} points have no steady response (the run stopped; the table says why)",
+            resp.points.len()
+        ));
     }
     if resp.points.iter().any(|p| p.wake_capture_out_of_range) {
         crate::output::note(
@@ -188,9 +187,17 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
         "Re"
     )?;
     for p in &resp.points {
+        if let Some(why) = &p.failed {
+            writeln!(
+                o,
+                "{:>9.2} {:>7.2}  no steady response: {why}",
+                p.freq_hz, p.amplitude_v
+            )?;
+            continue;
+        }
         writeln!(
             o,
-            "{:>9.2} {:>7.2} {:>10.2} {:>10.2} {:>+10.2} {:>10.2} {:>11.4e} {:>12.4e} {:>6.3} {:>8.1}{}",
+            "{:>9.2} {:>7.2} {:>10.2} {:>10.2} {:>+10.2} {:>10.2} {:>11.4e} {:>12.4e} {:>6.3} {:>8.1}",
             p.freq_hz,
             p.amplitude_v,
             p.stroke_amplitude_deg,
@@ -201,16 +208,17 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
             p.lift_per_volt_n_v,
             p.lift_to_weight,
             p.reynolds,
-            if p.failed.is_some() {
-                "  (stopped)"
-            } else {
-                ""
-            }
         )?;
     }
     writeln!(
         o,
         "stroke/pitch: half peak-to-peak; phase: pitch vs stroke (0 symmetric rotation, + advanced); lag: stroke behind the drive voltage"
     )?;
-    crate::output::print_stdout(&o)
+    crate::output::print_stdout(&o)?;
+    if stopped == resp.points.len() {
+        return Err(anyhow::anyhow!(
+            "no point of the sweep has a steady response (every run stopped; see the table)"
+        ));
+    }
+    Ok(())
 }

@@ -200,13 +200,18 @@ fn point(
         .wake_capture()
         .map(|p| p.flags.any())
         .unwrap_or(false);
+    // A point that stopped has no steady response: its measured figures are NaN (null in
+    // JSON), and `failed` says why.
+    let measured = |x: f64| if failed.is_some() { f64::NAN } else { x };
     Ok(ResponsePoint {
         freq_hz,
         amplitude_v,
-        stroke_amplitude_deg: 0.5 * (phi_max - phi_min).to_degrees(),
-        pitch_amplitude_deg: 0.5 * (th_max - th_min).to_degrees(),
-        pitch_phase_deg: wrap(arg(th1) - arg(phi1) + 0.5 * std::f64::consts::PI).to_degrees(),
-        stroke_lag_deg: wrap(arg(v1) - arg(phi1)).to_degrees(),
+        stroke_amplitude_deg: measured(0.5 * (phi_max - phi_min).to_degrees()),
+        pitch_amplitude_deg: measured(0.5 * (th_max - th_min).to_degrees()),
+        pitch_phase_deg: measured(
+            wrap(arg(th1) - arg(phi1) + 0.5 * std::f64::consts::PI).to_degrees(),
+        ),
+        stroke_lag_deg: measured(wrap(arg(v1) - arg(phi1)).to_degrees()),
         mean_lift_n: mean_lift,
         lift_per_volt_n_v: mean_lift / amplitude_v,
         lift_to_weight: mean_lift / vehicle.weight_n(),
