@@ -53,7 +53,7 @@ pub struct SubmitArgs {
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
     pub throttle: Option<u32>,
     /// A further sbatch option, e.g. `--mem=2G` or `"#SBATCH --qos=short"` (repeatable).
-    #[arg(long = "sbatch-line", value_name = "LINE", value_parser = sbatch_line)]
+    #[arg(long = "sbatch-line", value_name = "LINE", value_parser = sbatch_line, allow_hyphen_values = true)]
     pub sbatch_line: Vec<String>,
     /// Print the script instead of submitting it.
     #[arg(long = "dry-run")]
