@@ -114,6 +114,10 @@ start() {
     write_conf
     start_munge
     export SLURM_CONF="$conf"
+    if timeout 5 sinfo -h >/dev/null 2>&1; then
+        log "a Slurm controller already answers on this host's port 6817 (another cluster.sh start? stop it with FLAPWING_SLURM_DIR=<its dir> $0 stop)"
+        exit 1
+    fi
     /usr/sbin/slurmctld -f "$conf"
     /usr/sbin/slurmd -f "$conf"
     local host state=""
