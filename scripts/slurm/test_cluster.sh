@@ -78,6 +78,14 @@ step "2. a cancelled task is reported missing, resubmitted, and the merge comple
 "$bin" submit "$study" --out "$work/b" --shards 4 --throttle 1
 job=$(last_job "$work/b/$name.slurm.json")
 jobs+=("$job")
+# Before the cancel, squeue has every shard: task 1 pending or running, the others pending.
+"$bin" status "$work/b" --json >"$work/status0.json"
+python3 - "$work/status0.json" <<'EOF' || fail "status right after submit does not show the queued tasks"
+import json, sys
+s = json.load(open(sys.argv[1]))["studies"][0]
+assert sorted(s["done"] + s["running"] + s["pending"]) == [1, 2, 3, 4], s
+assert 3 in s["pending"] and 4 in s["pending"] and s["missing"] == [], s
+EOF
 scancel "${job}_3"
 wait_job "$job"
 [[ ! -e $work/b/$name-shard-3-of-4.csv ]] || fail "shard 3 exists although its task was cancelled"
