@@ -135,16 +135,20 @@ pub fn run_tool(program: &str, args: &[&str], dir: Option<&Path>) -> ToolOutput 
 }
 
 /// The state of every array task `JOB_K` of `jobs` as `squeue -r` reports it (tasks that
-/// have ended are not listed).
+/// have ended are not listed). One query per job: squeue refuses a whole list when one job has
+/// already left the controller's memory.
 pub fn squeue_states(jobs: &[String]) -> Result<BTreeMap<String, String>, String> {
-    let list = jobs.join(",");
-    match run_tool("squeue", &["-h", "-r", "-j", &list, "-o", "%i|%T"], None) {
-        ToolOutput::Ok(text) => Ok(parse_states(&text)),
-        ToolOutput::NotFound => Err("squeue not found".to_owned()),
-        // A job id that has left the controller's memory makes squeue fail: not an error here.
-        ToolOutput::Failed(e) if e.contains("Invalid job id") => Ok(BTreeMap::new()),
-        ToolOutput::Failed(e) => Err(format!("squeue failed: {e}")),
+    let mut states = BTreeMap::new();
+    for job in jobs {
+        match run_tool("squeue", &["-h", "-r", "-j", job, "-o", "%i|%T"], None) {
+            ToolOutput::Ok(text) => states.extend(parse_states(&text)),
+            ToolOutput::NotFound => return Err("squeue not found".to_owned()),
+            // A job that has left the controller's memory: nothing queued.
+            ToolOutput::Failed(e) if e.contains("Invalid job id") => {}
+            ToolOutput::Failed(e) => return Err(format!("squeue failed: {e}")),
+        }
     }
+    Ok(states)
 }
 
 /// The final or current state of every array task of `jobs` from `sacct` (needs Slurm's

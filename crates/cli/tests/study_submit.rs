@@ -364,6 +364,42 @@ fn submit_records_the_job_and_status_reads_the_queue() {
     );
     assert_eq!(s["missing"], serde_json::json!([2, 3, 4]));
 
+    // A resubmission is appended to the manifest; squeue refusing a job that has left the
+    // controller ("Invalid job id") means nothing of it is queued, not an error.
+    fake_tool(bin.path(), "sbatch", "echo 43");
+    let run = flapwing_with_path(
+        d,
+        bin.path(),
+        &[
+            "submit",
+            "study.toml",
+            "--out",
+            "res",
+            "--shards",
+            "4",
+            "--only",
+            "4",
+        ],
+    );
+    assert_eq!(run.code, 0, "{run:?}");
+    assert!(
+        run.stdout.starts_with("Submitted job 43: array 4 of 4"),
+        "{run:?}"
+    );
+    fake_tool(
+        bin.path(),
+        "squeue",
+        "case \"$4\" in 42) printf '42_2|RUNNING\\n';; *) echo 'slurm_load_jobs error: Invalid job id specified' >&2; exit 1;; esac",
+    );
+    std::fs::remove_file(bin.path().join("sacct")).unwrap();
+    let run = flapwing_with_path(d, bin.path(), &["status", "res", "--json"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    let s = &run.json()["studies"][0];
+    assert_eq!(s["job_ids"], serde_json::json!(["42", "43"]));
+    assert_eq!(s["running"], serde_json::json!([2]));
+    assert_eq!(s["missing"], serde_json::json!([3, 4]));
+    assert_eq!(s["sources"], serde_json::json!(["files", "squeue"]));
+
     // A second study in the same directory under the same name is refused before sbatch.
     std::fs::write(
         d.join("study.toml"),

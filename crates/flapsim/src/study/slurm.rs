@@ -130,10 +130,8 @@ pub fn parse_time_limit(s: &str) -> Result<String, String> {
         Some((d, rest)) => (Some(d), rest),
         None => (None, s),
     };
-    if let Some(d) = days {
-        if d.is_empty() || !d.bytes().all(|b| b.is_ascii_digit()) {
-            return Err(bad());
-        }
+    if days.is_some_and(|d| d.is_empty() || !d.bytes().all(|b| b.is_ascii_digit())) {
+        return Err(bad());
     }
     let parts: Vec<&str> = hms.split(':').collect();
     if parts.len() != 3
