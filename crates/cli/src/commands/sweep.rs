@@ -42,13 +42,16 @@ pub struct SweepArgs {
     /// Worker threads (default: one per core).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub jobs: Option<u16>,
-    /// Run only shard K of N (1 <= K <= N): the K-th of N contiguous blocks of cases.
+    /// Run only shard K of N (1 <= K <= N): the K-th of N contiguous blocks of cases, written
+    /// atomically to DIR/<study>-shard-K-of-N.csv with the study hash on its first line; a
+    /// shard already complete with the same hash is skipped.
     #[arg(long, value_name = "K/N", value_parser = parse_shard)]
     pub shard: Option<Shard>,
     /// Merge the shards in DIR instead of running a study (same as `sweep merge DIR`).
     #[arg(long, value_name = "DIR", conflicts_with_all = ["study", "shard", "jobs"])]
     pub merge: Option<PathBuf>,
-    /// Replace output files that already exist.
+    /// Replace output files that already exist (for a shard: rerun it even when complete, or
+    /// when the file holds another study's shard).
     #[arg(long)]
     pub force: bool,
 }
