@@ -37,7 +37,11 @@ pub enum Command {
     /// Run a parameter study (full factorial, Latin hypercube or Taguchi) in parallel to CSV.
     Sweep(crate::commands::sweep::SweepArgs),
     /// Maximize lift per aerodynamic power over a study's factors while supporting the weight.
-    Optimize(crate::commands::sweep::OptimizeArgs),
+    Optimize(crate::commands::optimize::OptimizeArgs),
+    /// Run a sweep's shards as a Slurm job array (sbatch), recording the job in the output directory.
+    Submit(crate::commands::submit::SubmitArgs),
+    /// Done, running, pending, failed and missing shards of the studies in a directory.
+    Status(crate::commands::status::StatusArgs),
     /// Frequency response of a tethered actuated vehicle: stroke, pitch, phase and lift per drive frequency.
     FrequencyResponse(crate::commands::frequency_response::FrequencyResponseArgs),
     /// Summarize an MCAP log; convert it (--rrd), export a channel (--csv) or re-run it (--check).

@@ -42,8 +42,9 @@ pub struct LogArgs {
     pub force: bool,
 }
 
-/// A UTC timestamp `YYYYMMDD-HHMMSS` for default file names (civil-from-days, H. Hinnant).
-fn utc_stamp() -> String {
+/// The current UTC date and time (year, month, day, hour, minute, second), by civil-from-days
+/// (H. Hinnant).
+pub fn utc_civil_now() -> (i64, i64, i64, i64, i64, i64) {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map(|d| d.as_secs())
@@ -58,12 +59,13 @@ fn utc_stamp() -> String {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let y = yoe + era * 400 + i64::from(m <= 2);
-    format!(
-        "{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
-        rem / 3600,
-        rem % 3600 / 60,
-        rem % 60
-    )
+    (y, m, d, rem / 3600, rem % 3600 / 60, rem % 60)
+}
+
+/// A UTC timestamp `YYYYMMDD-HHMMSS` for default file names.
+pub fn utc_stamp() -> String {
+    let (y, m, d, hh, mm, ss) = utc_civil_now();
+    format!("{y:04}{m:02}{d:02}-{hh:02}{mm:02}{ss:02}")
 }
 
 /// A fresh default path `logs/<command>-<stamp>[-k].<ext>` (never an existing file).

@@ -11,6 +11,7 @@ mod logging;
 mod output;
 mod plot;
 mod progress;
+mod slurm;
 mod vehicle;
 
 use std::io::Write;
@@ -34,7 +35,9 @@ fn main() -> ExitCode {
         Command::Hover(args) => commands::hover::run(args),
         Command::FitWake(args) => commands::fit_wake::run(args),
         Command::Sweep(args) => commands::sweep::run(args),
-        Command::Optimize(args) => commands::sweep::run_optimize(args),
+        Command::Optimize(args) => commands::optimize::run(args),
+        Command::Submit(args) => commands::submit::run(args),
+        Command::Status(args) => commands::status::run(args),
         Command::Replay(args) => commands::replay::run(args),
         Command::FrequencyResponse(args) => commands::frequency_response::run(args),
     };

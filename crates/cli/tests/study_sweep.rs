@@ -50,7 +50,12 @@ fn merged_shards_equal_the_unsharded_run() {
         assert_eq!(run.code, 0, "{run:?}");
     }
     let shard1 = read(&dir, "parts/drosophila_amplitude_aoa-shard-1-of-3.csv");
-    assert_eq!(shard1.lines().count(), 1 + 6);
+    // The study line, the header and 6 cases; the merge drops the study line.
+    assert_eq!(shard1.lines().count(), 2 + 6);
+    assert!(
+        shard1.starts_with("# flapwing study ") && shard1.lines().nth(1) == whole.lines().next(),
+        "{shard1}"
+    );
     let run = flapwing_in(dir.path(), &["sweep", "merge", "parts"]);
     assert_eq!(run.code, 0, "{run:?}");
     assert_eq!(read(&dir, "parts/drosophila_amplitude_aoa.csv"), whole);

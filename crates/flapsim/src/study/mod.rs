@@ -9,6 +9,8 @@
 //! - [`spec`], [`responses`], [`sweep`]: study files, tethered hover responses of each case
 //!   (no rigid-body simulation: [`crate::averaged::mean_loads`] and the wings' cycle means),
 //!   parallel sweeps with deterministic CSV output, shards and their merge;
+//! - [`shard`] and [`slurm`]: the study content hash, atomic shard files and their merge, and
+//!   the Slurm job-array script that runs one shard per task;
 //! - [`optimize`]: Nelder-Mead, and lift per power under a weight-support penalty.
 
 pub mod error;
@@ -16,6 +18,8 @@ pub mod fit_wake;
 pub mod optimize;
 pub mod regression;
 pub mod responses;
+pub mod shard;
+pub mod slurm;
 pub mod spec;
 pub mod stats;
 pub mod sweep;
