@@ -648,6 +648,66 @@ pub fn measure_acceleration_fractions(
     (0.5 * sum_a, 0.5 * sum_d)
 }
 
+/// The half-peak rule of [`measure_acceleration_fractions`] on a sampled periodic stroke-rate
+/// profile, linearly interpolated between samples (`phase` increasing within one period,
+/// `rate` the stroke rate there) and zero at the two `reversals`: the crossings of half the
+/// half stroke's peak are found exactly on the interpolant instead of on a 20,000-point grid
+/// of a function, which costs hundreds of times less for dynamics that measure their own
+/// profile every wingbeat. Both give the same fractions for the same interpolant to the grid's
+/// resolution (tested).
+pub fn sampled_acceleration_fractions(
+    phase: &[f64],
+    rate: &[f64],
+    reversals: [(f64, bool); 2],
+) -> (f64, f64) {
+    let mut sum_a = 0.0;
+    let mut sum_d = 0.0;
+    for k in 0..2 {
+        let start = reversals[k].0;
+        let end = if k == 0 {
+            reversals[1].0
+        } else {
+            reversals[0].0 + 1.0
+        };
+        // The half stroke's points: the reversal, the samples inside (one period on), the
+        // next reversal.
+        let mut pts: Vec<(f64, f64)> = vec![(start, 0.0)];
+        for shift in [0.0, 1.0] {
+            pts.extend(
+                phase
+                    .iter()
+                    .zip(rate)
+                    .map(|(&x, &r)| (x + shift, r.abs()))
+                    .filter(|&(x, _)| x > start && x < end),
+            );
+        }
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        pts.push((end, 0.0));
+        let half = 0.5 * pts.iter().fold(0.0f64, |m, p| m.max(p.1));
+        let cross = |a: (f64, f64), b: (f64, f64)| {
+            if b.1 == a.1 {
+                a.0
+            } else {
+                a.0 + (half - a.1) / (b.1 - a.1) * (b.0 - a.0)
+            }
+        };
+        let first = pts
+            .windows(2)
+            .find(|w| w[1].1 >= half)
+            .map(|w| cross(w[0], w[1]))
+            .unwrap_or(start);
+        let last = pts
+            .windows(2)
+            .rev()
+            .find(|w| w[0].1 >= half)
+            .map(|w| cross(w[1], w[0]))
+            .unwrap_or(end);
+        sum_a += 2.0 * (first - start);
+        sum_d += 2.0 * (end - last);
+    }
+    (0.5 * sum_a, 0.5 * sum_d)
+}
+
 /// Pitch of the trapezoidal family: holds alpha_m (downstroke) and pi - alpha_m (upstroke),
 /// flipping with a cosine profile from the start of deceleration to the end of the next
 /// acceleration. Returns (theta, d/dtau, d2/dtau2).

@@ -174,3 +174,38 @@ fn tabulated_spline_reproduces_a_sampled_harmonic() {
     let r = k.stroke_reversals();
     assert!(r[0].0.abs() < 1e-6 || (r[0].0 - 1.0).abs() < 1e-6 || (r[1].0).abs() < 1e-6);
 }
+
+#[test]
+fn sampled_half_peak_rule_matches_the_grid_rule_on_the_same_interpolant() {
+    // A stroke rate with unequal half strokes (a sine plus a second harmonic), sampled at 100
+    // points per period as a dynamic wing samples its own motion: both forms of the half-peak
+    // rule see the same piecewise-linear profile, so they must agree to the grid's resolution
+    // (20,000 points per half stroke: 1e-4 of a period).
+    use wingforce::kinematics::{measure_acceleration_fractions, sampled_acceleration_fractions};
+    let f = |x: f64| {
+        (2.0 * std::f64::consts::PI * x).cos() + 0.3 * (4.0 * std::f64::consts::PI * x).sin()
+    };
+    let n = 100;
+    let phase: Vec<f64> = (0..n).map(|k| k as f64 / n as f64).collect();
+    let rate: Vec<f64> = phase.iter().map(|&x| f(x)).collect();
+    // Reversals of the interpolant, found on it.
+    let mut rev = Vec::new();
+    for k in 0..n {
+        let (a, b) = (rate[k], rate[(k + 1) % n]);
+        if (a > 0.0 && b <= 0.0) || (a < 0.0 && b >= 0.0) {
+            rev.push(((k as f64 + a / (a - b)) / n as f64, b > 0.0));
+        }
+    }
+    assert_eq!(rev.len(), 2);
+    let interp = |x: f64| {
+        let x = x.rem_euclid(1.0) * n as f64;
+        let k = x.floor() as usize % n;
+        let t = x - x.floor();
+        rate[k] + (rate[(k + 1) % n] - rate[k]) * t
+    };
+    let grid = measure_acceleration_fractions(interp, [rev[0], rev[1]]);
+    let exact = sampled_acceleration_fractions(&phase, &rate, [rev[0], rev[1]]);
+    assert!((grid.0 - exact.0).abs() < 2e-4, "{grid:?} vs {exact:?}");
+    assert!((grid.1 - exact.1).abs() < 2e-4, "{grid:?} vs {exact:?}");
+    assert!(exact.0 > 0.05 && exact.1 > 0.05, "{exact:?}");
+}

@@ -673,21 +673,11 @@ fn measure_reference(samples: &[(f64, f64)], period: i64, freq_hz: f64) -> Optio
         return None;
     }
     reversals.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let n = phase.len();
-    let interp = |x: f64| {
-        let x = x.rem_euclid(1.0);
-        let i = phase.partition_point(|p| *p <= x);
-        if i == 0 {
-            rate[0]
-        } else if i >= n {
-            rate[n - 1]
-        } else {
-            let (p0, p1) = (phase[i - 1], phase[i]);
-            rate[i - 1] + (rate[i] - rate[i - 1]) * (x - p0) / (p1 - p0)
-        }
-    };
-    let (dtau_a, dtau_d) =
-        wingforce::kinematics::measure_acceleration_fractions(interp, [reversals[0], reversals[1]]);
+    let (dtau_a, dtau_d) = wingforce::kinematics::sampled_acceleration_fractions(
+        &phase,
+        &rate,
+        [reversals[0], reversals[1]],
+    );
     Some(StrokeReference {
         peak_stroke_rate_rad_s: peak,
         dtau_a,
