@@ -130,6 +130,22 @@ pub(crate) struct FrameData {
     pub force_n: [[[f64; 3]; 5]; 2],
     pub c_l: [[f64; 5]; 2],
     pub c_d: [[f64; 5]; 2],
+    /// Per wing of an actuated vehicle: drive voltage (V), hinge moment (N m), pitch (deg).
+    pub actuation: Option<[[f64; 3]; 2]>,
+}
+
+/// [`FrameData::actuation`] of a step (non-finite numbers as 0).
+fn actuation_numbers(out: &StepOutput) -> Option<[[f64; 3]; 2]> {
+    let fin = |x: f64| if x.is_finite() { x } else { 0.0 };
+    out.actuated.as_ref().map(|a| {
+        [0, 1].map(|i| {
+            [
+                fin(a[i].actuator.voltage_v),
+                fin(a[i].hinge_moment_nm),
+                fin(a[i].angles.theta.to_degrees()),
+            ]
+        })
+    })
 }
 
 /// Messages per sample: channel indexes 0..10 of [`crate::schema::CHANNELS`] (events excluded).
@@ -426,6 +442,7 @@ impl SampleJson {
         let mut frame = FrameData {
             t_ns,
             wing_hinge: self.hinge_m,
+            actuation: actuation_numbers(out),
             ..FrameData::default()
         };
         let s = &out.state;
@@ -633,8 +650,28 @@ impl SampleJson {
             let _ = CompactFormatter.write_i64(b, wf.phase.half_stroke);
             b.extend_from_slice(b",\"downstroke\":");
             boolean(b, wf.phase.downstroke);
+            // An actuated wing's hinge and actuator (its angles above are the dynamics').
+            let mut act_bad = false;
+            if let Some(act) = &out.actuated {
+                let x = &act[i];
+                let mut f = Fin::default();
+                b.extend_from_slice(b",\"actuation\":{\"hinge_moment_nm\":");
+                num(b, f.f(x.hinge_moment_nm));
+                b.extend_from_slice(b",\"aero_pitch_moment_nm\":");
+                num(b, f.f(x.aero_pitch_nm));
+                b.extend_from_slice(b",\"aero_stroke_moment_nm\":");
+                num(b, f.f(x.aero_stroke_nm));
+                b.extend_from_slice(b",\"voltage_v\":");
+                num(b, f.f(x.actuator.voltage_v));
+                b.extend_from_slice(b",\"displacement_m\":");
+                num(b, f.f(x.actuator.displacement_m));
+                b.extend_from_slice(b",\"current_a\":");
+                num(b, f.f(x.actuator.current_a));
+                b.push(b'}');
+                act_bad = f.nonfinite;
+            }
             b.extend_from_slice(b",\"nonfinite\":");
-            boolean(b, bad || time_bad);
+            boolean(b, bad || act_bad || time_bad);
             b.push(b'}');
             ends[6 + i] = b.len();
         }
@@ -830,7 +867,19 @@ pub(crate) mod reference {
         pub t_star: f64,
         pub half_stroke: i64,
         pub downstroke: bool,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        pub actuation: Option<Actuation>,
         pub nonfinite: bool,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct Actuation {
+        pub hinge_moment_nm: f64,
+        pub aero_pitch_moment_nm: f64,
+        pub aero_stroke_moment_nm: f64,
+        pub voltage_v: f64,
+        pub displacement_m: f64,
+        pub current_a: f64,
     }
 
     #[derive(Debug, Clone, Copy, Serialize)]
@@ -892,6 +941,7 @@ pub(crate) mod reference {
         let s = &out.state;
         let mut frame = FrameData {
             t_ns,
+            actuation: super::actuation_numbers(out),
             ..FrameData::default()
         };
         let mut messages = Vec::with_capacity(10);
@@ -1030,6 +1080,17 @@ pub(crate) mod reference {
                 t_star: f.f(wf.phase.t_star),
                 half_stroke: wf.phase.half_stroke,
                 downstroke: wf.phase.downstroke,
+                actuation: out.actuated.as_ref().map(|act| {
+                    let x = &act[i];
+                    Actuation {
+                        hinge_moment_nm: f.f(x.hinge_moment_nm),
+                        aero_pitch_moment_nm: f.f(x.aero_pitch_nm),
+                        aero_stroke_moment_nm: f.f(x.aero_stroke_nm),
+                        voltage_v: f.f(x.actuator.voltage_v),
+                        displacement_m: f.f(x.actuator.displacement_m),
+                        current_a: f.f(x.actuator.current_a),
+                    }
+                }),
                 nonfinite: false,
             };
             let k = WingKinematics {
@@ -1130,8 +1191,13 @@ mod tests {
         for k in 0..steps {
             if controls && k % 37 == 0 {
                 let mut c = flapsim::Controls::default();
-                c.amplitude_rad = 0.01 * (k % 5) as f64;
-                c.diff_pitch_bias_rad = -0.003 * (k % 3) as f64;
+                if v.drive_controlled() {
+                    c.amplitude_v = -5.0 * (k % 5) as f64;
+                    c.diff_second_harmonic = -0.01 * (k % 3) as f64;
+                } else {
+                    c.amplitude_rad = 0.01 * (k % 5) as f64;
+                    c.diff_pitch_bias_rad = -0.003 * (k % 3) as f64;
+                }
                 sim.set_controls(c);
             }
             match sim.step() {
@@ -1156,6 +1222,8 @@ mod tests {
             (flapsim::DROSOPHILA_TOML, Mode::Tethered, false, 15),
             (flapsim::DROSOPHILA_TOML, Mode::LONGITUDINAL, true, 0),
             (flapsim::ROBOBEE_KINEMATIC_TOML, Mode::Free, true, 0),
+            (flapsim::ROBOBEE_TOML, Mode::Free, true, 0),
+            (flapsim::HUMMINGBIRD_TOML, Mode::Tethered, false, 0),
             (flapsim::BUMBLEBEE_TOML, Mode::Free, false, 10),
         ] {
             let (v, outs) = run(toml, mode, 400, controls);

@@ -253,6 +253,26 @@ impl RerunSink {
                 .map_err(rr)?;
             rec.log("plots/attitude_deg", &rerun::Scalars::new(f.euler_deg))
                 .map_err(rr)?;
+            if let Some(a) = &f.actuation {
+                for (i, side) in ["left", "right"].iter().enumerate() {
+                    let [volt, hinge, pitch] = a[i];
+                    rec.log(
+                        format!("plots/actuation/{side}/voltage_v"),
+                        &rerun::Scalars::single(volt),
+                    )
+                    .map_err(rr)?;
+                    rec.log(
+                        format!("plots/actuation/{side}/hinge_moment_nm"),
+                        &rerun::Scalars::single(hinge),
+                    )
+                    .map_err(rr)?;
+                    rec.log(
+                        format!("plots/actuation/{side}/pitch_deg"),
+                        &rerun::Scalars::single(pitch),
+                    )
+                    .map_err(rr)?;
+                }
+            }
         }
         Ok(())
     }

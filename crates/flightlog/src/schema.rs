@@ -343,6 +343,33 @@ pub fn schema_text(name: &str) -> Option<String> {
             ));
             p.push(("downstroke", boolean("true in a downstroke")));
             p.push((
+                "actuation",
+                obj(
+                    None,
+                    "actuated wings only (absent for prescribed kinematics): the hinge and the actuator",
+                    vec![
+                        (
+                            "hinge_moment_nm",
+                            num("hinge spring and damper moment on the wing about the pitch axis, N m"),
+                        ),
+                        (
+                            "aero_pitch_moment_nm",
+                            num("aerodynamic moment about the pitch axis, N m"),
+                        ),
+                        (
+                            "aero_stroke_moment_nm",
+                            num("aerodynamic moment about the stroke axis, N m"),
+                        ),
+                        ("voltage_v", num("drive voltage, V")),
+                        (
+                            "displacement_m",
+                            num("piezo tip displacement, m (0 for a motor)"),
+                        ),
+                        ("current_a", num("motor current, A (0 for a piezo)")),
+                    ],
+                ),
+            ));
+            p.push((
                 "nonfinite",
                 boolean("a NaN or infinity in this message was replaced by 0"),
             ));

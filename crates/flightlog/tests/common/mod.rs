@@ -1,4 +1,4 @@
-//! Short drosophila runs recorded with flightlog.
+//! Short drosophila runs (and other models') recorded with flightlog.
 
 #![allow(dead_code)] // each test file uses part of this module
 
@@ -33,14 +33,32 @@ pub fn record(opts: &LogOptions, command: &str, duration_s: f64) -> Run {
 }
 
 pub fn record_mode(opts: &LogOptions, command: &str, duration_s: f64, mode: Mode) -> Run {
-    let toml = flapsim::DROSOPHILA_TOML;
-    let vehicle = Vehicle::from_toml(toml, ORIGIN).unwrap();
+    record_model(
+        opts,
+        command,
+        duration_s,
+        mode,
+        flapsim::DROSOPHILA_TOML,
+        ORIGIN,
+    )
+}
+
+/// Records a run of the model `toml` (named `origin`).
+pub fn record_model(
+    opts: &LogOptions,
+    command: &str,
+    duration_s: f64,
+    mode: Mode,
+    toml: &str,
+    origin: &str,
+) -> Run {
+    let vehicle = Vehicle::from_toml(toml, origin).unwrap();
     let settings = SimSettings::new(mode, duration_s, opts.log_rate_hz, [0.0; 3]);
     let info = RunInfo::new(
         command,
         format!("flapwing {command} --duration-s {duration_s}"),
         toml,
-        ORIGIN,
+        origin,
         settings.to_json(),
     );
     let mut rec = Recorder::create(opts, &info, &vehicle).unwrap();
