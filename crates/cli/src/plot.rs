@@ -21,3 +21,25 @@ macro_rules! render {
 }
 
 pub(crate) use render;
+
+/// A drawing error as the CLI reports it.
+pub fn draw_error<E: std::error::Error + Send + Sync>(
+    x: plotters::drawing::DrawingAreaErrorKind<E>,
+) -> anyhow::Error {
+    anyhow::anyhow!("cannot draw the plot: {x}")
+}
+
+/// Fills `root` white and puts `title` at its top in a `font_px` sans-serif; returns the area
+/// below the title.
+pub fn titled_white<DB: plotters::prelude::DrawingBackend>(
+    root: plotters::prelude::DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    font_px: u32,
+) -> anyhow::Result<plotters::prelude::DrawingArea<DB, plotters::coord::Shift>>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&plotters::prelude::WHITE).map_err(draw_error)?;
+    root.titled(title, ("sans-serif", font_px))
+        .map_err(draw_error)
+}

@@ -619,42 +619,26 @@ impl Kinematics {
 }
 
 /// The half-peak rule of [`Kinematics::acceleration_fractions`], for any stroke-rate function
-/// of the phase and its two reversals.
+/// of the phase and its two reversals: the function sampled at 40,000 points over the period
+/// from the first reversal, then [`sampled_acceleration_fractions`] on that profile.
 pub fn measure_acceleration_fractions(
     rate: impl Fn(f64) -> f64,
     reversals: [(f64, bool); 2],
 ) -> (f64, f64) {
-    let n = 20_000;
-    let mut sum_a = 0.0;
-    let mut sum_d = 0.0;
-    for k in 0..2 {
-        let start = reversals[k].0;
-        let end = if k == 0 {
-            reversals[1].0
-        } else {
-            reversals[0].0 + 1.0
-        };
-        let len = end - start;
-        let samples: Vec<f64> = (0..=n)
-            .map(|i| rate(start + len * i as f64 / n as f64).abs())
-            .collect();
-        let peak = samples.iter().cloned().fold(0.0, f64::max);
-        let half = 0.5 * peak;
-        let first = samples.iter().position(|&x| x >= half).unwrap_or(0);
-        let last = samples.iter().rposition(|&x| x >= half).unwrap_or(n);
-        sum_a += 2.0 * len * first as f64 / n as f64;
-        sum_d += 2.0 * len * (n - last) as f64 / n as f64;
-    }
-    (0.5 * sum_a, 0.5 * sum_d)
+    let n = 40_000;
+    let start = reversals[0].0;
+    let phase: Vec<f64> = (0..n).map(|i| start + i as f64 / n as f64).collect();
+    let samples: Vec<f64> = phase.iter().map(|&x| rate(x)).collect();
+    sampled_acceleration_fractions(&phase, &samples, reversals)
 }
 
-/// The half-peak rule of [`measure_acceleration_fractions`] on a sampled periodic stroke-rate
-/// profile, linearly interpolated between samples (`phase` increasing within one period,
-/// `rate` the stroke rate there) and zero at the two `reversals`: the crossings of half the
-/// half stroke's peak are found exactly on the interpolant instead of on a 20,000-point grid
-/// of a function, which costs hundreds of times less for dynamics that measure their own
-/// profile every wingbeat. Both give the same fractions for the same interpolant to the grid's
-/// resolution (tested).
+/// The half-peak rule on a sampled periodic stroke-rate profile, linearly interpolated
+/// between samples (`phase` increasing over one period, `rate` the stroke rate there) and
+/// zero at the two `reversals`: in each half stroke, the acceleration fraction is twice the
+/// time from the reversal to the first crossing of half the half stroke's peak rate, the
+/// deceleration fraction twice the time from the last crossing to the next reversal (both in
+/// periods), averaged over the two half strokes; the crossings are found exactly on the
+/// interpolant. A dynamic wing calls it every wingbeat on its own 100 samples.
 pub fn sampled_acceleration_fractions(
     phase: &[f64],
     rate: &[f64],

@@ -178,9 +178,9 @@ fn tabulated_spline_reproduces_a_sampled_harmonic() {
 #[test]
 fn sampled_half_peak_rule_matches_the_grid_rule_on_the_same_interpolant() {
     // A stroke rate with unequal half strokes (a sine plus a second harmonic), sampled at 100
-    // points per period as a dynamic wing samples its own motion: both forms of the half-peak
-    // rule see the same piecewise-linear profile, so they must agree to the grid's resolution
-    // (20,000 points per half stroke: 1e-4 of a period).
+    // points per period as a dynamic wing samples its own motion: the rule on the samples and
+    // on the function resampled finely (40,000 points per period) see the same
+    // piecewise-linear profile, so they must agree to the fine grid's resolution.
     use wingforce::kinematics::{measure_acceleration_fractions, sampled_acceleration_fractions};
     let f = |x: f64| {
         (2.0 * std::f64::consts::PI * x).cos() + 0.3 * (4.0 * std::f64::consts::PI * x).sin()

@@ -374,9 +374,8 @@ fn draw_effects<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("cannot draw the plot: {x}");
-    root.fill(&WHITE).map_err(e)?;
-    let root = root.titled(title, ("sans-serif", 18)).map_err(e)?;
+    let e = crate::plot::draw_error::<DB::ErrorType>;
+    let root = crate::plot::titled_white(root, title, 18)?;
     // One shared SNR axis so that the panels compare.
     let lo = effects
         .iter()

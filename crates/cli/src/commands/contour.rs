@@ -109,7 +109,7 @@ fn draw<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("cannot draw the plot: {x}");
+    let e = crate::plot::draw_error::<DB::ErrorType>;
     let (lo, hi) = cells
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {

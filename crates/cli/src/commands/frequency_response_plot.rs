@@ -23,9 +23,8 @@ fn draw<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("cannot draw the plot: {x}");
-    root.fill(&WHITE).map_err(e)?;
-    let root = root.titled(title, ("sans-serif", 20)).map_err(e)?;
+    let e = crate::plot::draw_error::<DB::ErrorType>;
+    let root = crate::plot::titled_white(root, title, 20)?;
     let panels = root.split_evenly((3, 1));
     let mut volts: Vec<f64> = resp.points.iter().map(|p| p.amplitude_v).collect();
     volts.sort_by(f64::total_cmp);

@@ -150,7 +150,7 @@ fn draw<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let e = |x: DrawingAreaErrorKind<DB::ErrorType>| anyhow::anyhow!("cannot draw the plot: {x}");
+    let e = crate::plot::draw_error::<DB::ErrorType>;
     root.fill(&WHITE).map_err(e)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(format!("{name}: hover eigenvalues"), ("sans-serif", 20))
