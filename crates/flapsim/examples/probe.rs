@@ -14,7 +14,7 @@ fn main() {
                 );
                 for m in &r.longitudinal_modes {
                     println!(
-                        "  lon {} re {:.3} im {:.3} T {:?} t½/2 {:.4}",
+                        "  lon {} re {:.3} im {:.3} T {:?} t½/2 {:?}",
                         m.description,
                         m.re_per_s,
                         m.im_rad_s,

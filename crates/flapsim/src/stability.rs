@@ -35,8 +35,9 @@ pub struct ModeInfo {
     pub stable: bool,
     /// Period 2 pi / Im, s (oscillatory only).
     pub period_s: Option<f64>,
-    /// ln 2 / |Re|, s: time to half (stable) or to double (unstable).
-    pub time_to_half_or_double_s: f64,
+    /// ln 2 / |Re|, s: time to half (stable) or to double (unstable); `None` for a neutral
+    /// mode (an eigenvalue at round-off level: it neither grows nor decays).
+    pub time_to_half_or_double_s: Option<f64>,
     /// Eigenvector magnitudes normalised to the largest, one per state, with names.
     pub eigenvector: Vec<(String, f64)>,
     /// Words: e.g. "unstable oscillatory", "stable subsidence".
@@ -107,6 +108,20 @@ fn eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> DVector<f64> {
     DVector::from_iterator(n, v.into_iter().map(|x| x / max))
 }
 
+/// The state a (normalised) eigenvector is mostly made of, in words.
+fn dominant(names: &[&str], ev: &DVector<f64>) -> String {
+    let k = ev
+        .iter()
+        .enumerate()
+        .fold(0, |best, (i, x)| if *x > ev[best] { i } else { best });
+    match names.get(k).copied() {
+        Some("yaw_err_rad") => "heading (yaw angle)".into(),
+        Some("x_m" | "y_m" | "z_m") => "position".into(),
+        Some(n) => n.to_owned(),
+        None => "the state".into(),
+    }
+}
+
 /// Modes of a real matrix with state names.
 pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
     let eig = a.complex_eigenvalues();
@@ -132,14 +147,17 @@ pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
             im_rad_s: if oscillatory { l.im } else { 0.0 },
             stable,
             period_s: oscillatory.then(|| 2.0 * std::f64::consts::PI / l.im),
-            time_to_half_or_double_s: t,
+            time_to_half_or_double_s: (!neutral).then_some(t),
             eigenvector: names
                 .iter()
                 .zip(ev.iter())
                 .map(|(n, x)| (n.to_string(), *x))
                 .collect(),
             description: match (oscillatory, stable) {
-                _ if neutral => "neutral".into(),
+                _ if neutral => format!(
+                    "neutral: {} (nothing restores it, nothing drives it)",
+                    dominant(names, &ev)
+                ),
                 (true, true) => "stable oscillatory".into(),
                 (true, false) => "unstable oscillatory".into(),
                 (false, true) => "stable subsidence".into(),

@@ -242,3 +242,24 @@ fn ground_plane_catches_a_falling_body() {
         s.velocity_m_s
     );
 }
+
+#[test]
+fn a_zero_eigenvalue_is_a_neutral_mode_without_a_doubling_time() {
+    // Heading in hover: nothing restores the yaw angle, while the yaw rate is damped, so
+    // A = [[0, 1], [0, -2]] (yaw angle, yaw rate) has eigenvalues 0 and -2 exactly. The zero
+    // one is neutral: no time to double or to half, and the report says what it is.
+    let a = nalgebra::DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, -2.0]);
+    let m = flapsim::stability::modes(&a, &["yaw_err_rad", "r_rad_s"]);
+    assert_eq!(m.len(), 2);
+    let neutral = m.iter().find(|m| m.re_per_s.abs() < 1e-12).unwrap();
+    assert_eq!(neutral.time_to_half_or_double_s, None);
+    assert!(!neutral.stable);
+    assert!(
+        neutral.description.contains("heading"),
+        "{}",
+        neutral.description
+    );
+    let damped = m.iter().find(|m| m.re_per_s < -1.0).unwrap();
+    let t = damped.time_to_half_or_double_s.unwrap();
+    assert!((t - std::f64::consts::LN_2 / 2.0).abs() < 1e-12, "{t}");
+}

@@ -98,10 +98,10 @@ pub fn run(args: StabilityArgs) -> Result<()> {
 }
 
 fn describe(m: &ModeInfo) -> String {
-    let timing = if m.stable {
-        format!("half time {:.4} s", m.time_to_half_or_double_s)
-    } else {
-        format!("doubling time {:.4} s", m.time_to_half_or_double_s)
+    let timing = match (m.time_to_half_or_double_s, m.stable) {
+        (None, _) => "no growth or decay".to_owned(),
+        (Some(t), true) => format!("half time {t:.4} s"),
+        (Some(t), false) => format!("doubling time {t:.4} s"),
     };
     let period = m
         .period_s
