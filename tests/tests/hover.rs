@@ -105,3 +105,34 @@ fn open_loop_diverges_and_closed_loop_recovers_from_5_deg_pitch() {
         "{closed:?}"
     );
 }
+
+#[test]
+fn nondimensional_derivatives_follow_sun_and_xiong_references() {
+    // Sun & Xiong 2005 (J. Exp. Biol. 208:447): U = 2 Phi n r_2, t = 1/n, F = 0.5 rho U^2 S_t,
+    // moments with the mean chord. The dimensional derivatives are the averaged matrix's
+    // entries times the mass (forces) or I_yy (pitch moment).
+    let v = builtin("bumblebee");
+    let r = flapsim::stability::analyze(&v, false).unwrap();
+    let rf = &r.nondimensional_reference;
+    let g = v.wings[0].geometry();
+    let phi = rf.stroke_amplitude_rad;
+    let u = 2.0 * phi * rf.freq_hz * g.r_gyration_m;
+    assert!((rf.speed_m_s - u).abs() < 1e-12 * u);
+    let f = 0.5 * v.wings[0].fluid().density_kg_m3 * u * u * 2.0 * g.area_m2;
+    assert!((rf.force_n - f).abs() < 1e-12 * f);
+    let get = |n: &str| r.nondimensional.iter().find(|d| d.name == n).unwrap();
+    let a = &r.a_longitudinal;
+    let xu = get("X_u");
+    assert!((xu.value - v.mass_kg * a[0][0]).abs() < 1e-12 * xu.value.abs());
+    assert!((xu.nondimensional - xu.value * u / f).abs() < 1e-12 * xu.nondimensional.abs());
+    let mq = get("M_q");
+    let iyy = v.inertia_kg_m2[(1, 1)];
+    assert!((mq.value - iyy * a[3][3]).abs() < 1e-12 * mq.value.abs());
+    let c = g.mean_chord_m;
+    assert!(
+        (mq.nondimensional - mq.value * rf.freq_hz / (f * c)).abs()
+            < 1e-12 * mq.nondimensional.abs()
+    );
+    // Hover damping: a horizontal speed is resisted, and so is a pitch rate.
+    assert!(xu.value < 0.0 && mq.value < 0.0);
+}

@@ -74,6 +74,27 @@ pub struct StabilityReport {
     pub floquet_longitudinal: Vec<FloquetMode>,
     /// Dimensional derivatives of the averaged longitudinal model, d(accel)/d(state).
     pub derivatives: Vec<(String, f64)>,
+    /// The reference quantities of [`StabilityReport::nondimensional`].
+    pub nondimensional_reference: crate::derivatives::Reference,
+    /// The longitudinal force and moment derivatives, dimensional and non-dimensional
+    /// (Sun & Xiong 2005's form; [`crate::derivatives`]).
+    pub nondimensional: Vec<crate::derivatives::Derivative>,
+}
+
+/// The peak-to-peak stroke amplitude the trimmed vehicle flaps with: its kinematics', or an
+/// actuated vehicle's from its periodic motion at the trim.
+fn stroke_amplitude_rad(v: &Vehicle) -> Result<f64> {
+    if v.actuation.is_none() {
+        return Ok(v.wings[0].kinematics().amplitude_rad);
+    }
+    let p = crate::actuated::periodic::settle(v, &wingforce::BodyMotion::default())?;
+    let (lo, hi) = p
+        .samples
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| {
+            (lo.min(s[0].angles.phi), hi.max(s[0].angles.phi))
+        });
+    Ok(hi - lo)
 }
 
 fn rows(a: &DMatrix<f64>) -> Vec<Vec<f64>> {
@@ -186,6 +207,8 @@ pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
             derivatives.push((format!("d({ni})/dt / d({nj})"), a_lon[(i, j)]));
         }
     }
+    let (nondimensional_reference, nondimensional) =
+        crate::derivatives::longitudinal(&v, &a_lon, stroke_amplitude_rad(&v)?);
     let floquet_longitudinal = if floquet {
         floquet_longitudinal(&v, &t)?
     } else {
@@ -201,6 +224,8 @@ pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
         lateral_modes: modes(&a_lat, &lat_names),
         floquet_longitudinal,
         derivatives,
+        nondimensional_reference,
+        nondimensional,
     })
 }
 

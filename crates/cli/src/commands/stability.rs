@@ -83,6 +83,24 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     for m in &report.lateral_modes {
         writeln!(o, "  {}", describe(m))?;
     }
+    let r = &report.nondimensional_reference;
+    writeln!(
+        o,
+        "longitudinal derivatives (x forward, z up, q > 0 nose down), non-dimensional as Sun & Xiong 2005: U = 2 Phi n r_2 = {:.4} m/s (Phi {:.2} deg, n {:.2} Hz, r_2 {:.4e} m), time 1/n, force 0.5 rho U^2 S_t = {:.4e} N, moments with c = {:.4e} m:",
+        r.speed_m_s,
+        r.stroke_amplitude_rad.to_degrees(),
+        r.freq_hz,
+        r.r2_m,
+        r.force_n,
+        r.chord_m
+    )?;
+    for d in &report.nondimensional {
+        writeln!(
+            o,
+            "  {:<4} {:>12.4e} {:<10} {:>+10.4}",
+            d.name, d.value, d.unit, d.nondimensional
+        )?;
+    }
     writeln!(o, "longitudinal system matrix:")?;
     for row in &report.a_longitudinal {
         writeln!(
