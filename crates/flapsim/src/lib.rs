@@ -12,6 +12,7 @@
 pub mod actuated;
 pub mod averaged;
 pub mod control;
+pub mod controls;
 pub mod derivatives;
 mod error;
 pub mod frames;
