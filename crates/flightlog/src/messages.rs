@@ -353,8 +353,9 @@ impl Memos {
     }
 }
 
-/// The seven control inputs of the controls message, as bits (the cache key).
-fn controls_key(c: &flapsim::Controls) -> [u64; 7] {
+/// The control inputs of the controls message, as bits (the cache key): the seven kinematic
+/// ones, the five drive ones, and whether the drive ones are written (an actuated vehicle).
+fn controls_key(c: &flapsim::Controls, drive: bool) -> [u64; 13] {
     [
         c.mean_stroke_rad.to_bits(),
         c.amplitude_rad.to_bits(),
@@ -363,6 +364,12 @@ fn controls_key(c: &flapsim::Controls) -> [u64; 7] {
         c.diff_amplitude_rad.to_bits(),
         c.diff_pitch_bias_rad.to_bits(),
         c.diff_mean_stroke_rad.to_bits(),
+        c.bias_v.to_bits(),
+        c.amplitude_v.to_bits(),
+        c.diff_amplitude_v.to_bits(),
+        c.diff_bias_v.to_bits(),
+        c.diff_second_harmonic.to_bits(),
+        u64::from(drive),
     ]
 }
 
@@ -388,7 +395,7 @@ pub(crate) struct SampleJson {
     hinge_m: [[f64; 3]; 2],
     /// The controls fields `"mean_stroke_deg":..,...,"diff_mean_stroke_deg":..` for the
     /// inputs `controls_key`, and whether one of them was not finite.
-    controls_key: Option<[u64; 7]>,
+    controls_key: Option<[u64; 13]>,
     controls: Vec<u8>,
     controls_bad: bool,
     /// The text of the number groups per step of the wingbeat.
@@ -580,7 +587,8 @@ impl SampleJson {
 
         // 5: controls (their text is kept while they do not change).
         let c = &out.controls;
-        let key = controls_key(c);
+        let drive = out.actuated.is_some();
+        let key = controls_key(c, drive);
         if self.controls_key != Some(key) {
             let mut f = Fin::default();
             let cb = &mut self.controls;
@@ -599,6 +607,19 @@ impl SampleJson {
             num(cb, f.f(c.diff_pitch_bias_rad.to_degrees()));
             cb.extend_from_slice(b",\"diff_mean_stroke_deg\":");
             num(cb, f.f(c.diff_mean_stroke_rad.to_degrees()));
+            if drive {
+                cb.extend_from_slice(b",\"drive\":{\"bias_v\":");
+                num(cb, f.f(c.bias_v));
+                cb.extend_from_slice(b",\"amplitude_v\":");
+                num(cb, f.f(c.amplitude_v));
+                cb.extend_from_slice(b",\"diff_amplitude_v\":");
+                num(cb, f.f(c.diff_amplitude_v));
+                cb.extend_from_slice(b",\"diff_bias_v\":");
+                num(cb, f.f(c.diff_bias_v));
+                cb.extend_from_slice(b",\"diff_second_harmonic\":");
+                num(cb, f.f(c.diff_second_harmonic));
+                cb.push(b'}');
+            }
             self.controls_bad = f.nonfinite;
             self.controls_key = Some(key);
         }
@@ -844,7 +865,18 @@ pub(crate) mod reference {
         pub diff_amplitude_deg: f64,
         pub diff_pitch_bias_deg: f64,
         pub diff_mean_stroke_deg: f64,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        pub drive: Option<DriveControls>,
         pub nonfinite: bool,
+    }
+
+    #[derive(Debug, Serialize)]
+    pub(crate) struct DriveControls {
+        pub bias_v: f64,
+        pub amplitude_v: f64,
+        pub diff_amplitude_v: f64,
+        pub diff_bias_v: f64,
+        pub diff_second_harmonic: f64,
     }
 
     #[derive(Debug, Serialize)]
@@ -1040,6 +1072,13 @@ pub(crate) mod reference {
             diff_amplitude_deg: f.f(c.diff_amplitude_rad.to_degrees()),
             diff_pitch_bias_deg: f.f(c.diff_pitch_bias_rad.to_degrees()),
             diff_mean_stroke_deg: f.f(c.diff_mean_stroke_rad.to_degrees()),
+            drive: out.actuated.is_some().then(|| DriveControls {
+                bias_v: f.f(c.bias_v),
+                amplitude_v: f.f(c.amplitude_v),
+                diff_amplitude_v: f.f(c.diff_amplitude_v),
+                diff_bias_v: f.f(c.diff_bias_v),
+                diff_second_harmonic: f.f(c.diff_second_harmonic),
+            }),
             nonfinite: false,
         };
         let controls = Controls {

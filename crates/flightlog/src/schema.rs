@@ -314,6 +314,26 @@ pub fn schema_text(name: &str) -> Option<String> {
                 p.push((k, num(d)));
             }
             p.push((
+                "drive",
+                obj(
+                    None,
+                    "actuated wings only (absent for prescribed kinematics): the drive control offsets",
+                    vec![
+                        ("bias_v", num("drive bias offset, V")),
+                        ("amplitude_v", num("drive amplitude offset, V")),
+                        (
+                            "diff_amplitude_v",
+                            num("left minus right drive amplitude, V"),
+                        ),
+                        ("diff_bias_v", num("left minus right drive bias, V")),
+                        (
+                            "diff_second_harmonic",
+                            num("left minus right second-harmonic fraction"),
+                        ),
+                    ],
+                ),
+            ));
+            p.push((
                 "nonfinite",
                 boolean("a NaN or infinity in this message was replaced by 0"),
             ));

@@ -502,6 +502,14 @@ fn actuated_wings_log_their_hinge_and_actuator() {
         k += 1;
     }
     assert_eq!(k, run.outs.len());
+    // The controls message carries the drive offsets (zero here: the model's own drive).
+    let controls = mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .find(|m| m.channel.topic == schema::TOPIC_CONTROLS)
+        .expect("a controls message");
+    let v: Value = serde_json::from_slice(&controls.data).unwrap();
+    assert_eq!(v["drive"]["amplitude_v"], 0.0, "{v}");
     // The drive swings through its amplitude and the pitch moves off the hinge's rest.
     let volts = run
         .outs
