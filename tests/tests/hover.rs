@@ -136,3 +136,45 @@ fn nondimensional_derivatives_follow_sun_and_xiong_references() {
     // Hover damping: a horizontal speed is resisted, and so is a pitch rate.
     assert!(xu.value < 0.0 && mq.value < 0.0);
 }
+
+#[test]
+fn trim_on_the_pitch_bias_or_the_frequency_keeps_the_amplitude() {
+    // Sun & Xiong (2005) trimmed their bumblebee's angle of attack at its measured stroke
+    // amplitude and frequency. Trimming the pitch bias or the frequency must balance the
+    // weight with the amplitude untouched. For the frequency, quasi-steady scaling gives a
+    // check: every force term goes as the square of the wing speed, so at fixed kinematic
+    // shape the lift grows as f^2, and the trimmed frequency is about f0 sqrt(W / L0); the
+    // Reynolds-number dependence of the coefficients (Lee et al. 2016's C_l falls about 1.6%
+    // for a 10% lower Re at the fly's Re of about 120) and the re-trimmed mean stroke angle
+    // and body pitch keep it within 5%.
+    use flapsim::trim::{LiftVariable, trim_on};
+    let v = builtin("drosophila");
+    let r0 = flapsim::study::hover_responses(&v, 200).unwrap();
+    let lw0 = r0.vertical_force_n / r0.weight_n;
+    for lift in [LiftVariable::PitchBias, LiftVariable::Frequency] {
+        let t = trim_on(&v, lift).unwrap();
+        assert!(t.max_residual() < 1e-6, "{lift:?}: {t:?}");
+        assert_eq!(t.controls.amplitude_rad, 0.0);
+        assert_eq!(t.lift_variable, lift);
+        if lift == LiftVariable::Frequency {
+            let f0 = v.freq_hz();
+            let expect = f0 / lw0.sqrt();
+            let got = f0 + t.controls.freq_hz;
+            assert!((got / expect - 1.0).abs() < 0.05, "{got} Hz vs {expect} Hz");
+        } else {
+            assert!(t.controls.pitch_bias_rad.abs() > 1e-3, "{t:?}");
+        }
+    }
+    // An actuated vehicle trims its drive amplitude only, and says so.
+    let e = trim_on(&builtin("robobee"), LiftVariable::PitchBias).unwrap_err();
+    assert!(e.to_string().contains("drive amplitude"), "{e}");
+    let bad = format!(
+        "{}\n[trim]\nlift_variable = \"pitch_bias\"\n",
+        flapsim::ROBOBEE_TOML
+    );
+    let e = Vehicle::from_toml(&bad, "rb.toml").unwrap_err().to_string();
+    assert!(
+        e.contains("rb.toml") && e.contains("trim.lift_variable"),
+        "{e}"
+    );
+}

@@ -65,7 +65,7 @@ pub struct TrimRow {
     pub value: f64,
     /// The offset on the model's base value that the trim found, in `unit`.
     pub offset: f64,
-    /// `deg` or `V`.
+    /// `deg`, `Hz` or `V`.
     pub unit: &'static str,
 }
 
@@ -91,12 +91,31 @@ pub fn trim_rows(vehicle: &flapsim::Vehicle, t: &flapsim::trim::Trim) -> [TrimRo
             },
         ],
         None => [
-            TrimRow {
-                name: "stroke amplitude",
-                controls_field: "amplitude_deg",
-                value: (vehicle.base_kinematics[0].amplitude_rad + c.amplitude_rad).to_degrees(),
-                offset: c.amplitude_rad.to_degrees(),
-                unit: "deg",
+            {
+                let k = &vehicle.base_kinematics[0];
+                match t.lift_variable {
+                    flapsim::trim::LiftVariable::Amplitude => TrimRow {
+                        name: "stroke amplitude",
+                        controls_field: "amplitude_deg",
+                        value: (k.amplitude_rad + c.amplitude_rad).to_degrees(),
+                        offset: c.amplitude_rad.to_degrees(),
+                        unit: "deg",
+                    },
+                    flapsim::trim::LiftVariable::PitchBias => TrimRow {
+                        name: "pitch bias",
+                        controls_field: "pitch_bias_deg",
+                        value: (k.pitch_bias_rad + c.pitch_bias_rad).to_degrees(),
+                        offset: c.pitch_bias_rad.to_degrees(),
+                        unit: "deg",
+                    },
+                    flapsim::trim::LiftVariable::Frequency => TrimRow {
+                        name: "wingbeat frequency",
+                        controls_field: "freq_hz",
+                        value: k.freq_hz + c.freq_hz,
+                        offset: c.freq_hz,
+                        unit: "Hz",
+                    },
+                }
             },
             TrimRow {
                 name: "mean stroke angle",

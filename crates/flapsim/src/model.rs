@@ -160,6 +160,9 @@ pub struct VehicleSpec {
     /// for prescribed kinematics. See [`crate::actuated`].
     #[serde(default)]
     pub actuation: Option<ActuationSpec>,
+    /// `[trim]`: what a hover trim varies to carry the weight.
+    #[serde(default)]
+    pub trim: crate::trim::TrimSpec,
 }
 
 fn default_gravity() -> f64 {
@@ -200,6 +203,8 @@ pub struct Vehicle {
     pub mirror_symmetric: bool,
     /// The wings' dynamics and drives when the vehicle is actuated.
     pub actuation: Option<Actuation>,
+    /// What a hover trim varies to carry the weight (`[trim] lift_variable`).
+    pub trim_lift: crate::trim::LiftVariable,
 }
 
 impl VehicleSpec {
@@ -376,7 +381,18 @@ impl VehicleSpec {
                 .as_ref()
                 .map(|a| a.build(&v, "actuation"))
                 .transpose()?,
+            trim_lift: self.trim.lift_variable,
         };
+        if vehicle.actuation.is_some() && vehicle.trim_lift != crate::trim::LiftVariable::Amplitude
+        {
+            return Err(v
+                .invalid(
+                    "trim.lift_variable",
+                    vehicle.trim_lift.name(),
+                    "`amplitude` for an actuated vehicle (it trims its drive amplitude)",
+                )
+                .into());
+        }
         // The controlled kinematics must stay valid (checked before applying them, so the
         // error names the controls field rather than a wing).
         for i in 0..2 {

@@ -15,6 +15,41 @@ use crate::model::{Controls, Vehicle};
 /// Phases averaged per evaluation.
 pub const TRIM_SAMPLES: usize = 200;
 
+/// What the trim varies to carry the weight (with the mean stroke angle for the pitch moment
+/// and the body pitch for the horizontal force). Sun & Xiong (2005) trimmed their bumblebee's
+/// angle of attack at fixed amplitude and frequency; other studies trim the amplitude or the
+/// frequency. An actuated vehicle always trims its drive amplitude.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LiftVariable {
+    /// The stroke amplitude (or an actuated vehicle's drive amplitude).
+    #[default]
+    Amplitude,
+    /// The pitch bias: every angle of attack moves by the same offset.
+    PitchBias,
+    /// The wingbeat frequency.
+    Frequency,
+}
+
+impl LiftVariable {
+    /// The name used in model files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            LiftVariable::Amplitude => "amplitude",
+            LiftVariable::PitchBias => "pitch_bias",
+            LiftVariable::Frequency => "frequency",
+        }
+    }
+}
+
+/// `[trim]` of a vehicle model file.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TrimSpec {
+    /// What carries the weight: `amplitude` (default), `pitch_bias` or `frequency`.
+    pub lift_variable: LiftVariable,
+}
+
 /// A hover trim.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Trim {
@@ -30,6 +65,9 @@ pub struct Trim {
     pub residual_my_over_weight_length: f64,
     /// Newton iterations used.
     pub iterations: usize,
+    /// What the trim varied to carry the weight.
+    #[serde(default)]
+    pub lift_variable: LiftVariable,
 }
 
 impl Trim {
@@ -51,15 +89,21 @@ pub fn attitude_for_pitch(pitch_rad: f64) -> UnitQuaternion<f64> {
     UnitQuaternion::from_euler_angles(0.0, -pitch_rad, 0.0)
 }
 
-/// The trim variables' offsets as control-channel offsets: x[0] on the amplitude channel,
-/// x[1] on the mean-stroke (or bias) channel.
-fn trim_controls(vehicle: &Vehicle, x: &Vector3<f64>) -> Controls {
-    vehicle.controls_with(&vehicle.controls, &[x[1], x[0], 0.0, 0.0])
+/// The trim variables' offsets as controls: x[0] on the lift variable, x[1] on the
+/// mean-stroke (or bias) channel.
+fn trim_controls(vehicle: &Vehicle, lift: LiftVariable, x: &Vector3<f64>) -> Controls {
+    let mut c = vehicle.controls_with(&vehicle.controls, &[x[1], 0.0, 0.0, 0.0]);
+    match lift {
+        LiftVariable::Amplitude => c = vehicle.controls_with(&c, &[0.0, x[0], 0.0, 0.0]),
+        LiftVariable::PitchBias => c.pitch_bias_rad += x[0],
+        LiftVariable::Frequency => c.freq_hz += x[0],
+    }
+    c
 }
 
-fn residual(vehicle: &Vehicle, x: &Vector3<f64>) -> Result<Vector3<f64>> {
+fn residual(vehicle: &Vehicle, lift: LiftVariable, x: &Vector3<f64>) -> Result<Vector3<f64>> {
     let mut v = vehicle.clone();
-    v.apply_controls(&trim_controls(vehicle, x))?;
+    v.apply_controls(&trim_controls(vehicle, lift, x))?;
     let q = attitude_for_pitch(x[2]);
     let m = mean_loads(
         &v,
@@ -80,21 +124,39 @@ fn residual(vehicle: &Vehicle, x: &Vector3<f64>) -> Result<Vector3<f64>> {
     ))
 }
 
-/// Finds the hover trim of `vehicle`, starting from its current controls and initial pitch.
+/// Finds the hover trim of `vehicle` on the lift variable its model file names (`[trim]`),
+/// starting from its current controls and initial pitch.
 pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
+    trim_on(vehicle, vehicle.trim_lift)
+}
+
+/// Finds the hover trim of `vehicle` varying `lift` to carry the weight.
+pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
+    if vehicle.drive_controlled() && lift != LiftVariable::Amplitude {
+        return Err(Error::Analysis(format!(
+            "no hover trim for `{}` on the {}: an actuated vehicle trims its drive amplitude (lift variable `amplitude`)",
+            vehicle.name,
+            lift.name()
+        )));
+    }
     let (_, p0, _) = vehicle.initial_attitude.euler_angles();
     let mut x = Vector3::new(0.0, 0.0, -p0);
     let fail =
         |why: String| Error::Analysis(format!("no hover trim for `{}`: {why}", vehicle.name));
     let mut r =
-        residual(vehicle, &x).map_err(|e| fail(format!("at the starting controls: {e}")))?;
+        residual(vehicle, lift, &x).map_err(|e| fail(format!("at the starting controls: {e}")))?;
     // Finite-difference steps: 1e-6 rad of the kinematic channels, 1e-6 of a drive
     // channel's scale (Vehicle::control_scales), 1e-6 rad of body pitch.
     let scales = vehicle.control_scales();
-    let h = [1e-6 * scales[1], 1e-6 * scales[0], 1e-6];
+    let h_lift = match lift {
+        LiftVariable::Amplitude => 1e-6 * scales[1],
+        LiftVariable::PitchBias => 1e-6,
+        LiftVariable::Frequency => 1e-6 * vehicle.freq_hz(),
+    };
+    let h = [h_lift, 1e-6 * scales[0], 1e-6];
     for it in 0..40 {
         if r.amax() < 1e-10 {
-            return Ok(finish(vehicle, x, r, it));
+            return Ok(finish(vehicle, lift, x, r, it));
         }
         let mut jac = Matrix3::zeros();
         for j in 0..3 {
@@ -102,21 +164,34 @@ pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
             let mut xm = x;
             xp[j] += h[j];
             xm[j] -= h[j];
-            let rp = residual(vehicle, &xp).map_err(|e| fail(format!("during the search: {e}")))?;
-            let rm = residual(vehicle, &xm).map_err(|e| fail(format!("during the search: {e}")))?;
+            let rp = residual(vehicle, lift, &xp)
+                .map_err(|e| fail(format!("during the search: {e}")))?;
+            let rm = residual(vehicle, lift, &xm)
+                .map_err(|e| fail(format!("during the search: {e}")))?;
             jac.set_column(j, &((rp - rm) / (2.0 * h[j])));
         }
-        let Some(step) = jac.lu().solve(&(-r)) else {
+        let Some(mut step) = jac.lu().solve(&(-r)) else {
             return Err(fail(
                 "the trim Jacobian is singular (the controls do not affect the balance)".into(),
             ));
         };
+        // The lift is flat in the angle of attack near 45 deg (C_l goes as sin 2 alpha) and
+        // grows smoothly with the frequency, so a Newton step on those variables can be
+        // far too long: cap it at 0.1 rad of pitch bias or 5% of the frequency per iteration.
+        let cap = match lift {
+            LiftVariable::Amplitude => f64::INFINITY,
+            LiftVariable::PitchBias => 0.1,
+            LiftVariable::Frequency => 0.05 * vehicle.freq_hz(),
+        };
+        if step[0].abs() > cap {
+            step *= cap / step[0].abs();
+        }
         // Damped step: halve until the residual falls (or the controls become valid).
         let mut lambda = 1.0;
         let mut last_error = None;
         loop {
             let cand = x + lambda * step;
-            match residual(vehicle, &cand) {
+            match residual(vehicle, lift, &cand) {
                 Ok(rc) if rc.norm() < r.norm() || lambda < 1e-3 => {
                     x = cand;
                     r = rc;
@@ -137,8 +212,19 @@ pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
             }
         }
         if !vehicle.drive_controlled() {
-            let amp =
-                vehicle.base_kinematics[0].amplitude_rad + vehicle.controls.amplitude_rad + x[0];
+            let amp = vehicle.base_kinematics[0].amplitude_rad
+                + vehicle.controls.amplitude_rad
+                + if lift == LiftVariable::Amplitude {
+                    x[0]
+                } else {
+                    0.0
+                };
+            if lift == LiftVariable::PitchBias && x[0].abs() > 1.0 {
+                return Err(fail(format!(
+                    "the search left the allowed range (pitch bias offset {:.1} deg of [-57, 57])",
+                    x[0].to_degrees()
+                )));
+            }
             if !(0.0..=std::f64::consts::PI).contains(&amp) || x[1].abs() > 1.0 {
                 return Err(fail(format!(
                     "the search left the allowed range (amplitude {:.1} deg of (0, 180], mean stroke offset {:.1} deg of [-57, 57])",
@@ -156,7 +242,7 @@ pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
         let _ = it;
     }
     if r.amax() < 1e-7 {
-        return Ok(finish(vehicle, x, r, 40));
+        return Ok(finish(vehicle, lift, x, r, 40));
     }
     Err(fail(format!(
         "Newton did not converge in 40 iterations (residual {:.3e})",
@@ -164,9 +250,16 @@ pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
     )))
 }
 
-fn finish(vehicle: &Vehicle, x: Vector3<f64>, r: Vector3<f64>, iterations: usize) -> Trim {
+fn finish(
+    vehicle: &Vehicle,
+    lift: LiftVariable,
+    x: Vector3<f64>,
+    r: Vector3<f64>,
+    iterations: usize,
+) -> Trim {
     Trim {
-        controls: trim_controls(vehicle, &x),
+        lift_variable: lift,
+        controls: trim_controls(vehicle, lift, &x),
         pitch_rad: x[2],
         residual_fx_over_weight: r[0],
         residual_fz_over_weight: r[1],

@@ -14,6 +14,11 @@ pub struct TrimArgs {
     /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic; actuated: robobee, hummingbird).
     #[arg(long, value_name = "FILE|NAME")]
     pub model: Option<String>,
+    /// What carries the weight: the stroke amplitude, the pitch bias (every angle of attack
+    /// offset alike, as Sun & Xiong 2005 trimmed) or the wingbeat frequency (default: the
+    /// model's `[trim] lift_variable`, else the amplitude).
+    #[arg(long, value_enum)]
+    pub vary: Option<Vary>,
     /// Write the trimmed model (controls and initial attitude set) to this TOML file.
     #[arg(long, value_name = "OUT.toml")]
     pub write: Option<std::path::PathBuf>,
@@ -23,6 +28,17 @@ pub struct TrimArgs {
     /// Print one JSON document on stdout instead of the text report.
     #[arg(long)]
     pub json: bool,
+}
+
+/// `--vary`.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum Vary {
+    /// The stroke amplitude (an actuated vehicle's drive amplitude).
+    Amplitude,
+    /// The pitch bias.
+    PitchBias,
+    /// The wingbeat frequency.
+    Frequency,
 }
 
 #[derive(Serialize)]
@@ -50,7 +66,13 @@ pub fn run(args: TrimArgs) -> Result<()> {
         )?),
         None => None,
     };
-    let t = flapsim::trim::trim(&vehicle).map_err(sim_error)?;
+    let lift = match args.vary {
+        None => vehicle.trim_lift,
+        Some(Vary::Amplitude) => flapsim::trim::LiftVariable::Amplitude,
+        Some(Vary::PitchBias) => flapsim::trim::LiftVariable::PitchBias,
+        Some(Vary::Frequency) => flapsim::trim::LiftVariable::Frequency,
+    };
+    let t = flapsim::trim::trim_on(&vehicle, lift).map_err(sim_error)?;
     let report = Report {
         model: &src.origin,
         controls: trim_rows(&vehicle, &t),
