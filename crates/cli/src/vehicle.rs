@@ -101,11 +101,14 @@ pub fn trim_rows(vehicle: &flapsim::Vehicle, t: &flapsim::trim::Trim) -> [TrimRo
                         offset: c.amplitude_rad.to_degrees(),
                         unit: "deg",
                     },
-                    flapsim::trim::LiftVariable::PitchBias => TrimRow {
-                        name: "pitch bias",
-                        controls_field: "pitch_bias_deg",
-                        value: (k.pitch_bias_rad + c.pitch_bias_rad).to_degrees(),
-                        offset: c.pitch_bias_rad.to_degrees(),
+                    flapsim::trim::LiftVariable::AngleOfAttack => TrimRow {
+                        name: "downstroke angle of attack",
+                        controls_field: "aoa_deg",
+                        // Both half strokes move alike; the row shows the downstroke's.
+                        value: k
+                            .mid_stroke_aoa_rad()
+                            .map_or(f64::NAN, |(down, _)| (down + c.aoa_rad).to_degrees()),
+                        offset: c.aoa_rad.to_degrees(),
                         unit: "deg",
                     },
                     flapsim::trim::LiftVariable::Frequency => TrimRow {

@@ -13,6 +13,10 @@ pub struct Controls {
     pub amplitude_rad: f64,
     /// Pitch bias offset, rad.
     pub pitch_bias_rad: f64,
+    /// Mid-stroke angle-of-attack offset, both half strokes alike, rad (Sun & Xiong 2005's
+    /// weight-support variable; measured tables have no mid-stroke angle to move).
+    #[serde(default)]
+    pub aoa_rad: f64,
     /// Frequency offset, Hz.
     pub freq_hz: f64,
     /// Left-minus-right amplitude, rad.
@@ -101,6 +105,7 @@ impl Controls {
             self.mean_stroke_rad,
             self.amplitude_rad,
             self.pitch_bias_rad,
+            self.aoa_rad,
             self.diff_amplitude_rad,
             self.diff_pitch_bias_rad,
             self.diff_mean_stroke_rad,

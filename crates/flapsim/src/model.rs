@@ -49,6 +49,8 @@ pub struct ControlSpec {
     pub amplitude_deg: f64,
     /// Pitch bias offset, deg.
     pub pitch_bias_deg: f64,
+    /// Mid-stroke angle-of-attack offset of both half strokes, deg (lift).
+    pub aoa_deg: f64,
     /// Frequency offset, Hz.
     pub freq_hz: f64,
     /// Left-minus-right amplitude, deg (roll control).
@@ -293,6 +295,9 @@ impl VehicleSpec {
             pitch_bias_rad: v
                 .within("controls.pitch_bias_deg", c.pitch_bias_deg, -30.0, 30.0)?
                 .to_radians(),
+            aoa_rad: v
+                .within("controls.aoa_deg", c.aoa_deg, -60.0, 60.0)?
+                .to_radians(),
             freq_hz: v.within("controls.freq_hz", c.freq_hz, -1e4, 1e4)?,
             diff_amplitude_rad: v
                 .within(
@@ -431,7 +436,12 @@ impl Vehicle {
     /// The kinematics of wing `i` (0 left, 1 right) under `controls`.
     pub fn controlled_kinematics(&self, i: usize, c: &Controls) -> Kinematics {
         let half = if i == 0 { 0.5 } else { -0.5 };
-        let mut k = self.base_kinematics[i].clone();
+        let base = &self.base_kinematics[i];
+        // A measured table has no mid-stroke angle of attack; apply_controls refuses an
+        // offset on one before it gets here.
+        let mut k = base
+            .with_aoa_offset(c.aoa_rad)
+            .unwrap_or_else(|| base.clone());
         k.mean_stroke_rad += c.mean_stroke_rad + half * c.diff_mean_stroke_rad;
         k.amplitude_rad += c.amplitude_rad + half * c.diff_amplitude_rad;
         k.pitch_bias_rad += c.pitch_bias_rad + half * c.diff_pitch_bias_rad;
@@ -464,6 +474,26 @@ impl Vehicle {
             )));
         }
         for i in 0..2 {
+            if c.aoa_rad != 0.0 {
+                let Some((down, up)) = self.base_kinematics[i].mid_stroke_aoa_rad() else {
+                    return Err(crate::Error::Analysis(format!(
+                        "{}: an angle-of-attack offset ({:.2} deg) needs a kinematics family with a mid-stroke angle of attack (trapezoidal, harmonic, harmonic_flip); measured (tabulated) kinematics have none",
+                        self.name,
+                        c.aoa_rad.to_degrees()
+                    )));
+                };
+                for (half, aoa) in [("downstroke", down), ("upstroke", up)] {
+                    let moved = aoa + c.aoa_rad;
+                    if !(moved > 0.0 && moved <= 0.5 * std::f64::consts::PI) {
+                        return Err(crate::Error::Analysis(format!(
+                            "controls give wing {i} a {half} angle of attack of {:.2} deg ({:.2} deg + offset {:.2} deg); allowed: (0, 90] deg",
+                            moved.to_degrees(),
+                            aoa.to_degrees(),
+                            c.aoa_rad.to_degrees()
+                        )));
+                    }
+                }
+            }
             let k = self.controlled_kinematics(i, c);
             if !(k.amplitude_rad > 0.0
                 && k.amplitude_rad <= std::f64::consts::PI

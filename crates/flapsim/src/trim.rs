@@ -25,8 +25,9 @@ pub enum LiftVariable {
     /// The stroke amplitude (or an actuated vehicle's drive amplitude).
     #[default]
     Amplitude,
-    /// The pitch bias: every angle of attack moves by the same offset.
-    PitchBias,
+    /// The mid-stroke angle of attack of both half strokes, moved alike (Sun & Xiong 2005;
+    /// their group's control study found an equal change mainly moves the vertical force).
+    AngleOfAttack,
     /// The wingbeat frequency.
     Frequency,
 }
@@ -36,7 +37,7 @@ impl LiftVariable {
     pub fn name(self) -> &'static str {
         match self {
             LiftVariable::Amplitude => "amplitude",
-            LiftVariable::PitchBias => "pitch_bias",
+            LiftVariable::AngleOfAttack => "angle_of_attack",
             LiftVariable::Frequency => "frequency",
         }
     }
@@ -46,7 +47,7 @@ impl LiftVariable {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct TrimSpec {
-    /// What carries the weight: `amplitude` (default), `pitch_bias` or `frequency`.
+    /// What carries the weight: `amplitude` (default), `angle_of_attack` or `frequency`.
     pub lift_variable: LiftVariable,
 }
 
@@ -95,7 +96,7 @@ fn trim_controls(vehicle: &Vehicle, lift: LiftVariable, x: &Vector3<f64>) -> Con
     let mut c = vehicle.controls_with(&vehicle.controls, &[x[1], 0.0, 0.0, 0.0]);
     match lift {
         LiftVariable::Amplitude => c = vehicle.controls_with(&c, &[0.0, x[0], 0.0, 0.0]),
-        LiftVariable::PitchBias => c.pitch_bias_rad += x[0],
+        LiftVariable::AngleOfAttack => c.aoa_rad += x[0],
         LiftVariable::Frequency => c.freq_hz += x[0],
     }
     c
@@ -150,7 +151,7 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
     let scales = vehicle.control_scales();
     let h_lift = match lift {
         LiftVariable::Amplitude => 1e-6 * scales[1],
-        LiftVariable::PitchBias => 1e-6,
+        LiftVariable::AngleOfAttack => 1e-6,
         LiftVariable::Frequency => 1e-6 * vehicle.freq_hz(),
     };
     let h = [h_lift, 1e-6 * scales[0], 1e-6];
@@ -177,10 +178,11 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
         };
         // The lift is flat in the angle of attack near 45 deg (C_l goes as sin 2 alpha) and
         // grows smoothly with the frequency, so a Newton step on those variables can be
-        // far too long: cap it at 0.1 rad of pitch bias or 5% of the frequency per iteration.
+        // far too long: cap it at 0.1 rad of angle of attack or 5% of the frequency per
+        // iteration.
         let cap = match lift {
             LiftVariable::Amplitude => f64::INFINITY,
-            LiftVariable::PitchBias => 0.1,
+            LiftVariable::AngleOfAttack => 0.1,
             LiftVariable::Frequency => 0.05 * vehicle.freq_hz(),
         };
         if step[0].abs() > cap {
@@ -219,9 +221,9 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
                 } else {
                     0.0
                 };
-            if lift == LiftVariable::PitchBias && x[0].abs() > 1.0 {
+            if lift == LiftVariable::AngleOfAttack && x[0].abs() > 1.0 {
                 return Err(fail(format!(
-                    "the search left the allowed range (pitch bias offset {:.1} deg of [-57, 57])",
+                    "the search left the allowed range (angle-of-attack offset {:.1} deg of [-57, 57])",
                     x[0].to_degrees()
                 )));
             }

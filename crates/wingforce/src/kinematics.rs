@@ -15,6 +15,7 @@ use std::f64::consts::PI;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, Validator};
+use crate::pitch_flip::FlipShape;
 
 /// Wing angles and their time derivatives (rad, rad/s, rad/s^2).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
@@ -96,6 +97,30 @@ pub enum KinematicsSpec {
         #[serde(default)]
         pitch_bias_deg: f64,
     },
+    /// Sun's group's CFD kinematics (Sun & Lan 2004, eq. 1-2; Sun & Xiong 2005): a
+    /// simple-harmonic stroke, a constant angle of attack in each half stroke and a pitch
+    /// flip of given duration and timing whose rate follows 1 - cos ([`crate::pitch_flip`]).
+    HarmonicFlip {
+        /// Wingbeat frequency, Hz.
+        freq_hz: f64,
+        /// Peak-to-peak stroke amplitude, deg.
+        amplitude_deg: f64,
+        /// Angle of attack held in the middle of the downstroke, deg.
+        downstroke_aoa_deg: f64,
+        /// Angle of attack held in the middle of the upstroke, deg.
+        upstroke_aoa_deg: f64,
+        /// Flip duration as a fraction of the period, (0, 0.5].
+        flip_duration: f64,
+        /// Flip midpoint minus stroke reversal, fraction of the period (negative: advanced).
+        #[serde(default)]
+        flip_offset: f64,
+        /// Mean stroke angle, deg.
+        #[serde(default)]
+        mean_stroke_deg: f64,
+        /// Pitch bias, deg.
+        #[serde(default)]
+        pitch_bias_deg: f64,
+    },
     /// Measured periodic kinematics (e.g. from high-speed video), interpolated by periodic
     /// cubic splines. The table covers one period: `t_s` starts at 0 and ends at the period,
     /// and the last row must repeat the first.
@@ -133,6 +158,8 @@ pub enum Shape {
         /// Deviation amplitude, rad.
         deviation_amplitude_rad: f64,
     },
+    /// See [`KinematicsSpec::HarmonicFlip`].
+    HarmonicFlip(FlipShape),
     /// A measured table.
     Tabulated(Box<TableShape>),
 }
@@ -272,6 +299,36 @@ impl KinematicsSpec {
                         )?
                         .to_radians(),
                 },
+                freq_hz: v.positive(&f("freq_hz"), *freq_hz)?,
+                amplitude_rad: amp(*amplitude_deg)?,
+                mean_stroke_rad: mean(*mean_stroke_deg)?,
+                pitch_bias_rad: bias(*pitch_bias_deg)?,
+            }),
+            KinematicsSpec::HarmonicFlip {
+                freq_hz,
+                amplitude_deg,
+                downstroke_aoa_deg,
+                upstroke_aoa_deg,
+                flip_duration,
+                flip_offset,
+                mean_stroke_deg,
+                pitch_bias_deg,
+            } => Ok(Kinematics {
+                shape: Shape::HarmonicFlip(FlipShape {
+                    downstroke_aoa_rad: v
+                        .within(&f("downstroke_aoa_deg"), *downstroke_aoa_deg, 0.0, 90.0)?
+                        .to_radians(),
+                    upstroke_aoa_rad: v
+                        .within(&f("upstroke_aoa_deg"), *upstroke_aoa_deg, 0.0, 90.0)?
+                        .to_radians(),
+                    flip_duration: v.within_open_low(
+                        &f("flip_duration"),
+                        *flip_duration,
+                        0.0,
+                        0.5,
+                    )?,
+                    flip_offset: v.within(&f("flip_offset"), *flip_offset, -0.25, 0.25)?,
+                }),
                 freq_hz: v.positive(&f("freq_hz"), *freq_hz)?,
                 amplitude_rad: amp(*amplitude_deg)?,
                 mean_stroke_rad: mean(*mean_stroke_deg)?,
@@ -517,6 +574,22 @@ impl Kinematics {
                         -da * 4.0 * w * w * se,
                     )
                 }
+                Shape::HarmonicFlip(flip) => {
+                    let a = self.amplitude_rad;
+                    let (s, ds, dds) = FlipShape::stroke(tau);
+                    let (th, dth, ddth) = flip.pitch(tau);
+                    (
+                        self.mean_stroke_rad + a * s,
+                        a * ds,
+                        a * dds,
+                        th,
+                        dth,
+                        ddth,
+                        0.0,
+                        0.0,
+                        0.0,
+                    )
+                }
                 Shape::Tabulated(t) => {
                     let scale = self.amplitude_rad / t.stroke_amplitude_rad;
                     (
@@ -584,7 +657,9 @@ impl Kinematics {
             Shape::Trapezoidal { dtau_a, dtau_d, .. } => {
                 self.freq_hz * self.amplitude_rad / (0.5 - 0.5 * (dtau_a + dtau_d))
             }
-            Shape::Harmonic { .. } => self.freq_hz * PI * self.amplitude_rad,
+            Shape::Harmonic { .. } | Shape::HarmonicFlip(_) => {
+                self.freq_hz * PI * self.amplitude_rad
+            }
             Shape::Tabulated(t) => {
                 self.freq_hz * self.amplitude_rad / t.stroke_amplitude_rad * t.peak_rate_per_cycle
             }
@@ -604,8 +679,52 @@ impl Kinematics {
         match &self.shape {
             Shape::Trapezoidal { dtau_a, dtau_d, .. } => (*dtau_a, *dtau_d),
             // A pure cosine stroke: |sin| first reaches half its peak T/12 after a reversal.
-            Shape::Harmonic { .. } => (1.0 / 6.0, 1.0 / 6.0),
+            Shape::Harmonic { .. } | Shape::HarmonicFlip(_) => (1.0 / 6.0, 1.0 / 6.0),
             Shape::Tabulated(t) => t.accel_fractions,
+        }
+    }
+
+    /// These kinematics with the mid-stroke angle of attack of both half strokes moved by
+    /// `delta_rad` (the control Sun & Xiong 2005 trimmed their bumblebee's weight support
+    /// with), or `None` for a measured table, whose pitch has no mid-stroke angle to move.
+    pub fn with_aoa_offset(&self, delta_rad: f64) -> Option<Kinematics> {
+        let shape = match &self.shape {
+            Shape::Trapezoidal {
+                mid_aoa_rad,
+                dtau_a,
+                dtau_d,
+            } => Shape::Trapezoidal {
+                mid_aoa_rad: mid_aoa_rad + delta_rad,
+                dtau_a: *dtau_a,
+                dtau_d: *dtau_d,
+            },
+            Shape::Harmonic {
+                mid_aoa_rad,
+                pitch_phase_rad,
+                deviation_amplitude_rad,
+            } => Shape::Harmonic {
+                mid_aoa_rad: mid_aoa_rad + delta_rad,
+                pitch_phase_rad: *pitch_phase_rad,
+                deviation_amplitude_rad: *deviation_amplitude_rad,
+            },
+            Shape::HarmonicFlip(flip) => Shape::HarmonicFlip(flip.with_aoa_offset(delta_rad)),
+            Shape::Tabulated(_) => return None,
+        };
+        Some(Kinematics {
+            shape,
+            ..self.clone()
+        })
+    }
+
+    /// The mid-stroke angles of attack (downstroke, upstroke), rad, of a parametric family
+    /// (`None` for a measured table).
+    pub fn mid_stroke_aoa_rad(&self) -> Option<(f64, f64)> {
+        match &self.shape {
+            Shape::Trapezoidal { mid_aoa_rad, .. } | Shape::Harmonic { mid_aoa_rad, .. } => {
+                Some((*mid_aoa_rad, *mid_aoa_rad))
+            }
+            Shape::HarmonicFlip(f) => Some((f.downstroke_aoa_rad, f.upstroke_aoa_rad)),
+            Shape::Tabulated(_) => None,
         }
     }
 

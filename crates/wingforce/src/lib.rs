@@ -24,6 +24,7 @@ pub mod cycle;
 mod error;
 pub mod kinematics;
 pub mod model;
+pub mod pitch_flip;
 pub mod planform;
 pub mod quad;
 pub mod wing;

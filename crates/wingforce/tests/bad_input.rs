@@ -123,3 +123,23 @@ fn refitted_wake_model_must_be_finite_with_positive_mu_star() {
         "{s}"
     );
 }
+
+#[test]
+fn pitch_flip_longer_than_a_half_stroke_is_rejected() {
+    let text = GOOD.split("[kinematics]").next().unwrap().to_owned()
+        + "[kinematics]\nfamily = \"harmonic_flip\"\nfreq_hz = 1.0\namplitude_deg = 120.0\ndownstroke_aoa_deg = 40.0\nupstroke_aoa_deg = 35.0\nflip_duration = 0.6\n";
+    match load(&text).unwrap_err() {
+        Error::Invalid {
+            origin,
+            field,
+            value,
+            allowed,
+        } => {
+            assert_eq!(origin, "bad.toml");
+            assert_eq!(field, "kinematics.flip_duration");
+            assert_eq!(value, "0.6");
+            assert!(allowed.contains("0.5"), "{allowed}");
+        }
+        other => panic!("{other}"),
+    }
+}

@@ -32,6 +32,21 @@ fn harmonic() -> wingforce::Kinematics {
     .unwrap()
 }
 
+fn flip(offset: f64) -> wingforce::Kinematics {
+    KinematicsSpec::HarmonicFlip {
+        freq_hz: 155.0,
+        amplitude_deg: 116.0,
+        downstroke_aoa_deg: 40.0,
+        upstroke_aoa_deg: 32.0,
+        flip_duration: 0.25,
+        flip_offset: offset,
+        mean_stroke_deg: 2.0,
+        pitch_bias_deg: 0.0,
+    }
+    .build(&Validator::new("t"), "kinematics", 0.2)
+    .unwrap()
+}
+
 fn tabulated() -> wingforce::Kinematics {
     // One period of a sampled harmonic wingbeat at 5 Hz (phi = -60 cos, theta = 90 - 45 sin).
     let n = 64;
@@ -91,6 +106,45 @@ fn analytic_derivatives_match_finite_differences() {
     check_derivatives(&trapezoid(0.12, 0.08), 1e-5);
     check_derivatives(&harmonic(), 1e-5);
     check_derivatives(&tabulated(), 1e-5);
+    check_derivatives(&flip(0.0), 1e-5);
+    check_derivatives(&flip(-0.04), 1e-5);
+}
+
+#[test]
+fn pitch_flip_family_is_sun_and_lans_motion() {
+    // Sun & Lan 2004 (J. Exp. Biol. 207:1887, eq. 1-2): a simple-harmonic stroke (its rate
+    // peaks at pi f Phi mid-stroke), the angles of attack held in mid half strokes, and a
+    // flip whose rate 0.5 w0 (1 - cos) is zero at its ends and peaks at twice its mean.
+    let k = flip(0.0);
+    let (a0, mid_down, a_half, mid_up) =
+        (k.angles(0.0), k.angles(0.25), k.angles(0.5), k.angles(0.75));
+    let amp = 116f64.to_radians();
+    let mean = 2f64.to_radians();
+    assert!((a0.phi - (mean - 0.5 * amp)).abs() < 1e-12);
+    assert!((a_half.phi - (mean + 0.5 * amp)).abs() < 1e-12);
+    let peak = std::f64::consts::PI * 155.0 * amp;
+    assert!((mid_down.phi_dot - peak).abs() < 1e-9 * peak);
+    assert!((k.peak_stroke_rate_rad_s() - peak).abs() < 1e-9 * peak);
+    assert!((mid_down.theta - 40f64.to_radians()).abs() < 1e-12);
+    assert!((mid_up.theta - (std::f64::consts::PI - 32f64.to_radians())).abs() < 1e-12);
+    assert_eq!(mid_down.theta_dot, 0.0);
+    // Symmetric rotation: the flip's rate peaks at the reversal, at twice the mean rate
+    // (the swept angle over the flip's 0.25 T).
+    let swept = std::f64::consts::PI - 32f64.to_radians() - 40f64.to_radians();
+    let mean_rate = swept / (0.25 / 155.0);
+    assert!((a_half.theta_dot - 2.0 * mean_rate).abs() < 1e-9 * mean_rate);
+    // The flip's ends (0.125 T from the reversal) hold the mid-stroke angle again.
+    assert!((k.angles(0.375).theta - 40f64.to_radians()).abs() < 1e-12);
+    assert!(k.angles(0.375).theta_dot.abs() < 1e-9 * mean_rate);
+    // A harmonic stroke's half-peak point is T/12 from a reversal.
+    assert_eq!(k.acceleration_fractions(), (1.0 / 6.0, 1.0 / 6.0));
+    // The angle-of-attack control moves both half strokes alike.
+    let moved = k.with_aoa_offset(-5f64.to_radians()).unwrap();
+    assert!((moved.angles(0.25).theta - 35f64.to_radians()).abs() < 1e-12);
+    assert!(
+        (moved.angles(0.75).theta - (std::f64::consts::PI - 27f64.to_radians())).abs() < 1e-12
+    );
+    assert!(tabulated().with_aoa_offset(0.1).is_none());
 }
 
 #[test]

@@ -202,6 +202,7 @@ fn build_wing(args: &ForcesArgs) -> anyhow::Result<(Wing, LoadedSpec)> {
             other => {
                 let family = match other {
                     KinematicsSpec::Harmonic { .. } => "harmonic",
+                    KinematicsSpec::HarmonicFlip { .. } => "harmonic_flip",
                     _ => "tabulated",
                 };
                 return Err(input_error(format!(

@@ -14,9 +14,9 @@ pub struct TrimArgs {
     /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic; actuated: robobee, hummingbird).
     #[arg(long, value_name = "FILE|NAME")]
     pub model: Option<String>,
-    /// What carries the weight: the stroke amplitude, the pitch bias (every angle of attack
-    /// offset alike, as Sun & Xiong 2005 trimmed) or the wingbeat frequency (default: the
-    /// model's `[trim] lift_variable`, else the amplitude).
+    /// What carries the weight: the stroke amplitude, the mid-stroke angle of attack (both
+    /// half strokes moved alike, as Sun & Xiong 2005 trimmed) or the wingbeat frequency
+    /// (default: the model's `[trim] lift_variable`, else the amplitude).
     #[arg(long, value_enum)]
     pub vary: Option<Vary>,
     /// Write the trimmed model (controls and initial attitude set) to this TOML file.
@@ -35,8 +35,8 @@ pub struct TrimArgs {
 pub enum Vary {
     /// The stroke amplitude (an actuated vehicle's drive amplitude).
     Amplitude,
-    /// The pitch bias.
-    PitchBias,
+    /// The mid-stroke angle of attack of both half strokes.
+    AngleOfAttack,
     /// The wingbeat frequency.
     Frequency,
 }
@@ -69,7 +69,7 @@ pub fn run(args: TrimArgs) -> Result<()> {
     let lift = match args.vary {
         None => vehicle.trim_lift,
         Some(Vary::Amplitude) => flapsim::trim::LiftVariable::Amplitude,
-        Some(Vary::PitchBias) => flapsim::trim::LiftVariable::PitchBias,
+        Some(Vary::AngleOfAttack) => flapsim::trim::LiftVariable::AngleOfAttack,
         Some(Vary::Frequency) => flapsim::trim::LiftVariable::Frequency,
     };
     let t = flapsim::trim::trim_on(&vehicle, lift).map_err(sim_error)?;

@@ -1,0 +1,191 @@
+//! The built-in insects at their published operating points, set beside the published
+//! figures: mean vertical force over weight at the published hover kinematics (before any
+//! trim), and Sun & Xiong's (2005) four longitudinal mode times against the averaged
+//! analysis of the trimmed bumblebee. `flapwing validate` prints these rows after the seed
+//! paper's.
+//!
+//! Tolerances (the bounds issue 17 set): weight support within 15%, since the models are
+//! built from published means over individuals, not one animal measured for both morphology
+//! and kinematics; mode times within 30%, since the comparison sets a quasi-steady model's
+//! averaged modes beside modes from CFD derivatives.
+//!
+//! A row that flapwing's model is known to miss carries the reason (`limitation`), with the
+//! evidence measured here ([`added_mass_share`]); such a row is reported, not hidden, and a
+//! test checks that it still misses, so the note is dropped when the model improves.
+
+use nalgebra::Vector3;
+use wingforce::Term;
+
+use crate::Vehicle;
+use crate::averaged::{FrozenState, mean_loads};
+use crate::error::{Error, Result};
+use crate::stability::{ModeKind, analyze};
+
+/// One comparison with a published figure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OperatingPoint {
+    /// What is compared, with units.
+    pub name: String,
+    /// Where the published figure comes from.
+    pub source: &'static str,
+    /// The published figure.
+    pub published: f64,
+    /// flapwing's figure.
+    pub computed: f64,
+    /// Largest accepted |computed / published - 1|.
+    pub relative_tolerance: f64,
+    /// Why flapwing's quasi-steady model is known to fall outside the tolerance here, with the
+    /// evidence; `None` where it is expected to agree.
+    pub limitation: Option<String>,
+}
+
+impl OperatingPoint {
+    /// computed / published - 1.
+    pub fn relative_error(&self) -> f64 {
+        self.computed / self.published - 1.0
+    }
+
+    /// True when within the tolerance (false for NaN).
+    pub fn within(&self) -> bool {
+        self.relative_error().abs() <= self.relative_tolerance
+    }
+
+    /// The verdict: within and unnoted, or outside with its known limitation; anything else
+    /// (outside without a note, or a note on a row that now agrees) is a failure.
+    pub fn verdict(&self) -> Verdict {
+        match (self.within(), self.limitation.is_some()) {
+            (true, false) => Verdict::Pass,
+            (false, true) => Verdict::KnownLimitation,
+            (false, false) => Verdict::Fail,
+            (true, true) => Verdict::StaleNote,
+        }
+    }
+}
+
+/// See [`OperatingPoint::verdict`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// Within the tolerance.
+    Pass,
+    /// Outside, for the documented reason.
+    KnownLimitation,
+    /// Outside with no documented reason.
+    Fail,
+    /// Inside although documented as outside: the note must go.
+    StaleNote,
+}
+
+/// Share of the weight that the cycle mean of the added-mass term carries, at the vehicle's
+/// initial (published) attitude and kinematics. An ideal-fluid added-mass force is the time
+/// derivative of the fluid impulse, which is periodic in a periodic wingbeat in still air, so
+/// its cycle mean is zero; the per-strip quasi-steady form (MODEL.md 4.3, -m_a a_n along the
+/// rotating normal) leaves the term -m_a v_n dn/dt, which is not a derivative and has a mean
+/// wherever the wing pitches while it moves.
+pub fn added_mass_share(vehicle: &Vehicle) -> Result<f64> {
+    let m = mean_loads(vehicle, &still(vehicle), 200)?;
+    let f = vehicle.initial_attitude * m.terms[Term::AddedMass as usize].force_n;
+    Ok(f.z / vehicle.weight_n())
+}
+
+/// Mean vertical force over weight at the vehicle's initial attitude and base kinematics.
+pub fn lift_over_weight(vehicle: &Vehicle) -> Result<f64> {
+    let m = mean_loads(vehicle, &still(vehicle), 200)?;
+    Ok((vehicle.initial_attitude * m.total.force_n).z / vehicle.weight_n())
+}
+
+fn still(vehicle: &Vehicle) -> FrozenState {
+    FrozenState {
+        world_from_body: vehicle.initial_attitude,
+        velocity_body_m_s: Vector3::zeros(),
+        angular_velocity_body_rad_s: Vector3::zeros(),
+    }
+}
+
+/// The rows for the built-in bumblebee (Sun & Xiong 2005) and fruit fly (Fry et al. 2005).
+pub fn operating_points() -> Result<Vec<OperatingPoint>> {
+    let bee = builtin("bumblebee")?;
+    let fly = builtin("drosophila")?;
+    let mut rows = Vec::new();
+    // Both insects miss for the reason measured in the note (the fly by its added-mass mean
+    // alone: without it, its L/W is within the tolerance; the test checks this).
+    for (v, name, source) in [
+        (
+            &bee,
+            "bumblebee L/W at 116 deg, 155 Hz (before trim)",
+            "Sun & Xiong 2005 (hovers at these)",
+        ),
+        (
+            &fly,
+            "fruit fly L/W at 140 deg, 218 Hz (before trim)",
+            "Fry et al. 2005 (QS ~ all force)",
+        ),
+    ] {
+        let lw = lift_over_weight(v)?;
+        let am = added_mass_share(v)?;
+        rows.push(OperatingPoint {
+            name: name.to_owned(),
+            source,
+            published: 1.0,
+            computed: lw,
+            relative_tolerance: 0.15,
+            limitation: Some(format!(
+                "the quasi-steady added-mass term's cycle mean carries {am:.2} W (an ideal-fluid added-mass force has none); translational and wake capture at Lee et al. 2016's coefficients carry {:.2} W",
+                lw - am
+            )),
+        });
+    }
+    // Sun & Xiong 2005, abstract: period 0.32 s and doubling 0.1 s (unstable oscillatory),
+    // half times 0.024 s (fast subsidence) and 0.37 s (slow subsidence).
+    let report = analyze(&bee, false)?;
+    let modes = &report.longitudinal_modes;
+    let osc = modes
+        .iter()
+        .find(|m| m.kind == ModeKind::Oscillatory)
+        .ok_or_else(|| Error::Analysis("the bumblebee has no oscillatory longitudinal mode".into()))?;
+    let mut halves: Vec<f64> = modes
+        .iter()
+        .filter(|m| m.kind == ModeKind::Real && m.stable)
+        .filter_map(|m| m.time_to_half_or_double_s)
+        .collect();
+    halves.sort_by(f64::total_cmp);
+    if halves.len() != 2 {
+        return Err(Error::Analysis(format!(
+            "the bumblebee has {} stable real longitudinal modes, Sun & Xiong 2005 found 2",
+            halves.len()
+        )));
+    }
+    let pitch_limitation = "the two pitch-dominated modes scale with M_u, M_q and I_y over the body; I_y is an ellipsoid estimate, and 30% less of it (the least the inertia's triangle inequality allows) brings them to 0.41 s and 0.035 s, not within: the rest lies in the quasi-steady M_u and M_q (the derivative table of `stability`), while the same model puts the doubling and slow-subsidence times within 10%";
+    let source = "Sun & Xiong 2005, abstract";
+    let mode_rows = [
+        (
+            "bumblebee unstable oscillatory mode: period, s",
+            0.32,
+            osc.period_s.unwrap_or(f64::NAN),
+        ),
+        (
+            "bumblebee unstable oscillatory mode: doubling time, s",
+            0.1,
+            osc.time_to_half_or_double_s.unwrap_or(f64::NAN),
+        ),
+        ("bumblebee fast subsidence: half time, s", 0.024, halves[0]),
+        ("bumblebee slow subsidence: half time, s", 0.37, halves[1]),
+    ];
+    // The two pitch-dominated modes miss (the note); the other two agree.
+    for ((name, published, computed), limited) in mode_rows.into_iter().zip([true, false, true, false]) {
+        rows.push(OperatingPoint {
+            name: name.to_owned(),
+            source,
+            published,
+            computed,
+            relative_tolerance: 0.30,
+            limitation: limited.then(|| pitch_limitation.to_owned()),
+        });
+    }
+    Ok(rows)
+}
+
+fn builtin(name: &str) -> Result<Vehicle> {
+    let text = crate::builtin_model(name)
+        .ok_or_else(|| Error::Analysis(format!("no built-in model `{name}`")))?;
+    Vehicle::from_toml(text, name)
+}
