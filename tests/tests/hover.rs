@@ -189,7 +189,9 @@ fn published_operating_points_agree_or_say_why_not() {
     // Xiong's four mode times (abstract: period 0.32 s, doubling 0.1 s, half times 0.024 s and
     // 0.37 s) within 30%. A row outside carries a fixed note; no row may miss without one,
     // and no note may stay on a row that agrees.
-    use flapsim::operating_points::{Verdict, added_mass_share, lift_over_weight, operating_points};
+    use flapsim::operating_points::{
+        Verdict, added_mass_share, lift_over_weight, operating_points,
+    };
     let rows = operating_points().unwrap();
     assert_eq!(rows.len(), 6);
     for r in &rows {
@@ -202,7 +204,10 @@ fn published_operating_points_agree_or_say_why_not() {
     // the fly carries its weight within the 15%.
     let fly = builtin("drosophila");
     let without = lift_over_weight(&fly).unwrap() - added_mass_share(&fly).unwrap();
-    assert!((without - 1.0).abs() < 0.15, "fly L/W without added mass {without}");
+    assert!(
+        (without - 1.0).abs() < 0.15,
+        "fly L/W without added mass {without}"
+    );
     // The doubling and slow-subsidence times agree within 10%.
     for r in [&rows[3], &rows[5]] {
         assert!(r.relative_error().abs() < 0.10, "{r:?}");
@@ -217,5 +222,8 @@ fn angle_of_attack_control_refuses_angles_past_90_deg() {
         ..Default::default()
     };
     let e = v.apply_controls(&c).unwrap_err().to_string();
-    assert!(e.contains("angle of attack of 95.00 deg") && e.contains("(0, 90]"), "{e}");
+    assert!(
+        e.contains("angle of attack of 95.00 deg") && e.contains("(0, 90]"),
+        "{e}"
+    );
 }

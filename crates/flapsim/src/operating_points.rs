@@ -141,7 +141,9 @@ pub fn operating_points() -> Result<Vec<OperatingPoint>> {
     let osc = modes
         .iter()
         .find(|m| m.kind == ModeKind::Oscillatory)
-        .ok_or_else(|| Error::Analysis("the bumblebee has no oscillatory longitudinal mode".into()))?;
+        .ok_or_else(|| {
+            Error::Analysis("the bumblebee has no oscillatory longitudinal mode".into())
+        })?;
     let mut halves: Vec<f64> = modes
         .iter()
         .filter(|m| m.kind == ModeKind::Real && m.stable)
@@ -171,7 +173,9 @@ pub fn operating_points() -> Result<Vec<OperatingPoint>> {
         ("bumblebee slow subsidence: half time, s", 0.37, halves[1]),
     ];
     // The two pitch-dominated modes miss (the note); the other two agree.
-    for ((name, published, computed), limited) in mode_rows.into_iter().zip([true, false, true, false]) {
+    for ((name, published, computed), limited) in
+        mode_rows.into_iter().zip([true, false, true, false])
+    {
         rows.push(OperatingPoint {
             name: name.to_owned(),
             source,

@@ -109,7 +109,7 @@ pub enum KinematicsSpec {
         downstroke_aoa_deg: f64,
         /// Angle of attack held in the middle of the upstroke, deg.
         upstroke_aoa_deg: f64,
-        /// Flip duration as a fraction of the period, (0, 0.5].
+        /// Flip duration as a fraction of the period, [0.01, 0.5].
         flip_duration: f64,
         /// Flip midpoint minus stroke reversal, fraction of the period (negative: advanced).
         #[serde(default)]
@@ -321,12 +321,9 @@ impl KinematicsSpec {
                     upstroke_aoa_rad: v
                         .within(&f("upstroke_aoa_deg"), *upstroke_aoa_deg, 0.0, 90.0)?
                         .to_radians(),
-                    flip_duration: v.within_open_low(
-                        &f("flip_duration"),
-                        *flip_duration,
-                        0.0,
-                        0.5,
-                    )?,
+                    // At least 1% of the period: a shorter flip is a jump in pitch whose
+                    // rate (2 x the swept angle over the duration) no step resolves.
+                    flip_duration: v.within(&f("flip_duration"), *flip_duration, 0.01, 0.5)?,
                     flip_offset: v.within(&f("flip_offset"), *flip_offset, -0.25, 0.25)?,
                 }),
                 freq_hz: v.positive(&f("freq_hz"), *freq_hz)?,

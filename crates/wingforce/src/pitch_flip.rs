@@ -19,7 +19,7 @@ pub struct FlipShape {
     pub downstroke_aoa_rad: f64,
     /// Angle of attack held in the middle of the upstroke, rad.
     pub upstroke_aoa_rad: f64,
-    /// Flip duration D as a fraction of the period, in (0, 0.5].
+    /// Flip duration D as a fraction of the period, in [0.01, 0.5].
     pub flip_duration: f64,
     /// Offset of the flip's midpoint from the stroke reversal, fraction of the period
     /// (0 symmetric rotation, negative advanced, positive delayed).
@@ -116,8 +116,14 @@ mod tests {
                 let (a, da, dda) = s.pitch(tau);
                 let (b, db, _) = s.pitch(tau + h);
                 assert!((b - a).abs() < 1e-5, "theta jumps at {tau}");
-                assert!(((b - a) / h - da).abs() < 1e-3 * (1.0 + da.abs()), "theta' at {tau}");
-                assert!(((db - da) / h - dda).abs() < 1e-2 * (1.0 + dda.abs()), "theta'' at {tau}");
+                assert!(
+                    ((b - a) / h - da).abs() < 1e-3 * (1.0 + da.abs()),
+                    "theta' at {tau}"
+                );
+                assert!(
+                    ((db - da) / h - dda).abs() < 1e-2 * (1.0 + dda.abs()),
+                    "theta'' at {tau}"
+                );
             }
         }
     }

@@ -141,9 +141,7 @@ fn pitch_flip_family_is_sun_and_lans_motion() {
     // The angle-of-attack control moves both half strokes alike.
     let moved = k.with_aoa_offset(-5f64.to_radians()).unwrap();
     assert!((moved.angles(0.25).theta - 35f64.to_radians()).abs() < 1e-12);
-    assert!(
-        (moved.angles(0.75).theta - (std::f64::consts::PI - 27f64.to_radians())).abs() < 1e-12
-    );
+    assert!((moved.angles(0.75).theta - (std::f64::consts::PI - 27f64.to_radians())).abs() < 1e-12);
     assert!(tabulated().with_aoa_offset(0.1).is_none());
 }
 

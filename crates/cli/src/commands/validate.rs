@@ -356,8 +356,8 @@ struct Report {
 /// Runs the command.
 pub fn run(args: ValidateArgs) -> anyhow::Result<()> {
     let cases = cases()?;
-    let points = operating_points()
-        .map_err(|e| anyhow!("the built-in insects' operating points: {e}"))?;
+    let points =
+        operating_points().map_err(|e| anyhow!("the built-in insects' operating points: {e}"))?;
     let failed = cases.iter().filter(|c| !c.passes()).count()
         + points
             .iter()
