@@ -19,8 +19,23 @@ fn json_rows_all_pass() {
     let j = run.json();
     let cases = j["cases"].as_array().unwrap();
     assert_eq!(cases.len(), 28);
-    assert_eq!(j["total"], 28);
+    // 28 reproduction cases and 6 published operating points (issue 17).
+    assert_eq!(j["total"], 34);
     assert_eq!(j["failed"], 0);
+    let points = j["operating_points"].as_array().unwrap();
+    assert_eq!(points.len(), 6);
+    for p in points {
+        let verdict = p["verdict"].as_str().unwrap();
+        // A known limitation always carries its note; a pass never does.
+        match verdict {
+            "pass" => assert!(p["limitation"].is_null(), "{p}"),
+            "known limitation" => assert!(p["limitation"].as_str().unwrap().len() > 20, "{p}"),
+            _ => panic!("{p}"),
+        }
+        let err = p["relative_error"].as_f64().unwrap();
+        let tol = p["relative_tolerance"].as_f64().unwrap();
+        assert_eq!(verdict == "pass", err.abs() <= tol, "{p}");
+    }
     assert_eq!(j["all_passed"], true);
     for c in cases {
         assert_eq!(c["pass"], true, "{c}");
