@@ -1,0 +1,38 @@
+"""flapwing: insect-scale flapping-wing aerodynamics and flight simulation.
+
+The classes are the Rust crates' own (wingforce, flapsim, flightlog) through a native
+module; every array is numpy, SI units, radians, frames as in the Rust crates (world z up;
+body x forward, y left, z up, origin at the centre of mass).
+
+- `Wing`: one wing's four force terms (translational, rotational, added mass, wake capture)
+  and their total at a phase, or over many phases in one call.
+- `Vehicle`: a vehicle model (built-in name or file): trim, stability, LQR design.
+- `Simulation`: the vehicle on rapier3d-f64, stepped one step or many per call.
+- `Imu`, `MocapSensor`: flapsim's sensors.
+- `read_log`: a flapwing MCAP log as a dict of numpy arrays per channel.
+- `flapwing.envs`: Gymnasium environments (`flapwing/Hover-v0`, `flapwing/Recover-v0`).
+
+Errors: a bad model or argument raises `ValueError` with flapwing's message (file, field,
+value, what is allowed); a run that diverges raises `DivergedError`; a failed trim or
+analysis raises `AnalysisError`; unreadable files raise `OSError`.
+"""
+
+from ._flapwing import (
+    AnalysisError,
+    DivergedError,
+    HoverController,
+    Simulation,
+    Vehicle,
+    Wing,
+    builtin_models,
+)
+
+__all__ = [
+    "AnalysisError",
+    "DivergedError",
+    "HoverController",
+    "Simulation",
+    "Vehicle",
+    "Wing",
+    "builtin_models",
+]
