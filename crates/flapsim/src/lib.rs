@@ -18,6 +18,7 @@ mod error;
 pub mod frames;
 pub mod linear;
 pub mod model;
+pub mod sensors;
 pub mod sim;
 pub mod stability;
 pub mod study;
