@@ -189,6 +189,10 @@ impl Noise {
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
     }
+    /// A seed for another stream.
+    pub fn next_seed(&mut self) -> u64 {
+        self.next_u64()
+    }
     /// Uniform in (0, 1].
     pub fn uniform(&mut self) -> f64 {
         ((self.next_u64() >> 11) + 1) as f64 / (1u64 << 53) as f64

@@ -8,6 +8,7 @@
 //! adds the Gymnasium environments.
 
 mod convert;
+mod env;
 mod sim;
 mod vehicle;
 mod wing;
@@ -70,5 +71,7 @@ fn _flapwing(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<vehicle::Vehicle>()?;
     m.add_class::<vehicle::HoverController>()?;
     m.add_class::<sim::Simulation>()?;
+    m.add_class::<env::HoverTask>()?;
+    m.add_class::<env::VecHoverTask>()?;
     Ok(())
 }

@@ -8,7 +8,7 @@ body x forward, y left, z up, origin at the centre of mass).
   and their total at a phase, or over many phases in one call.
 - `Vehicle`: a vehicle model (built-in name or file): trim, stability, LQR design.
 - `Simulation`: the vehicle on rapier3d-f64, stepped one step or many per call.
-- `Imu`, `MocapSensor`: flapsim's sensors.
+- `HoverTask`, `VecHoverTask`: flapsim's control tasks (sensors, reward, termination).
 - `read_log`: a flapwing MCAP log as a dict of numpy arrays per channel.
 - `flapwing.envs`: Gymnasium environments (`flapwing/Hover-v0`, `flapwing/Recover-v0`).
 
@@ -21,7 +21,9 @@ from ._flapwing import (
     AnalysisError,
     DivergedError,
     HoverController,
+    HoverTask,
     Simulation,
+    VecHoverTask,
     Vehicle,
     Wing,
     builtin_models,
@@ -31,7 +33,9 @@ __all__ = [
     "AnalysisError",
     "DivergedError",
     "HoverController",
+    "HoverTask",
     "Simulation",
+    "VecHoverTask",
     "Vehicle",
     "Wing",
     "builtin_models",
