@@ -9,6 +9,7 @@
 
 mod convert;
 mod env;
+mod logs;
 mod sim;
 mod vehicle;
 mod wing;
@@ -73,5 +74,7 @@ fn _flapwing(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<sim::Simulation>()?;
     m.add_class::<env::HoverTask>()?;
     m.add_class::<env::VecHoverTask>()?;
+    m.add_function(wrap_pyfunction!(logs::log_topics, m)?)?;
+    m.add_function(wrap_pyfunction!(logs::read_channel, m)?)?;
     Ok(())
 }

@@ -9,7 +9,8 @@ body x forward, y left, z up, origin at the centre of mass).
 - `Vehicle`: a vehicle model (built-in name or file): trim, stability, LQR design.
 - `Simulation`: the vehicle on rapier3d-f64, stepped one step or many per call.
 - `HoverTask`, `VecHoverTask`: flapsim's control tasks (sensors, reward, termination).
-- `read_log`: a flapwing MCAP log as a dict of numpy arrays per channel.
+- `read_log`, `read_channel`: a flapwing MCAP log, each channel as a dict of numpy arrays
+  (or a pandas DataFrame when pandas is installed); `Simulation(..., mcap=PATH)` writes one.
 - `flapwing.envs`: Gymnasium environments (`flapwing/Hover-v0`, `flapwing/Recover-v0`).
 
 Errors: a bad model or argument raises `ValueError` with flapwing's message (file, field,
@@ -27,7 +28,10 @@ from ._flapwing import (
     Vehicle,
     Wing,
     builtin_models,
+    log_topics,
+    read_channel,
 )
+from .logs import read_log
 
 __all__ = [
     "AnalysisError",
@@ -39,4 +43,7 @@ __all__ = [
     "Vehicle",
     "Wing",
     "builtin_models",
+    "log_topics",
+    "read_channel",
+    "read_log",
 ]
