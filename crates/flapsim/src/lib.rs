@@ -19,10 +19,13 @@ pub mod frames;
 pub mod linear;
 pub mod model;
 pub mod operating_points;
+pub mod randomize;
+pub mod sensors;
 pub mod sim;
 pub mod stability;
 pub mod study;
 pub mod summary;
+pub mod task;
 pub mod trim;
 
 pub use error::{Error, Result};

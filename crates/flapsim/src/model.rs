@@ -165,6 +165,10 @@ pub struct VehicleSpec {
     /// `[trim]`: what a hover trim varies to carry the weight.
     #[serde(default)]
     pub trim: crate::trim::TrimSpec,
+    /// `[sensors]`: the body IMU and motion capture (see [`crate::sensors`]); absent when
+    /// the model has none.
+    #[serde(default)]
+    pub sensors: Option<crate::sensors::SensorSpec>,
 }
 
 fn default_gravity() -> f64 {
@@ -207,6 +211,8 @@ pub struct Vehicle {
     pub actuation: Option<Actuation>,
     /// What a hover trim varies to carry the weight (`[trim] lift_variable`).
     pub trim_lift: crate::trim::LiftVariable,
+    /// The sensors, validated, in SI units (`[sensors]`).
+    pub sensors: Option<crate::sensors::SensorParams>,
 }
 
 impl VehicleSpec {
@@ -387,6 +393,7 @@ impl VehicleSpec {
                 .map(|a| a.build(&v, "actuation"))
                 .transpose()?,
             trim_lift: self.trim.lift_variable,
+            sensors: self.sensors.as_ref().map(|x| x.build(&v)).transpose()?,
         };
         if vehicle.actuation.is_some() && vehicle.trim_lift != crate::trim::LiftVariable::Amplitude
         {

@@ -760,13 +760,24 @@ fn csv_field(s: &str) -> String {
     }
 }
 
-/// Writes the messages of `topic` to a CSV file at `out` (replaced if it exists): one row
-/// per message, the first column `log_time_ns`, then one column per JSON leaf named by its
-/// dotted path (`pose.position.x`) in first-seen order. Numbers are written exactly as
-/// logged; booleans as true/false; a field missing from a message is left empty.
-pub fn export_csv(path: impl AsRef<Path>, topic: &str, out: impl AsRef<Path>) -> Result<CsvStats> {
+/// The messages of one topic as a table (what [`export_csv`] writes and the Python
+/// bindings turn into arrays): one row per message, the first column `log_time_ns`, then
+/// one column per leaf of the decoded message named by its dotted path
+/// (`pose.position.x`) in first-seen order; each cell the value's text exactly as logged
+/// (numbers, true/false, strings), `None` where a message lacks the field.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Table {
+    /// Column names.
+    pub columns: Vec<String>,
+    /// Rows, each with one cell per column.
+    pub rows: Vec<Vec<Option<String>>>,
+    /// Messages that could not be decoded and were left out.
+    pub skipped: u64,
+}
+
+/// Reads the messages of `topic` of the log at `path` into a [`Table`].
+pub fn read_table(path: impl AsRef<Path>, topic: &str) -> Result<Table> {
     let path = path.as_ref();
-    let out = out.as_ref();
     let log = read_log(path)?;
     if log.channel_id(topic).is_none() {
         return Err(Error::UnknownTopic {
@@ -777,7 +788,7 @@ pub fn export_csv(path: impl AsRef<Path>, topic: &str, out: impl AsRef<Path>) ->
     }
     let mut columns: Vec<String> = vec!["log_time_ns".into()];
     let mut index: HashMap<String, usize> = HashMap::new();
-    let mut rows: Vec<Vec<(usize, String)>> = Vec::new();
+    let mut sparse: Vec<Vec<(usize, String)>> = Vec::new();
     let mut skipped = 0u64;
     for m in log.on(topic) {
         let Some(v) = parse_msg(m) else {
@@ -795,25 +806,48 @@ pub fn export_csv(path: impl AsRef<Path>, topic: &str, out: impl AsRef<Path>) ->
             });
             row.push((i, val));
         }
-        rows.push(row);
+        sparse.push(row);
     }
+    let rows = sparse
+        .into_iter()
+        .map(|r| {
+            let mut cells = vec![None; columns.len()];
+            for (i, v) in r {
+                cells[i] = Some(v);
+            }
+            cells
+        })
+        .collect();
+    Ok(Table {
+        columns,
+        rows,
+        skipped,
+    })
+}
+
+/// Writes the messages of `topic` to a CSV file at `out` (replaced if it exists): the
+/// [`Table`] of [`read_table`], a field missing from a message left empty, numbers exactly
+/// as logged, booleans as true/false.
+pub fn export_csv(path: impl AsRef<Path>, topic: &str, out: impl AsRef<Path>) -> Result<CsvStats> {
+    let out = out.as_ref();
+    let table = read_table(path, topic)?;
     let file = std::fs::File::create(out).map_err(|e| Error::io("cannot create", out, e))?;
     let mut w = std::io::BufWriter::new(file);
     let werr = |e| Error::io("cannot write", out, e);
-    let header: Vec<String> = columns.iter().map(|c| csv_field(c)).collect();
+    let header: Vec<String> = table.columns.iter().map(|c| csv_field(c)).collect();
     writeln!(w, "{}", header.join(",")).map_err(werr)?;
-    for row in &rows {
-        let mut cells = vec![String::new(); columns.len()];
-        for (i, v) in row {
-            cells[*i] = csv_field(v);
-        }
+    for row in &table.rows {
+        let cells: Vec<String> = row
+            .iter()
+            .map(|c| c.as_deref().map(csv_field).unwrap_or_default())
+            .collect();
         writeln!(w, "{}", cells.join(",")).map_err(werr)?;
     }
     w.flush().map_err(werr)?;
     Ok(CsvStats {
-        rows: rows.len() as u64,
-        columns: columns.len() as u64,
-        skipped,
+        rows: table.rows.len() as u64,
+        columns: table.columns.len() as u64,
+        skipped: table.skipped,
     })
 }
 

@@ -1,0 +1,351 @@
+//! Control tasks for learning and benchmarking: hover at a point, or recover from a random
+//! attitude disturbance, with the control vector updated once per `action_wingbeats`
+//! wingbeats and observations from the body's sensors ([`crate::sensors`]). The Gymnasium
+//! environments of the Python package (`flapwing/Hover-v0`, `flapwing/Recover-v0`) are these
+//! tasks; so is any Rust training loop.
+//!
+//! - Action: offsets from the hover trim on the vehicle's four control channels
+//!   ([`Vehicle::control_channels`]; radians, or volts for actuated vehicles), each within
+//!   +-[`Task::action_limit`] (three times the LQR design excursions of
+//!   [`LqrWeights::control_max`], the range the hover LQR saturates at).
+//! - Observation (12 numbers; 6 without motion capture): the IMU's newest delivered sample,
+//!   gyro (rad/s) and specific force minus the trim's (m/s^2), body frame; then the newest
+//!   motion-capture frame's position error from the hover point (m) and attitude error from
+//!   the trim attitude as a rotation vector (rad).
+//! - Reward per action (from the true state after it): 1 - (e_p / L)^2 - (e_a / 10 deg)^2,
+//!   with e_p the position error, L the body length and e_a the attitude error.
+//! - Termination: position error beyond `max_position_body_lengths` body lengths, attitude
+//!   error beyond `max_attitude_deg`, or a diverged simulation. Truncation: `duration_s`.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::control::LqrWeights;
+use crate::error::{Error, Result};
+use crate::randomize::Randomization;
+use crate::sensors::{Noise, Sensors};
+use crate::sim::{Mode, Simulation};
+use crate::trim::{Trim, trim, trimmed_vehicle};
+use crate::{Vehicle, VehicleSpec};
+
+/// What a task asks and how it is scored.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TaskSpec {
+    /// Episode length, s (the episode is truncated after it).
+    pub duration_s: f64,
+    /// Wingbeats per action (1: a control update every wingbeat).
+    pub action_wingbeats: usize,
+    /// Largest random initial roll and pitch error, deg (uniform in +-); 0 for hover.
+    pub disturbance_deg: f64,
+    /// Largest random initial velocity, each axis, body lengths per second.
+    pub disturbance_body_lengths_s: f64,
+    /// Termination: position error, body lengths.
+    pub max_position_body_lengths: f64,
+    /// Termination: attitude error, deg.
+    pub max_attitude_deg: f64,
+}
+
+impl TaskSpec {
+    /// Hover: start at the trim with the sensors' noise only, hold the point for 0.2 s.
+    pub fn hover() -> Self {
+        Self {
+            duration_s: 0.2,
+            action_wingbeats: 1,
+            disturbance_deg: 0.0,
+            disturbance_body_lengths_s: 0.0,
+            max_position_body_lengths: 2.0,
+            max_attitude_deg: 60.0,
+        }
+    }
+    /// Recovery: start with up to 10 deg of roll and pitch error (the 5 deg disturbance of
+    /// `flapwing hover`, doubled) and up to 1 body length/s of velocity.
+    pub fn recover() -> Self {
+        Self {
+            disturbance_deg: 10.0,
+            disturbance_body_lengths_s: 1.0,
+            ..Self::hover()
+        }
+    }
+}
+
+/// The result of one action.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskStep {
+    /// Observation after the action.
+    pub observation: Vec<f64>,
+    /// Reward of the action.
+    pub reward: f64,
+    /// The episode ended (left the flight envelope or diverged).
+    pub terminated: bool,
+    /// The episode reached its duration.
+    pub truncated: bool,
+    /// Why it terminated, in words.
+    pub reason: Option<String>,
+}
+
+/// One vehicle's task: a simulation with sensors, reset per episode.
+#[derive(Debug)]
+pub struct Task {
+    spec: TaskSpec,
+    origin: String,
+    model_text: String,
+    randomization: Option<Randomization>,
+    vehicle: Vehicle,
+    trim: Trim,
+    sim: Simulation,
+    sensors: Option<Sensors>,
+    accel_trim: Vector3<f64>,
+    reference_m: Vector3<f64>,
+    limit: [f64; 4],
+    draws: Vec<(String, f64)>,
+    t_end_s: f64,
+    done: bool,
+}
+
+impl Task {
+    /// A task for the model `text` (from `origin`), trimmed once; `randomization` redraws
+    /// the model's parameters at every reset.
+    pub fn new(
+        text: &str,
+        origin: &str,
+        spec: TaskSpec,
+        randomization: Option<Randomization>,
+    ) -> Result<Self> {
+        let v = wingforce::Validator::new("task");
+        v.positive("duration_s", spec.duration_s)?;
+        if spec.action_wingbeats == 0 {
+            return Err(v
+                .invalid("action_wingbeats", 0, "at least 1 wingbeat per action")
+                .into());
+        }
+        v.non_negative("disturbance_deg", spec.disturbance_deg)?;
+        v.non_negative(
+            "disturbance_body_lengths_s",
+            spec.disturbance_body_lengths_s,
+        )?;
+        v.positive("max_position_body_lengths", spec.max_position_body_lengths)?;
+        v.positive("max_attitude_deg", spec.max_attitude_deg)?;
+        let vehicle = VehicleSpec::from_toml(text, origin)?.build(origin)?;
+        if vehicle.sensors.is_none() {
+            return Err(Error::Analysis(format!(
+                "{origin}: a task observes through the model's sensors, and it has no [sensors] table (see models/drosophila.toml)"
+            )));
+        }
+        if let Some(r) = &randomization {
+            r.check(text, origin)?;
+        }
+        let t = trim(&vehicle)?;
+        let sim = Simulation::new(trimmed_vehicle(&vehicle, &t)?, Mode::Free);
+        let limit = LqrWeights::default().control_max(&vehicle).map(|u| 3.0 * u);
+        let mut task = Self {
+            spec,
+            origin: origin.to_owned(),
+            model_text: text.to_owned(),
+            randomization,
+            reference_m: vehicle.initial_position_m,
+            vehicle,
+            trim: t,
+            sim,
+            sensors: None,
+            accel_trim: Vector3::zeros(),
+            limit,
+            draws: Vec::new(),
+            t_end_s: 0.0,
+            done: true,
+        };
+        task.reset(0)?;
+        Ok(task)
+    }
+
+    /// The task's settings.
+    pub fn spec(&self) -> &TaskSpec {
+        &self.spec
+    }
+    /// The vehicle of the current episode (randomised, untrimmed).
+    pub fn vehicle(&self) -> &Vehicle {
+        &self.vehicle
+    }
+    /// The current episode's trim.
+    pub fn trim(&self) -> &Trim {
+        &self.trim
+    }
+    /// The simulation (for inspection).
+    pub fn simulation(&self) -> &Simulation {
+        &self.sim
+    }
+    /// The largest action magnitude per channel.
+    pub fn action_limit(&self) -> [f64; 4] {
+        self.limit
+    }
+    /// Length of an observation.
+    pub fn observation_len(&self) -> usize {
+        if self.vehicle.sensors.is_some_and(|s| s.mocap.is_some()) {
+            12
+        } else {
+            6
+        }
+    }
+    /// This episode's randomised parameters (model path, drawn scale).
+    pub fn draws(&self) -> &[(String, f64)] {
+        &self.draws
+    }
+    /// Simulation steps per action.
+    pub fn steps_per_action(&self) -> u64 {
+        (self.vehicle.sim.steps_per_wingbeat * self.spec.action_wingbeats) as u64
+    }
+
+    /// The reward at the edge of the envelope, given when the state is no longer finite.
+    pub fn worst_reward(&self) -> f64 {
+        let s = &self.spec;
+        1.0 - s.max_position_body_lengths.powi(2) - (s.max_attitude_deg / 10.0).powi(2)
+    }
+
+    /// Starts an episode; everything random in it (parameters, disturbance, sensor noise)
+    /// comes from `seed`. Returns the first observation.
+    pub fn reset(&mut self, seed: u64) -> Result<Vec<f64>> {
+        let mut rng = Noise::new(seed);
+        if let Some(r) = &self.randomization {
+            let (text, draws) = r.draw(&self.model_text, &self.origin, &mut rng)?;
+            let spec = VehicleSpec::from_toml(&text, &self.origin)?;
+            self.vehicle = spec.build(&self.origin)?;
+            self.trim = trim(&self.vehicle)?;
+            self.draws = draws;
+        }
+        let mut v = trimmed_vehicle(&self.vehicle, &self.trim)?;
+        let s = &self.spec;
+        let mut u = || 2.0 * rng.uniform() - 1.0;
+        let (roll, pitch) = (
+            (s.disturbance_deg * u()).to_radians(),
+            (s.disturbance_deg * u()).to_radians(),
+        );
+        let vel = s.disturbance_body_lengths_s * v.length_m;
+        let velocity = Vector3::new(vel * u(), vel * u(), vel * u());
+        v.initial_attitude =
+            self.trim.attitude() * UnitQuaternion::from_euler_angles(roll, pitch, 0.0);
+        v.initial_velocity_m_s = velocity;
+        self.reference_m = v.initial_position_m;
+        let periodic = if v.actuation.is_some() {
+            Some(crate::actuated::periodic::settle(
+                &v,
+                &wingforce::BodyMotion::default(),
+            )?)
+        } else {
+            None
+        };
+        let g = v.gravity_m_s2;
+        let params = v
+            .sensors
+            .ok_or_else(|| Error::Analysis(format!("{}: no [sensors] table", self.origin)))?;
+        self.sim = Simulation::new(v, Mode::Free);
+        if let Some(p) = &periodic {
+            self.sim.start_wings_from(p);
+        }
+        let mut sensors = Sensors::new(&params, g, rng.next_seed());
+        sensors.observe(0.0, &self.sim.state());
+        self.sensors = Some(sensors);
+        // The specific force at hover is +g along the world vertical: subtracted so that
+        // the observation is zero at the trim.
+        self.accel_trim = self.trim.attitude().inverse() * Vector3::new(0.0, 0.0, g);
+        self.t_end_s = self.spec.duration_s;
+        self.done = false;
+        Ok(self.observe())
+    }
+
+    fn observe(&mut self) -> Vec<f64> {
+        let t = self.sim.time_s();
+        let mut o = Vec::with_capacity(12);
+        let Some(sensors) = &mut self.sensors else {
+            return vec![0.0; self.observation_len()];
+        };
+        match sensors.imu.read(t) {
+            Some(s) => {
+                o.extend_from_slice(s.gyro_rad_s.as_slice());
+                o.extend_from_slice((s.accel_m_s2 - self.accel_trim).as_slice());
+            }
+            None => o.extend_from_slice(&[0.0; 6]),
+        }
+        if let Some(m) = &mut sensors.mocap {
+            match m.read(t) {
+                Some(f) => {
+                    o.extend_from_slice((f.position_m - self.reference_m).as_slice());
+                    let d = (self.trim.attitude().inverse() * f.world_from_body).scaled_axis();
+                    o.extend_from_slice(d.as_slice());
+                }
+                None => o.extend_from_slice(&[0.0; 6]),
+            }
+        }
+        o
+    }
+
+    /// Applies `action` (offsets on the four control channels from the trim) for
+    /// `action_wingbeats` wingbeats. An action outside +-`action_limit` or not finite is an
+    /// error (never clamped); stepping a finished episode is an error.
+    pub fn step(&mut self, action: &[f64]) -> Result<TaskStep> {
+        if self.done {
+            return Err(Error::Analysis(
+                "the episode has ended: call reset before stepping again".into(),
+            ));
+        }
+        if action.len() != 4 {
+            return Err(Error::Analysis(format!(
+                "an action has 4 channels ({}), got {}",
+                self.vehicle.control_channels().join(", "),
+                action.len()
+            )));
+        }
+        for (i, (a, lim)) in action.iter().zip(self.limit).enumerate() {
+            if !a.is_finite() || a.abs() > lim {
+                return Err(Error::Analysis(format!(
+                    "action[{i}] ({}) = {a} is outside the allowed +-{lim}",
+                    self.vehicle.control_channels()[i]
+                )));
+            }
+        }
+        let drive = self.vehicle.drive_controlled();
+        self.sim
+            .set_controls(self.trim.controls.with_channels(drive, action));
+        let mut reason = None;
+        for _ in 0..self.steps_per_action() {
+            if let Err(e) = self.sim.step() {
+                reason = Some(e.to_string());
+                break;
+            }
+            if let Some(s) = &mut self.sensors {
+                s.observe(self.sim.time_s(), &self.sim.state());
+            }
+        }
+        let s = self.sim.state();
+        let l = self.vehicle.length_m;
+        let e_p = (s.position_m - self.reference_m).norm();
+        let e_a = (self.trim.attitude().inverse() * s.world_from_body).angle();
+        let reward = 1.0 - (e_p / l).powi(2) - (e_a / 10f64.to_radians()).powi(2);
+        if reason.is_none() && e_p > self.spec.max_position_body_lengths * l {
+            reason = Some(format!(
+                "position error {:.2} body lengths exceeds {}",
+                e_p / l,
+                self.spec.max_position_body_lengths
+            ));
+        }
+        if reason.is_none() && e_a.to_degrees() > self.spec.max_attitude_deg {
+            reason = Some(format!(
+                "attitude error {:.1} deg exceeds {} deg",
+                e_a.to_degrees(),
+                self.spec.max_attitude_deg
+            ));
+        }
+        let terminated = reason.is_some();
+        let truncated = !terminated && self.sim.time_s() >= self.t_end_s - 0.5 * self.sim.dt_s();
+        self.done = terminated || truncated;
+        Ok(TaskStep {
+            observation: self.observe(),
+            reward: if reward.is_finite() {
+                reward
+            } else {
+                self.worst_reward()
+            },
+            terminated,
+            truncated,
+            reason,
+        })
+    }
+}

@@ -1,0 +1,206 @@
+"""Type stubs of flapwing's native module (crates/python/src). SI units, radians; body
+frame x forward, y left, z up, origin at the centre of mass; world z up; quaternions as
+(w, x, y, z)."""
+
+from typing import Any, Optional, Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+FloatArray = npt.NDArray[np.float64]
+Vec3 = npt.ArrayLike
+
+class DivergedError(RuntimeError):
+    """A simulation left the physically meaningful region (flapsim's Error::Diverged)."""
+
+class AnalysisError(RuntimeError):
+    """Trim, a stability analysis or a task could not do what it was asked."""
+
+def builtin_models() -> list[str]:
+    """Names of the built-in models: the wing `robofly` and the vehicles."""
+
+def log_topics(path: str) -> list[str]:
+    """The topics of a flapwing MCAP log."""
+
+def read_channel(path: str, topic: str) -> dict[str, Any]:
+    """One channel as {column: array}: `log_time_ns` (int64), numeric fields as float64
+    arrays (NaN where missing), others as lists of str."""
+
+class Wing:
+    """One wing with its kinematics, fluid and aerodynamic options."""
+
+    def __init__(self, model: str = "robofly", side: str = "left") -> None:
+        """A wing model (file or `robofly`) or the `side` wing of a vehicle model."""
+    @property
+    def origin(self) -> str: ...
+    @property
+    def reynolds(self) -> float:
+        """Re = V_ref c_bar / nu (the seed paper's)."""
+    @property
+    def v_ref_m_s(self) -> float: ...
+    @property
+    def reference_force_n(self) -> float:
+        """0.5 rho V_ref^2 S, the scale of c_l and c_d."""
+    @property
+    def freq_hz(self) -> float: ...
+    @property
+    def area_m2(self) -> float: ...
+    @property
+    def span_m(self) -> float: ...
+    def evaluate(self, phase: float, velocity_m_s: Optional[Vec3] = None,
+                 angular_velocity_rad_s: Optional[Vec3] = None) -> dict[str, Any]:
+        """{term: {force_n (3,), moment_hinge_nm (3,), c_l, c_d}} for `translational`,
+        `rotational`, `added_mass`, `wake_capture` and `total`; and stroke_rad, pitch_rad,
+        deviation_rad, t_star. Body motion relative to the air, body frame."""
+    def evaluate_many(self, phases: npt.ArrayLike, velocity_m_s: Optional[Vec3] = None,
+                      angular_velocity_rad_s: Optional[Vec3] = None) -> dict[str, Any]:
+        """`evaluate` at every phase in one call: arrays with a leading axis len(phases)."""
+    def evaluate_cycle(self, samples: int = 1000, velocity_m_s: Optional[Vec3] = None,
+                       angular_velocity_rad_s: Optional[Vec3] = None) -> dict[str, Any]:
+        """One wingbeat at `samples` equally spaced phases; adds the `phase` array."""
+
+class Vehicle:
+    """A vehicle model (built-in name or file)."""
+
+    def __init__(self, model: str = "drosophila") -> None: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def origin(self) -> str: ...
+    @property
+    def model_toml(self) -> str: ...
+    @property
+    def mass_kg(self) -> float: ...
+    @property
+    def inertia_kg_m2(self) -> FloatArray:
+        """3x3 about the centre of mass, body frame."""
+    @property
+    def length_m(self) -> float: ...
+    @property
+    def weight_n(self) -> float: ...
+    @property
+    def gravity_m_s2(self) -> float: ...
+    @property
+    def freq_hz(self) -> float: ...
+    @property
+    def steps_per_wingbeat(self) -> int: ...
+    @property
+    def actuated(self) -> bool: ...
+    @property
+    def control_channels(self) -> list[str]:
+        """The four channels of trim, the LQR and the tasks."""
+    @property
+    def controls(self) -> dict[str, float]: ...
+    def with_controls(self, **controls: float) -> "Vehicle": ...
+    def with_initial_state(self, state: dict[str, Any]) -> "Vehicle": ...
+    def trim(self) -> dict[str, Any]:
+        """Hover trim: controls, pitch_rad, residuals, iterations, lift_variable."""
+    def trimmed(self) -> "Vehicle":
+        """The vehicle at its trim (controls applied, attitude at the trim pitch)."""
+    def stability(self, floquet: bool = True) -> dict[str, Any]:
+        """a_longitudinal, a_lateral (arrays) with their state names, eigenvalues_* (complex
+        arrays), *_modes (eigenvalue, eigenvector, description), derivatives, and with
+        `floquet` floquet_multipliers and floquet_exponents (complex arrays)."""
+    def lqr(self, delay_wingbeats: int = 0, **weights: float) -> "HoverController":
+        """The per-wingbeat hover LQR at the trim (weights: flapsim's LqrWeights fields)."""
+
+class HoverController:
+    """Per-wingbeat hover LQR with position integral."""
+
+    @property
+    def gain(self) -> FloatArray:
+        """K (4 x 15); u = -K [error state, position integral]."""
+    @property
+    def trim(self) -> dict[str, Any]: ...
+    @property
+    def weights(self) -> dict[str, float]: ...
+    @property
+    def trim_channels(self) -> FloatArray: ...
+    def error_state(self, state: dict[str, Any]) -> FloatArray: ...
+    def update(self, state: dict[str, Any]) -> dict[str, float]:
+        """Controls for the next wingbeat (pass to Simulation.set_controls(**c))."""
+
+class Simulation:
+    """One vehicle on rapier3d-f64."""
+
+    def __init__(self, vehicle: "Vehicle | str | None" = None, mode: str = "free",
+                 mcap: Optional[str] = None, log_rate_hz: Optional[float] = 2000.0) -> None:
+        """mode: "free", "tethered" or "longitudinal"; `mcap` logs every step there."""
+    @property
+    def vehicle(self) -> Vehicle: ...
+    @property
+    def mode(self) -> str: ...
+    @property
+    def dt_s(self) -> float: ...
+    @property
+    def steps(self) -> int: ...
+    @property
+    def time_s(self) -> float: ...
+    @property
+    def phase(self) -> float: ...
+    @property
+    def steps_per_wingbeat(self) -> int: ...
+    @property
+    def state(self) -> dict[str, FloatArray]:
+        """position_m, world_from_body_wxyz, velocity_m_s (world),
+        angular_velocity_body_rad_s, euler_rad."""
+    def set_state(self, **state: Vec3) -> None: ...
+    @property
+    def controls(self) -> dict[str, float]: ...
+    def set_controls(self, **controls: float) -> None:
+        """From the start of the next wingbeat."""
+    def set_control_channels(self, values: npt.ArrayLike) -> None: ...
+    def set_wind(self, wind_world_m_s: Vec3) -> None: ...
+    def loads(self) -> dict[str, Any]: ...
+    def step(self) -> dict[str, Any]:
+        """step, t_s, phase, state (at the step's start), terms, wing_inertia, total
+        ({force_n, moment_nm}, body frame about the CoM), controls."""
+    def run(self, steps: int, record: bool = True) -> Optional[dict[str, FloatArray]]:
+        """`steps` steps in one call, without the GIL; per-step arrays when `record`."""
+    def run_wingbeats(self, wingbeats: int, record: bool = True
+                      ) -> Optional[dict[str, FloatArray]]: ...
+    def summary(self) -> dict[str, Any]: ...
+    def close_log(self) -> Optional[dict[str, int]]: ...
+
+class HoverTask:
+    """flapsim's hover or recovery task (see flapwing.envs)."""
+
+    def __init__(self, model: str = "drosophila", task: str = "hover",
+                 randomize: Optional[str] = None, **spec: float) -> None: ...
+    @property
+    def spec(self) -> dict[str, Any]: ...
+    @property
+    def action_limit(self) -> FloatArray: ...
+    @property
+    def observation_len(self) -> int: ...
+    @property
+    def control_channels(self) -> list[str]: ...
+    @property
+    def steps_per_action(self) -> int: ...
+    @property
+    def time_s(self) -> float: ...
+    @property
+    def state(self) -> dict[str, FloatArray]: ...
+    @property
+    def trim(self) -> dict[str, Any]: ...
+    @property
+    def draws(self) -> dict[str, float]: ...
+    def reset(self, seed: int) -> FloatArray: ...
+    def step(self, action: npt.ArrayLike
+             ) -> tuple[FloatArray, float, bool, bool, Optional[str]]: ...
+
+class VecHoverTask:
+    """Many tasks stepped in parallel Rust threads."""
+
+    def __init__(self, num: int, model: str = "drosophila", task: str = "hover",
+                 randomize: Optional[str] = None, **spec: float) -> None: ...
+    def __len__(self) -> int: ...
+    @property
+    def observation_len(self) -> int: ...
+    @property
+    def action_limit(self) -> FloatArray: ...
+    def reset(self, seeds: Sequence[int]) -> FloatArray: ...
+    def step(self, actions: npt.ArrayLike, reset_seeds: Optional[Sequence[Optional[int]]] = None
+             ) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_], npt.NDArray[np.bool_]]: ...
+    def reset_one(self, i: int, seed: int) -> FloatArray: ...
+    def draws(self, i: int) -> dict[str, float]: ...

@@ -1,0 +1,54 @@
+//! Reading flapwing MCAP logs from Python: each channel as a dict of numpy arrays, through
+//! flightlog's own decoding (`flightlog::replay::read_table`), so the bindings follow the
+//! log format wherever flightlog takes it.
+
+use numpy::PyArray1;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::log_err;
+
+/// The topics of a log, in file order.
+#[pyfunction]
+pub fn log_topics(path: std::path::PathBuf) -> PyResult<Vec<String>> {
+    let s = flightlog::replay::read_summary(&path).map_err(log_err)?;
+    Ok(s.channels.into_iter().map(|c| c.topic).collect())
+}
+
+/// One channel of a flapwing MCAP log as {column: numpy array}: `log_time_ns` (int64) and
+/// one column per message field by its dotted path; numeric columns are float64 arrays (NaN
+/// where a message lacks the field), others lists of str (None where missing).
+#[pyfunction]
+pub fn read_channel<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+    topic: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let t = py
+        .detach(|| flightlog::replay::read_table(&path, topic))
+        .map_err(log_err)?;
+    let d = PyDict::new(py);
+    for (j, name) in t.columns.iter().enumerate() {
+        let cells: Vec<Option<&str>> = t.rows.iter().map(|r| r[j].as_deref()).collect();
+        if j == 0 {
+            let v: Vec<i64> = cells
+                .iter()
+                .map(|c| c.and_then(|s| s.parse().ok()).unwrap_or(-1))
+                .collect();
+            d.set_item(name, PyArray1::from_vec(py, v))?;
+            continue;
+        }
+        let nums: Option<Vec<f64>> = cells
+            .iter()
+            .map(|c| match c {
+                None => Some(f64::NAN),
+                Some(s) => s.parse::<f64>().ok(),
+            })
+            .collect();
+        match nums {
+            Some(v) => d.set_item(name, PyArray1::from_vec(py, v))?,
+            None => d.set_item(name, PyList::new(py, cells)?)?,
+        }
+    }
+    Ok(d)
+}

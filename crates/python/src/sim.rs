@@ -1,0 +1,474 @@
+//! `flapwing.Simulation`: one vehicle on rapier3d-f64, stepped one step or many steps per
+//! call (the GIL released while Rust runs), with state, loads, controls, wind, a run summary
+//! and an optional MCAP log.
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use flapsim::{Mode, State, StepOutput};
+
+use crate::convert::{arg_vec3, finite, merge_record, quat_wxyz, record, shaped, vec3};
+use crate::vehicle::Vehicle;
+use crate::{log_err, sim_err};
+
+/// "free", "tethered" or "longitudinal".
+pub fn parse_mode(mode: &str) -> PyResult<Mode> {
+    match mode {
+        "free" => Ok(Mode::Free),
+        "tethered" => Ok(Mode::Tethered),
+        "longitudinal" => Ok(Mode::LONGITUDINAL),
+        other => Err(PyValueError::new_err(format!(
+            "mode must be \"free\", \"tethered\" or \"longitudinal\", got {other:?}"
+        ))),
+    }
+}
+
+const STATE_KEYS: [&str; 4] = [
+    "position_m",
+    "world_from_body_wxyz",
+    "velocity_m_s",
+    "angular_velocity_body_rad_s",
+];
+
+/// A state as a dict of numpy arrays (the quaternion as w, x, y, z).
+pub fn state_dict<'py>(py: Python<'py>, s: &State) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("position_m", vec3(py, &s.position_m))?;
+    d.set_item("world_from_body_wxyz", quat_wxyz(py, &s.world_from_body))?;
+    d.set_item("velocity_m_s", vec3(py, &s.velocity_m_s))?;
+    d.set_item(
+        "angular_velocity_body_rad_s",
+        vec3(py, &s.angular_velocity_body_rad_s),
+    )?;
+    let (r, p, y) = s.euler_rad();
+    d.set_item("euler_rad", PyArray1::from_slice(py, &[r, p, y]))?;
+    Ok(d)
+}
+
+/// A state from a dict with the keys of [`state_dict`] (missing keys keep `base`'s values;
+/// `euler_rad` is ignored, being derived).
+pub fn state_from_dict(d: &Bound<'_, PyDict>, base: State) -> PyResult<State> {
+    let mut s = base;
+    for (k, v) in d.iter() {
+        let k: String = k.extract()?;
+        if k == "euler_rad" {
+            continue;
+        }
+        let a: Vec<f64> = v
+            .extract()
+            .map_err(|_| PyValueError::new_err(format!("state `{k}` must be a float array")))?;
+        finite(&k, &a)?;
+        let need = if k == "world_from_body_wxyz" { 4 } else { 3 };
+        if !STATE_KEYS.contains(&k.as_str()) {
+            return Err(PyValueError::new_err(format!(
+                "state has no field `{k}` (allowed: {})",
+                STATE_KEYS.join(", ")
+            )));
+        }
+        if a.len() != need {
+            return Err(PyValueError::new_err(format!(
+                "state `{k}` must have {need} components, got {}",
+                a.len()
+            )));
+        }
+        match k.as_str() {
+            "position_m" => s.position_m = Vector3::new(a[0], a[1], a[2]),
+            "velocity_m_s" => s.velocity_m_s = Vector3::new(a[0], a[1], a[2]),
+            "angular_velocity_body_rad_s" => {
+                s.angular_velocity_body_rad_s = Vector3::new(a[0], a[1], a[2])
+            }
+            _ => {
+                let q = Quaternion::new(a[0], a[1], a[2], a[3]);
+                if q.norm() < 1e-9 {
+                    return Err(PyValueError::new_err(
+                        "state `world_from_body_wxyz` must be a non-zero quaternion",
+                    ));
+                }
+                s.world_from_body = UnitQuaternion::from_quaternion(q);
+            }
+        }
+    }
+    Ok(s)
+}
+
+fn load_dict<'py>(py: Python<'py>, l: &flapsim::BodyLoad) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("force_n", vec3(py, &l.force_n))?;
+    d.set_item("moment_nm", vec3(py, &l.moment_nm))?;
+    Ok(d)
+}
+
+const TERM_NAMES: [&str; 4] = ["translational", "rotational", "added_mass", "wake_capture"];
+
+/// What one step applied: time, phase, the state at its start, the loads per term, the wings'
+/// inertial reaction and the total (body frame, about the CoM), and the controls.
+pub fn step_dict<'py>(py: Python<'py>, o: &StepOutput) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("step", o.step)?;
+    d.set_item("t_s", o.t_s)?;
+    d.set_item("phase", o.phase)?;
+    d.set_item("state", state_dict(py, &o.state)?)?;
+    let terms = PyDict::new(py);
+    for (n, l) in TERM_NAMES.iter().zip(&o.terms) {
+        terms.set_item(*n, load_dict(py, l)?)?;
+    }
+    d.set_item("terms", terms)?;
+    d.set_item("wing_inertia", load_dict(py, &o.wing_inertia)?)?;
+    d.set_item("total", load_dict(py, &o.total)?)?;
+    d.set_item("controls", record(py, &o.controls)?)?;
+    Ok(d)
+}
+
+/// Per-step arrays of a multi-step run.
+#[derive(Default)]
+pub struct Trace {
+    t_s: Vec<f64>,
+    phase: Vec<f64>,
+    position_m: Vec<f64>,
+    quat_wxyz: Vec<f64>,
+    velocity_m_s: Vec<f64>,
+    omega: Vec<f64>,
+    force_n: Vec<f64>,
+    moment_nm: Vec<f64>,
+    term_force_n: Vec<f64>,
+    term_moment_nm: Vec<f64>,
+}
+
+impl Trace {
+    fn with_capacity(n: usize) -> Self {
+        let v = |k: usize| Vec::with_capacity(k * n);
+        Self {
+            t_s: v(1),
+            phase: v(1),
+            position_m: v(3),
+            quat_wxyz: v(4),
+            velocity_m_s: v(3),
+            omega: v(3),
+            force_n: v(3),
+            moment_nm: v(3),
+            term_force_n: v(12),
+            term_moment_nm: v(12),
+        }
+    }
+
+    fn push(&mut self, o: &StepOutput) {
+        let s = &o.state;
+        self.t_s.push(o.t_s);
+        self.phase.push(o.phase);
+        self.position_m.extend_from_slice(s.position_m.as_slice());
+        let q = &s.world_from_body;
+        self.quat_wxyz.extend_from_slice(&[q.w, q.i, q.j, q.k]);
+        self.velocity_m_s
+            .extend_from_slice(s.velocity_m_s.as_slice());
+        self.omega
+            .extend_from_slice(s.angular_velocity_body_rad_s.as_slice());
+        self.force_n.extend_from_slice(o.total.force_n.as_slice());
+        self.moment_nm
+            .extend_from_slice(o.total.moment_nm.as_slice());
+        for t in &o.terms {
+            self.term_force_n.extend_from_slice(t.force_n.as_slice());
+            self.term_moment_nm
+                .extend_from_slice(t.moment_nm.as_slice());
+        }
+    }
+
+    fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+        let n = self.t_s.len();
+        let d = PyDict::new(py);
+        d.set_item("t_s", shaped(py, self.t_s, &[n])?)?;
+        d.set_item("phase", shaped(py, self.phase, &[n])?)?;
+        d.set_item("position_m", shaped(py, self.position_m, &[n, 3])?)?;
+        d.set_item("world_from_body_wxyz", shaped(py, self.quat_wxyz, &[n, 4])?)?;
+        d.set_item("velocity_m_s", shaped(py, self.velocity_m_s, &[n, 3])?)?;
+        d.set_item(
+            "angular_velocity_body_rad_s",
+            shaped(py, self.omega, &[n, 3])?,
+        )?;
+        d.set_item("force_n", shaped(py, self.force_n, &[n, 3])?)?;
+        d.set_item("moment_nm", shaped(py, self.moment_nm, &[n, 3])?)?;
+        d.set_item("term_force_n", shaped(py, self.term_force_n, &[n, 4, 3])?)?;
+        d.set_item(
+            "term_moment_nm",
+            shaped(py, self.term_moment_nm, &[n, 4, 3])?,
+        )?;
+        d.set_item("terms", TERM_NAMES.to_vec())?;
+        Ok(d)
+    }
+}
+
+/// Steps `sim` `n` times, feeding the summary (and the log and the trace when given).
+pub fn run_steps(
+    sim: &mut flapsim::Simulation,
+    summary: &mut flapsim::SummaryBuilder,
+    mut log: Option<&mut flightlog::Recorder>,
+    mut trace: Option<&mut Trace>,
+    n: u64,
+) -> PyResult<()> {
+    let dt = sim.dt_s();
+    for _ in 0..n {
+        let out = match sim.step() {
+            Ok(o) => o,
+            Err(e) => {
+                if let Some(rec) = log.as_deref_mut() {
+                    let _ = rec.event(sim.time_s(), flightlog::Level::Error, &e.to_string());
+                }
+                return Err(sim_err(e));
+            }
+        };
+        summary.observe(out, dt);
+        if let Some(t) = trace.as_deref_mut() {
+            t.push(out);
+        }
+        if let Some(rec) = log.as_deref_mut() {
+            rec.record(out).map_err(log_err)?;
+        }
+    }
+    Ok(())
+}
+
+/// One vehicle's simulation.
+#[pyclass(module = "flapwing")]
+pub struct Simulation {
+    sim: flapsim::Simulation,
+    summary: flapsim::SummaryBuilder,
+    vehicle: Vehicle,
+    log: Option<flightlog::Recorder>,
+}
+
+#[pymethods]
+impl Simulation {
+    /// A simulation of `vehicle` (a `Vehicle`, or a built-in name or model path) in `mode`
+    /// ("free", "tethered" or "longitudinal"), from the vehicle's initial state at t = 0.
+    /// With `mcap`, every step is logged to that MCAP file at `log_rate_hz` (None: every
+    /// step) until `close_log()`; the file reads back with `flapwing.read_log`.
+    #[new]
+    #[pyo3(signature = (vehicle = None, mode = "free", mcap = None, log_rate_hz = Some(2000.0)))]
+    fn new(
+        vehicle: Option<&Bound<'_, PyAny>>,
+        mode: &str,
+        mcap: Option<std::path::PathBuf>,
+        log_rate_hz: Option<f64>,
+    ) -> PyResult<Self> {
+        let v = match vehicle {
+            None => Vehicle::load("drosophila")?,
+            Some(obj) => match obj.cast::<Vehicle>() {
+                Ok(v) => v.get().clone(),
+                Err(_) => Vehicle::load(&obj.extract::<String>().map_err(|_| {
+                    PyValueError::new_err("vehicle must be a flapwing.Vehicle or a model name/path")
+                })?)?,
+            },
+        };
+        let mode_v = parse_mode(mode)?;
+        let log = match mcap {
+            None => None,
+            Some(path) => {
+                let settings = flightlog::SimSettings::new(mode_v, 0.0, log_rate_hz, [0.0; 3]);
+                let info = flightlog::RunInfo::new(
+                    "python",
+                    format!("flapwing.Simulation({:?}, mode={mode:?})", v.origin),
+                    v.toml.clone(),
+                    v.origin.clone(),
+                    settings.to_json(),
+                );
+                let opts = flightlog::LogOptions {
+                    mcap: Some(path),
+                    log_rate_hz,
+                    ..flightlog::LogOptions::default()
+                };
+                Some(flightlog::Recorder::create(&opts, &info, &v.vehicle).map_err(log_err)?)
+            }
+        };
+        Ok(Self {
+            sim: flapsim::Simulation::new(v.vehicle.clone(), mode_v),
+            summary: flapsim::SummaryBuilder::new(v.vehicle.weight_n()),
+            vehicle: v,
+            log,
+        })
+    }
+
+    /// The vehicle simulated (as built; the controls in force are `controls`).
+    #[getter]
+    fn vehicle(&self) -> Vehicle {
+        self.vehicle.clone()
+    }
+    /// "free", "tethered" or "longitudinal".
+    #[getter]
+    fn mode(&self) -> &'static str {
+        flightlog::mode_name(self.sim.mode())
+    }
+    /// Step length, s.
+    #[getter]
+    fn dt_s(&self) -> f64 {
+        self.sim.dt_s()
+    }
+    /// Steps taken.
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.sim.steps()
+    }
+    /// Simulated time, s.
+    #[getter]
+    fn time_s(&self) -> f64 {
+        self.sim.time_s()
+    }
+    /// Wingbeat phase now, cycles.
+    #[getter]
+    fn phase(&self) -> f64 {
+        self.sim.phase()
+    }
+    /// Steps per wingbeat.
+    #[getter]
+    fn steps_per_wingbeat(&self) -> usize {
+        self.sim.vehicle().sim.steps_per_wingbeat
+    }
+    /// The body state now: position_m, world_from_body_wxyz, velocity_m_s (world),
+    /// angular_velocity_body_rad_s, euler_rad (roll, pitch, yaw).
+    #[getter]
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        state_dict(py, &self.sim.state())
+    }
+    /// Overwrites the body state (keys of `state`; missing ones keep their values).
+    #[pyo3(signature = (**state))]
+    fn set_state(&mut self, state: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        if let Some(d) = state {
+            let s = state_from_dict(d, self.sim.state())?;
+            self.sim.set_state(&s);
+        }
+        Ok(())
+    }
+    /// The controls in force, as a dict.
+    #[getter]
+    fn controls<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        record(py, &self.sim.vehicle().controls)
+    }
+    /// Sets the named control fields (the rest keep their values); they take effect at the
+    /// start of the next wingbeat.
+    #[pyo3(signature = (**controls))]
+    fn set_controls(&mut self, controls: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        let c = merge_record(&self.sim.vehicle().controls, controls, "controls")?;
+        check_controls(&self.sim, &c)?;
+        self.sim.set_controls(c);
+        Ok(())
+    }
+    /// Sets the four control channels (`Vehicle.control_channels`) to `values`, from the
+    /// next wingbeat on.
+    fn set_control_channels(&mut self, values: PyReadonlyArray1<'_, f64>) -> PyResult<()> {
+        let u = values.as_slice()?;
+        if u.len() != 4 {
+            return Err(PyValueError::new_err(format!(
+                "control channels: 4 values expected ({}), got {}",
+                self.sim.vehicle().control_channels().join(", "),
+                u.len()
+            )));
+        }
+        finite("values", u)?;
+        let v = self.sim.vehicle();
+        let drive = v.drive_controlled();
+        let now = v.controls.channels(drive);
+        let delta: Vec<f64> = u.iter().zip(now).map(|(a, b)| a - b).collect();
+        let c = v.controls.with_channels(drive, &delta);
+        check_controls(&self.sim, &c)?;
+        self.sim.set_controls(c);
+        Ok(())
+    }
+    /// Uniform wind, world frame, m/s.
+    fn set_wind(&mut self, wind_world_m_s: PyReadonlyArray1<'_, f64>) -> PyResult<()> {
+        let w = arg_vec3("wind_world_m_s", Some(wind_world_m_s))?;
+        self.sim.set_wind(w);
+        Ok(())
+    }
+    /// The loads at the current state without stepping (a dict like `step()`'s).
+    fn loads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        step_dict(py, &self.sim.loads())
+    }
+    /// Advances one step; returns what was applied during it (state at its start, loads).
+    /// Raises `DivergedError` when the run leaves the meaningful region.
+    fn step<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let dt = self.sim.dt_s();
+        let out = match self.sim.step() {
+            Ok(o) => *o,
+            Err(e) => return Err(sim_err(e)),
+        };
+        self.summary.observe(&out, dt);
+        if let Some(rec) = &mut self.log {
+            rec.record(&out).map_err(log_err)?;
+        }
+        step_dict(py, &out)
+    }
+    /// Advances `steps` steps in one call with the GIL released. With `record`, returns the
+    /// per-step arrays (t_s, phase, position_m (n,3), world_from_body_wxyz (n,4),
+    /// velocity_m_s, angular_velocity_body_rad_s, force_n, moment_nm, term_force_n (n,4,3),
+    /// term_moment_nm); else None.
+    #[pyo3(signature = (steps, record = true))]
+    fn run<'py>(
+        &mut self,
+        py: Python<'py>,
+        steps: u64,
+        record: bool,
+    ) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let (sim, summary, log) = (&mut self.sim, &mut self.summary, self.log.as_mut());
+        let trace = py.detach(|| -> PyResult<Option<Trace>> {
+            let mut trace = record.then(|| Trace::with_capacity(steps as usize));
+            run_steps(sim, summary, log, trace.as_mut(), steps)?;
+            Ok(trace)
+        })?;
+        trace.map(|t| t.into_dict(py)).transpose()
+    }
+    /// Advances whole wingbeats (`wingbeats` x steps_per_wingbeat steps); see `run`.
+    #[pyo3(signature = (wingbeats, record = true))]
+    fn run_wingbeats<'py>(
+        &mut self,
+        py: Python<'py>,
+        wingbeats: u64,
+        record: bool,
+    ) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let n = wingbeats * self.sim.vehicle().sim.steps_per_wingbeat as u64;
+        self.run(py, n, record)
+    }
+    /// The run summary so far: cycle-mean loads per term over complete wingbeats, lift over
+    /// weight, final pose, drift and largest excursion.
+    fn summary<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        record(py, &self.summary.finish(self.sim.state()))
+    }
+    /// Finishes the MCAP log (if any) and returns its statistics; later steps are not
+    /// logged. Also done when the simulation is garbage-collected, without error reports.
+    fn close_log<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match self.log.take() {
+            None => Ok(None),
+            Some(rec) => {
+                let stats = py.detach(|| rec.finish()).map_err(log_err)?;
+                let d = PyDict::new(py);
+                d.set_item("steps_seen", stats.steps_seen)?;
+                d.set_item("samples", stats.samples)?;
+                d.set_item("events", stats.events)?;
+                d.set_item("mcap_messages", stats.mcap_messages)?;
+                d.set_item("mcap_bytes", stats.mcap_bytes)?;
+                Ok(Some(d.into_any()))
+            }
+        }
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "Simulation(vehicle={:?}, mode={:?}, t_s={:.6}, steps={})",
+            self.vehicle.vehicle.name,
+            flightlog::mode_name(self.sim.mode()),
+            self.sim.time_s(),
+            self.sim.steps()
+        )
+    }
+}
+
+/// Controls the model would reject raise now, not at the next wingbeat's step.
+fn check_controls(sim: &flapsim::Simulation, c: &flapsim::Controls) -> PyResult<()> {
+    let mut v = sim.vehicle().clone();
+    v.apply_controls(c).map_err(sim_err)?;
+    if !v.freq_hz().is_finite() || v.freq_hz() <= 0.0 {
+        return Err(PyRuntimeError::new_err(
+            "the wingbeat frequency must stay positive",
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,338 @@
+//! `flapwing.Vehicle` (a vehicle model: trim, stability, LQR design) and
+//! `flapwing.HoverController`.
+
+use nalgebra::DMatrix;
+use numpy::{Complex64, PyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert::{matrix, merge_record, model_text, record};
+use crate::sim::state_from_dict;
+use crate::sim_err;
+
+/// The built-in vehicles, by name.
+pub const BUILTIN_VEHICLES: [&str; 5] = [
+    "drosophila",
+    "bumblebee",
+    "robobee_kinematic",
+    "robobee",
+    "hummingbird",
+];
+
+/// (name, TOML text) of every built-in vehicle.
+pub fn builtin_pairs() -> Vec<(&'static str, &'static str)> {
+    BUILTIN_VEHICLES
+        .iter()
+        .filter_map(|n| flapsim::builtin_model(n).map(|t| (*n, t)))
+        .collect()
+}
+
+/// A vehicle model: body, two wings on their hinges, kinematics or actuators, controls.
+#[pyclass(module = "flapwing", frozen)]
+#[derive(Clone)]
+pub struct Vehicle {
+    pub(crate) vehicle: flapsim::Vehicle,
+    pub(crate) toml: String,
+    pub(crate) origin: String,
+}
+
+impl Vehicle {
+    /// Loads a built-in name or a file.
+    pub fn load(model: &str) -> PyResult<Self> {
+        let (toml, origin) = model_text(model, &builtin_pairs())?;
+        let vehicle = flapsim::Vehicle::from_toml(&toml, &origin).map_err(sim_err)?;
+        Ok(Self {
+            vehicle,
+            toml,
+            origin,
+        })
+    }
+
+    fn trim_value(&self) -> PyResult<flapsim::trim::Trim> {
+        flapsim::trim::trim(&self.vehicle).map_err(sim_err)
+    }
+}
+
+/// (Re, Im) pairs of modes as a complex numpy array.
+fn eigenvalues<'py>(
+    py: Python<'py>,
+    modes: impl Iterator<Item = (f64, f64)>,
+) -> Bound<'py, PyArray1<Complex64>> {
+    PyArray1::from_vec(py, modes.map(|(r, i)| Complex64::new(r, i)).collect())
+}
+
+fn square(rows: &[Vec<f64>]) -> DMatrix<f64> {
+    let n = rows.len();
+    DMatrix::from_fn(n, n, |i, j| rows[i][j])
+}
+
+#[pymethods]
+impl Vehicle {
+    /// Loads a vehicle: a built-in name (`drosophila`, `bumblebee`, `robobee_kinematic`,
+    /// `robobee`, `hummingbird`) or a model file path. A bad model raises `ValueError` with
+    /// the file, field, value and what is allowed.
+    #[new]
+    #[pyo3(signature = (model = "drosophila"))]
+    fn new(model: &str) -> PyResult<Self> {
+        Self::load(model)
+    }
+
+    /// The model's name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.vehicle.name
+    }
+    /// Where the model came from (a path or `<built-in NAME>`).
+    #[getter]
+    fn origin(&self) -> &str {
+        &self.origin
+    }
+    /// The model file's text.
+    #[getter]
+    fn model_toml(&self) -> &str {
+        &self.toml
+    }
+    /// Body mass, kg.
+    #[getter]
+    fn mass_kg(&self) -> f64 {
+        self.vehicle.mass_kg
+    }
+    /// Inertia about the centre of mass, body frame, kg m^2 (3x3).
+    #[getter]
+    fn inertia_kg_m2<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        let i = &self.vehicle.inertia_kg_m2;
+        matrix(py, &DMatrix::from_fn(3, 3, |r, c| i[(r, c)]))
+    }
+    /// Body length, m.
+    #[getter]
+    fn length_m(&self) -> f64 {
+        self.vehicle.length_m
+    }
+    /// Weight m g, N.
+    #[getter]
+    fn weight_n(&self) -> f64 {
+        self.vehicle.weight_n()
+    }
+    /// Gravity, m/s^2.
+    #[getter]
+    fn gravity_m_s2(&self) -> f64 {
+        self.vehicle.gravity_m_s2
+    }
+    /// Wingbeat frequency with the current controls, Hz.
+    #[getter]
+    fn freq_hz(&self) -> f64 {
+        self.vehicle.freq_hz()
+    }
+    /// Simulation steps per wingbeat.
+    #[getter]
+    fn steps_per_wingbeat(&self) -> usize {
+        self.vehicle.sim.steps_per_wingbeat
+    }
+    /// True for an actuated vehicle (wings driven by actuators, passive pitch).
+    #[getter]
+    fn actuated(&self) -> bool {
+        self.vehicle.actuation.is_some()
+    }
+    /// The names of the four control channels that trim, the LQR and the environments use.
+    #[getter]
+    fn control_channels(&self) -> Vec<&'static str> {
+        self.vehicle.control_channels().to_vec()
+    }
+    /// The controls in force (offsets on the base kinematics or drive), as a dict.
+    #[getter]
+    fn controls<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        record(py, &self.vehicle.controls)
+    }
+
+    /// A copy with the controls' named fields replaced (`ValueError` for an unknown name or
+    /// a value the model rejects).
+    #[pyo3(signature = (**controls))]
+    fn with_controls(&self, controls: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let c = merge_record(&self.vehicle.controls, controls, "controls")?;
+        let mut v = self.clone();
+        v.vehicle.apply_controls(&c).map_err(sim_err)?;
+        Ok(v)
+    }
+
+    /// A copy whose initial state is `state` (a dict as returned by `Simulation.state`;
+    /// missing keys keep the model's values).
+    fn with_initial_state(&self, state: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let mut v = self.clone();
+        let s0 = flapsim::State {
+            position_m: v.vehicle.initial_position_m,
+            world_from_body: v.vehicle.initial_attitude,
+            velocity_m_s: v.vehicle.initial_velocity_m_s,
+            angular_velocity_body_rad_s: v.vehicle.initial_angular_velocity_rad_s,
+        };
+        let s = state_from_dict(state, s0)?;
+        v.vehicle.initial_position_m = s.position_m;
+        v.vehicle.initial_attitude = s.world_from_body;
+        v.vehicle.initial_velocity_m_s = s.velocity_m_s;
+        v.vehicle.initial_angular_velocity_rad_s = s.angular_velocity_body_rad_s;
+        Ok(v)
+    }
+
+    /// Hover trim (flapsim::trim): controls, body pitch and residuals, as a dict.
+    /// Raises `AnalysisError` when no trim is found.
+    fn trim<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let t = py.detach(|| self.trim_value())?;
+        record(py, &t)
+    }
+
+    /// The vehicle flying at its hover trim (controls applied, attitude at the trim pitch).
+    fn trimmed(&self, py: Python<'_>) -> PyResult<Self> {
+        let v = py.detach(|| -> PyResult<flapsim::Vehicle> {
+            let t = self.trim_value()?;
+            let mut v = flapsim::trim::trimmed_vehicle(&self.vehicle, &t).map_err(sim_err)?;
+            v.initial_attitude = t.attitude();
+            Ok(v)
+        })?;
+        Ok(Self {
+            vehicle: v,
+            toml: self.toml.clone(),
+            origin: self.origin.clone(),
+        })
+    }
+
+    /// Hover stability (flapsim::stability::analyze): the averaged model's longitudinal and
+    /// lateral system matrices `a_longitudinal`, `a_lateral` (numpy, with their state
+    /// names), their eigenvalues (complex numpy) and modes with eigenvectors, the
+    /// dimensional and non-dimensional derivatives, and with `floquet` the Floquet
+    /// multipliers and exponents of the time-periodic longitudinal motion.
+    #[pyo3(signature = (floquet = true))]
+    fn stability<'py>(&self, py: Python<'py>, floquet: bool) -> PyResult<Bound<'py, PyAny>> {
+        let r = py
+            .detach(|| flapsim::stability::analyze(&self.vehicle, floquet))
+            .map_err(sim_err)?;
+        let d = record(py, &r)?;
+        let dict = d.cast::<PyDict>()?;
+        dict.set_item("a_longitudinal", matrix(py, &square(&r.a_longitudinal))?)?;
+        dict.set_item("a_lateral", matrix(py, &square(&r.a_lateral))?)?;
+        let lon = square(&r.a_longitudinal).complex_eigenvalues();
+        let lat = square(&r.a_lateral).complex_eigenvalues();
+        dict.set_item(
+            "eigenvalues_longitudinal",
+            eigenvalues(py, lon.iter().map(|l| (l.re, l.im))),
+        )?;
+        dict.set_item(
+            "eigenvalues_lateral",
+            eigenvalues(py, lat.iter().map(|l| (l.re, l.im))),
+        )?;
+        dict.set_item(
+            "floquet_multipliers",
+            eigenvalues(py, r.floquet_longitudinal.iter().map(|m| m.multiplier)),
+        )?;
+        dict.set_item(
+            "floquet_exponents",
+            eigenvalues(py, r.floquet_longitudinal.iter().map(|m| m.exponent)),
+        )?;
+        Ok(d)
+    }
+
+    /// Designs the per-wingbeat hover LQR (flapsim::control::HoverController) at the trim.
+    /// `weights` overrides fields of flapsim's default LqrWeights (Bryson's rule maxima);
+    /// `delay_wingbeats` is the sensing delay the controller compensates.
+    #[pyo3(signature = (delay_wingbeats = 0, **weights))]
+    fn lqr(
+        &self,
+        py: Python<'_>,
+        delay_wingbeats: usize,
+        weights: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<HoverController> {
+        let w = merge_record(
+            &flapsim::control::LqrWeights::default(),
+            weights,
+            "LqrWeights",
+        )?;
+        let (t, c) = py.detach(|| -> PyResult<_> {
+            let t = self.trim_value()?;
+            let v = flapsim::trim::trimmed_vehicle(&self.vehicle, &t).map_err(sim_err)?;
+            let c = flapsim::control::HoverController::design(&v, &t, &w, delay_wingbeats)
+                .map_err(sim_err)?;
+            Ok((t, c))
+        })?;
+        Ok(HoverController {
+            controller: c,
+            trim: t,
+            weights: w,
+            drive: self.vehicle.drive_controlled(),
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Vehicle(name={:?}, origin={:?}, mass_kg={:e}, freq_hz={:.3}, actuated={})",
+            self.vehicle.name,
+            self.origin,
+            self.vehicle.mass_kg,
+            self.vehicle.freq_hz(),
+            self.vehicle.actuation.is_some()
+        )
+    }
+}
+
+/// The per-wingbeat hover LQR with position integral: `update(state)` once per wingbeat
+/// gives the controls for the next one.
+#[pyclass(module = "flapwing")]
+pub struct HoverController {
+    pub(crate) controller: flapsim::control::HoverController,
+    trim: flapsim::trim::Trim,
+    weights: flapsim::control::LqrWeights,
+    drive: bool,
+}
+
+#[pymethods]
+impl HoverController {
+    /// The gain K (4 controls x 15: 12 error states, then 3 position integrals); u = -K x.
+    #[getter]
+    fn gain<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        matrix(py, self.controller.gain())
+    }
+    /// The trim it was designed at, as a dict.
+    #[getter]
+    fn trim<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        record(py, &self.trim)
+    }
+    /// The weights used, as a dict.
+    #[getter]
+    fn weights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        record(py, &self.weights)
+    }
+    /// The error state (position, velocity, attitude error, body rates; 12 numbers) of a
+    /// state dict.
+    fn error_state<'py>(
+        &self,
+        py: Python<'py>,
+        state: &Bound<'py, PyDict>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let s = state_from_dict(state, zero_state())?;
+        let x = self.controller.error_state(&s);
+        Ok(PyArray1::from_slice(py, x.as_slice()))
+    }
+    /// Controls for the next wingbeat from the state measured now (a state dict), as a
+    /// dict to pass to `Simulation.set_controls(**c)`.
+    fn update<'py>(
+        &mut self,
+        py: Python<'py>,
+        state: &Bound<'py, PyDict>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let s = state_from_dict(state, zero_state())?;
+        let c = self.controller.update(&s);
+        record(py, &c)
+    }
+    /// The four control channels of the controls `update` would return for an error-free
+    /// state, i.e. the trim's channels.
+    #[getter]
+    fn trim_channels<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.trim.controls.channels(self.drive))
+    }
+}
+
+fn zero_state() -> flapsim::State {
+    flapsim::State {
+        position_m: nalgebra::Vector3::zeros(),
+        world_from_body: nalgebra::UnitQuaternion::identity(),
+        velocity_m_s: nalgebra::Vector3::zeros(),
+        angular_velocity_body_rad_s: nalgebra::Vector3::zeros(),
+    }
+}

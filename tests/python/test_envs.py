@@ -1,0 +1,153 @@
+"""flapwing.envs: the Gymnasium environments on flapsim's tasks, seeding, the vectorised
+form and domain randomisation."""
+
+import pathlib
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import flapwing
+import flapwing.envs  # registers the environments
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+RANDOMIZE = ROOT / "examples" / "python" / "randomize.toml"
+
+
+@pytest.mark.parametrize("env_id", ["flapwing/Hover-v0", "flapwing/Recover-v0"])
+def test_passes_gymnasium_env_checker(env_id):
+    env = gym.make(env_id)
+    check_env(env.unwrapped, skip_render_check=True)
+    assert env.action_space.shape == (4,)
+    assert env.observation_space.shape == (12,)
+
+
+def _episode(env, seed, actions):
+    obs, _ = env.reset(seed=seed)
+    out = [obs]
+    for a in actions:
+        obs, r, term, trunc, _ = env.step(a)
+        out.append(np.append(obs, r))
+        if term or trunc:
+            break
+    return np.concatenate(out)
+
+
+def test_seeding_makes_episodes_reproducible():
+    env = gym.make("flapwing/Recover-v0")
+    rng = np.random.default_rng(0)
+    acts = [env.action_space.sample() * 0.1 for _ in range(8)]
+    a = _episode(env, 123, acts)
+    b = _episode(env, 123, acts)
+    c = _episode(env, 124, acts)
+    np.testing.assert_array_equal(a, b)
+    assert not np.array_equal(a, c)
+    del rng
+
+
+def test_trim_action_hovers_at_first_and_the_sensors_see_the_body():
+    env = gym.make("flapwing/Hover-v0", action_wingbeats=1)
+    env.reset(seed=5)
+    task = env.unwrapped.task
+    limit = task.action_limit
+    assert np.all(limit > 0)
+    obs, r, term, trunc, info = env.step(np.zeros(4))
+    # One wingbeat from the trim: the body barely moves, but rocks by 1-1.5 deg within the
+    # wingbeat (README, `flapwing hover`): reward 1 - (1.5/10)^2 = 0.9775 or more.
+    assert 0.975 < r <= 1.0 and not term
+    for _ in range(3):
+        obs, *_ = env.step(np.zeros(4))
+    # The gyro reads the true body rate of 5 ms ago plus bias and noise. In symmetric hover
+    # the true roll and yaw rates are zero (the pitch rate rocks at the wingbeat), so the
+    # roll and yaw readings are bias + noise: the bias drawn with sigma 1 deg/s (ICM-20602
+    # ZRO tolerance), the noise 4 mdps/sqrt(Hz) x sqrt(1 kHz); within 6 sigma of their sum.
+    true_w = task.state["angular_velocity_body_rad_s"]
+    assert abs(true_w[0]) < 1e-9 and abs(true_w[2]) < 1e-9
+    sigma = np.radians(1.0) + np.radians(0.004) * np.sqrt(1000.0)
+    assert abs(obs[0]) < 6 * sigma and abs(obs[2]) < 6 * sigma
+    assert obs[0] != 0.0  # the bias and noise are there
+    # Motion capture: position within 6 sigma of the 0.15 mm noise plus the motion in
+    # its 6.5 ms delay.
+    p = task.state["position_m"]
+    v = np.linalg.norm(task.state["velocity_m_s"])
+    assert np.all(np.abs(obs[6:9] - p) < 6 * 1.5e-4 + v * 0.0115)
+
+
+def test_out_of_range_action_is_an_error_not_a_clamp():
+    env = gym.make("flapwing/Hover-v0")
+    env.reset(seed=0)
+    lim = env.unwrapped.task.action_limit
+    with pytest.raises(ValueError, match="outside the allowed"):
+        env.step(np.array([2 * lim[0], 0.0, 0.0, 0.0]))
+
+
+def test_episode_ends_and_must_be_reset():
+    env = flapwing.envs.FlapwingEnv(duration_s=3 / 218.0)
+    env.reset(seed=1)
+    for k in range(3):
+        *_, term, trunc, _ = env.step(np.zeros(4))
+    assert trunc and not term
+    with pytest.raises(ValueError, match="reset"):
+        env.step(np.zeros(4))
+
+
+def test_vectorised_tasks_equal_single_tasks():
+    vec = flapwing.VecHoverTask(3, "drosophila", "recover")
+    singles = [flapwing.HoverTask("drosophila", "recover") for _ in range(3)]
+    seeds = [11, 12, 13]
+    o = vec.reset(seeds)
+    for s, t, row in zip(seeds, singles, o):
+        np.testing.assert_array_equal(t.reset(s), row)
+    acts = np.array([[0.0, 0.01, 0.0, 0.0], [0.0, -0.01, 0.0, 0.0], [0.01, 0.0, 0.0, 0.0]])
+    for _ in range(4):
+        obs, rew, term, trunc = vec.step(acts)
+        for i, t in enumerate(singles):
+            o1, r1, te1, tr1, _ = t.step(acts[i])
+            np.testing.assert_array_equal(obs[i], o1)
+            assert rew[i] == r1 and term[i] == te1 and trunc[i] == tr1
+
+
+def test_vector_env_autoresets_on_the_next_step():
+    env = flapwing.envs.VecHoverEnv(2, duration_s=2 / 218.0)
+    obs, _ = env.reset(seed=3)
+    assert obs.shape == (2, 12)
+    z = np.zeros((2, 4))
+    env.step(z)
+    _, _, term, trunc, _ = env.step(z)
+    assert np.all(trunc)
+    obs, rew, term, trunc, _ = env.step(z)  # the reset step
+    assert np.all(rew == 0.0) and not term.any() and not trunc.any()
+
+
+def test_domain_randomisation_draws_within_ranges_and_logs_them():
+    env = gym.make("flapwing/Hover-v0", randomize=str(RANDOMIZE))
+    _, info = env.reset(seed=1)
+    d1 = info["draws"]
+    assert set(d1) == {"body.mass_kg", "body.inertia_diag_kg_m2", "wing.planform.span_m",
+                       "hinge.left_in_body_m", "sensors.imu.gyro_noise_density_deg_s_sqrt_hz",
+                       "sensors.imu.accel_noise_density_ug_sqrt_hz"}
+    assert 0.9 <= d1["body.mass_kg"] <= 1.1
+    task = env.unwrapped.task
+    trim1 = task.trim["controls"]["amplitude_rad"]
+    _, info = env.reset(seed=2)
+    assert info["draws"] != d1
+    # A heavier or lighter fly needs another stroke amplitude to hover.
+    assert task.trim["controls"]["amplitude_rad"] != trim1
+    _, info = env.reset(seed=1)
+    assert info["draws"] == d1
+
+
+def test_randomising_an_actuated_vehicle_and_bad_files(tmp_path):
+    t = flapwing.HoverTask("drosophila", "hover",
+                           str(ROOT / "examples" / "python" / "randomize.toml"))
+    assert t.observation_len == 12
+    bad = tmp_path / "r.toml"
+    bad.write_text('[[param]]\npath = "body.no_such"\nscale = [0.9, 1.1]\n')
+    with pytest.raises(flapwing.AnalysisError, match="body.no_such"):
+        flapwing.HoverTask("drosophila", "hover", str(bad))
+    bad.write_text('[[param]]\npath = "body.mass_kg"\nscale = [1.1, 0.9]\n')
+    with pytest.raises(ValueError, match="scale"):
+        flapwing.HoverTask("drosophila", "hover", str(bad))
+    with pytest.raises(flapwing.AnalysisError, match=r"\[sensors\]"):
+        flapwing.HoverTask("bumblebee")
