@@ -309,14 +309,7 @@ pub fn run_hover(
     v.apply_controls(&trim.controls)?;
     // An actuated vehicle starts with its wings on their periodic motion at the trim (as a
     // hover that has been going on), not from rest.
-    let periodic = if v.actuation.is_some() {
-        Some(crate::actuated::periodic::settle(
-            &v,
-            &wingforce::BodyMotion::default(),
-        )?)
-    } else {
-        None
-    };
+    let periodic = crate::actuated::periodic::settle_at_rest(&v)?;
     let q_trim = trim.attitude();
     let start_q = q_trim
         * UnitQuaternion::from_scaled_axis(Vector3::new(

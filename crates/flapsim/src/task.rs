@@ -224,14 +224,7 @@ impl Task {
             self.trim.attitude() * UnitQuaternion::from_euler_angles(roll, pitch, 0.0);
         v.initial_velocity_m_s = velocity;
         self.reference_m = v.initial_position_m;
-        let periodic = if v.actuation.is_some() {
-            Some(crate::actuated::periodic::settle(
-                &v,
-                &wingforce::BodyMotion::default(),
-            )?)
-        } else {
-            None
-        };
+        let periodic = crate::actuated::periodic::settle_at_rest(&v)?;
         let g = v.gravity_m_s2;
         let params = v
             .sensors

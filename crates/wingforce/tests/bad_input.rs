@@ -8,6 +8,25 @@ fn load(text: &str) -> Result<wingforce::Wing, Error> {
     WingModelSpec::from_toml(text, "bad.toml").and_then(|s| s.build("bad.toml"))
 }
 
+/// `text` is refused with a value error naming bad.toml, `want_field` and `want_value`, and
+/// saying `allowed_has` in what is allowed.
+fn assert_invalid(text: &str, want_field: &str, want_value: &str, allowed_has: &str) {
+    match load(text).unwrap_err() {
+        Error::Invalid {
+            origin,
+            field,
+            value,
+            allowed,
+        } => {
+            assert_eq!(origin, "bad.toml");
+            assert_eq!(field, want_field);
+            assert_eq!(value, want_value);
+            assert!(allowed.contains(allowed_has), "{allowed}");
+        }
+        e => panic!("wrong error {e}"),
+    }
+}
+
 #[test]
 fn good_model_loads() {
     load(GOOD).unwrap();
@@ -27,20 +46,7 @@ fn unknown_field_is_named() {
 fn negative_chord_is_rejected() {
     let rect = GOOD.split("[wing.planform]").next().unwrap().to_owned()
         + "[wing.planform]\nshape = \"rectangular\"\nspan_m = 0.25\nchord_m = -0.1\n\n[kinematics]\nfamily = \"harmonic\"\nfreq_hz = 1.0\namplitude_deg = 120.0\nmid_stroke_aoa_deg = 40.0\n";
-    match load(&rect).unwrap_err() {
-        Error::Invalid {
-            origin,
-            field,
-            value,
-            allowed,
-        } => {
-            assert_eq!(origin, "bad.toml");
-            assert_eq!(field, "wing.planform.chord_m");
-            assert_eq!(value, "-0.1");
-            assert!(allowed.contains("> 0"));
-        }
-        e => panic!("wrong error {e}"),
-    }
+    assert_invalid(&rect, "wing.planform.chord_m", "-0.1", "> 0");
 }
 
 #[test]
@@ -128,18 +134,5 @@ fn refitted_wake_model_must_be_finite_with_positive_mu_star() {
 fn pitch_flip_longer_than_a_half_stroke_is_rejected() {
     let text = GOOD.split("[kinematics]").next().unwrap().to_owned()
         + "[kinematics]\nfamily = \"harmonic_flip\"\nfreq_hz = 1.0\namplitude_deg = 120.0\ndownstroke_aoa_deg = 40.0\nupstroke_aoa_deg = 35.0\nflip_duration = 0.6\n";
-    match load(&text).unwrap_err() {
-        Error::Invalid {
-            origin,
-            field,
-            value,
-            allowed,
-        } => {
-            assert_eq!(origin, "bad.toml");
-            assert_eq!(field, "kinematics.flip_duration");
-            assert_eq!(value, "0.6");
-            assert!(allowed.contains("0.5"), "{allowed}");
-        }
-        other => panic!("{other}"),
-    }
+    assert_invalid(&text, "kinematics.flip_duration", "0.6", "0.5");
 }

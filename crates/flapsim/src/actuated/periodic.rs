@@ -61,6 +61,16 @@ fn largest_change(a: &[WingState; 2], b: &[WingState; 2], period_s: f64) -> f64 
         .fold(0.0, f64::max)
 }
 
+/// For an actuated vehicle, its wings settled at a body at rest (how a hover that has been
+/// going on starts); `None` for prescribed kinematics.
+pub fn settle_at_rest(vehicle: &Vehicle) -> Result<Option<PeriodicWings>> {
+    if vehicle.actuation.is_some() {
+        settle(vehicle, &BodyMotion::default()).map(Some)
+    } else {
+        Ok(None)
+    }
+}
+
 /// Runs the wings of actuated `vehicle` into their periodic motion with the body moving as
 /// `motion` (held fixed), and averages their aerodynamic loads over one period.
 pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
