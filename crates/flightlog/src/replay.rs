@@ -18,7 +18,8 @@ use mcap::records::{Metadata, Record};
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use serde::Serialize;
 
-use crate::json::{self, Json};
+use crate::decode::Decoder;
+use crate::json::Json;
 use crate::schema::{self, TOPIC_EVENTS, TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT, TOPIC_STATE};
 use crate::{Error, Level, Result, SimSettings};
 
@@ -32,9 +33,9 @@ pub struct ChannelSummary {
     pub topic: String,
     /// Schema name (empty for none).
     pub schema_name: String,
-    /// Schema encoding (`jsonschema`).
+    /// Schema encoding (`protobuf`; `jsonschema` in logs before issue #16).
     pub schema_encoding: String,
-    /// Message encoding (`json`).
+    /// Message encoding (`protobuf`; `json` in logs before issue #16).
     pub message_encoding: String,
     /// Messages read.
     pub message_count: u64,
@@ -235,6 +236,7 @@ pub(crate) struct LogFile {
     pub path: PathBuf,
     pub file_bytes: u64,
     pub channels: BTreeMap<u16, ChannelSummary>,
+    decoders: HashMap<u16, Decoder>,
     pub messages: Vec<RawMessage>,
     pub metadata: Vec<Metadata>,
     pub attachments: Vec<AttachmentSummary>,
@@ -260,12 +262,32 @@ impl LogFile {
             .map(|(id, _)| *id)
     }
 
+    /// The message encoding of a topic's channel.
+    pub fn message_encoding(&self, topic: &str) -> Option<&str> {
+        let id = self.channel_id(topic)?;
+        self.channels.get(&id).map(|c| c.message_encoding.as_str())
+    }
+
     /// Messages of a topic, in file order.
     pub fn on<'a>(&'a self, topic: &str) -> impl Iterator<Item = &'a RawMessage> + 'a {
         let id = self.channel_id(topic);
         self.messages
             .iter()
             .filter(move |m| Some(m.channel_id) == id)
+    }
+
+    /// A message as a tree (JSON or protobuf, see [`crate::decode`]); `None` if it does not
+    /// decode.
+    pub fn parse(&self, m: &RawMessage) -> Option<Json> {
+        self.decoders.get(&m.channel_id)?.decode(&m.data)
+    }
+
+    /// Why the messages of a channel cannot be decoded, if they cannot.
+    pub fn undecodable(&self, channel_id: u16) -> Option<&str> {
+        match self.decoders.get(&channel_id) {
+            Some(crate::decode::Decoder::Unknown(why)) => Some(why),
+            _ => None,
+        }
     }
 
     fn topics(&self) -> String {
@@ -279,7 +301,9 @@ impl LogFile {
 
 #[derive(Default)]
 struct Scan {
-    schemas: HashMap<u16, (String, String)>,
+    /// Per schema id: name, encoding, data.
+    schemas: HashMap<u16, (String, String, Vec<u8>)>,
+    decoders: HashMap<u16, Decoder>,
     channels: BTreeMap<u16, ChannelSummary>,
     messages: Vec<RawMessage>,
 }
@@ -287,16 +311,16 @@ struct Scan {
 impl Scan {
     fn apply(&mut self, rec: Record<'_>, at: u64) -> std::result::Result<(), String> {
         match rec {
-            Record::Schema { header, .. } => {
+            Record::Schema { header, data } => {
                 if header.id == 0 {
                     return Err(format!("schema with id 0 at byte {at}"));
                 }
                 self.schemas
-                    .insert(header.id, (header.name, header.encoding));
+                    .insert(header.id, (header.name, header.encoding, data.into_owned()));
             }
             Record::Channel(c) => {
-                let (schema_name, schema_encoding) = if c.schema_id == 0 {
-                    (String::new(), String::new())
+                let (schema_name, schema_encoding, schema_data) = if c.schema_id == 0 {
+                    (String::new(), String::new(), Vec::new())
                 } else {
                     self.schemas.get(&c.schema_id).cloned().ok_or_else(|| {
                         format!(
@@ -305,6 +329,15 @@ impl Scan {
                         )
                     })?
                 };
+                self.decoders.insert(
+                    c.id,
+                    Decoder::new(
+                        &c.message_encoding,
+                        &schema_name,
+                        &schema_encoding,
+                        &schema_data,
+                    ),
+                );
                 self.channels.insert(
                     c.id,
                     ChannelSummary {
@@ -485,6 +518,7 @@ fn parse_log(path: &Path, bytes: &[u8]) -> Result<LogFile> {
                 // All or nothing: apply to a copy, keep it only if every record is valid.
                 let mut trial = Scan {
                     schemas: scan.schemas.clone(),
+                    decoders: scan.decoders.clone(),
                     channels: scan.channels.clone(),
                     messages: Vec::new(),
                 };
@@ -498,6 +532,7 @@ fn parse_log(path: &Path, bytes: &[u8]) -> Result<LogFile> {
                     break;
                 }
                 scan.schemas = trial.schemas;
+                scan.decoders = trial.decoders;
                 scan.channels = trial.channels;
                 scan.messages.append(&mut trial.messages);
                 chunks += 1;
@@ -573,17 +608,13 @@ fn parse_log(path: &Path, bytes: &[u8]) -> Result<LogFile> {
         path: path.to_owned(),
         file_bytes: len,
         channels: scan.channels,
+        decoders: scan.decoders,
         messages: scan.messages,
         metadata,
         attachments,
         complete,
         damage,
     })
-}
-
-/// Parses a message; `None` if it is not JSON.
-pub(crate) fn parse_msg(m: &RawMessage) -> Option<Json> {
-    json::parse(&m.data).ok()
 }
 
 /// Mean over complete wingbeats of per-wingbeat means. `samples` are (phase, values) in
@@ -637,7 +668,7 @@ fn summarize(log: &LogFile) -> ReplaySummary {
     let mut events: Vec<EventSummary> = log
         .on(TOPIC_EVENTS)
         .filter_map(|m| {
-            let v = parse_msg(m)?;
+            let v = log.parse(m)?;
             let level = v
                 .get("level")
                 .and_then(Json::as_i64)
@@ -663,7 +694,7 @@ fn summarize(log: &LogFile) -> ReplaySummary {
     let mut lift = Vec::new();
     let mut samples = 0u64;
     for m in log.on(TOPIC_STATE) {
-        let Some(v) = parse_msg(m) else { continue };
+        let Some(v) = log.parse(m) else { continue };
         samples += 1;
         if let Some(p) = v.vec3_at("position_m") {
             let p0 = *first_pos.get_or_insert(p);
@@ -683,7 +714,7 @@ fn summarize(log: &LogFile) -> ReplaySummary {
     let mut per_time: BTreeMap<u64, (f64, [f64; 6], u8)> = BTreeMap::new();
     for (topic, bit) in [(TOPIC_FORCES_LEFT, 1u8), (TOPIC_FORCES_RIGHT, 2u8)] {
         for m in log.on(topic) {
-            let Some(v) = parse_msg(m) else { continue };
+            let Some(v) = log.parse(m) else { continue };
             let (Some(ph), Some(f), Some(mo)) = (
                 v.f64_at("phase"),
                 v.vec3_at("total.force_n"),
@@ -761,26 +792,34 @@ fn csv_field(s: &str) -> String {
 }
 
 /// Writes the messages of `topic` to a CSV file at `out` (replaced if it exists): one row
-/// per message, the first column `log_time_ns`, then one column per JSON leaf named by its
-/// dotted path (`pose.position.x`) in first-seen order. Numbers are written exactly as
-/// logged; booleans as true/false; a field missing from a message is left empty.
+/// per message, the first column `log_time_ns`, then one column per leaf of the decoded
+/// message (see [`crate::decode`]) named by its dotted path (`pose.position.x`) in
+/// first-seen order. Numbers are written so that they parse back to the logged bits (JSON
+/// logs: exactly their text); booleans as true/false; a field missing from a message is left
+/// empty.
 pub fn export_csv(path: impl AsRef<Path>, topic: &str, out: impl AsRef<Path>) -> Result<CsvStats> {
     let path = path.as_ref();
     let out = out.as_ref();
     let log = read_log(path)?;
-    if log.channel_id(topic).is_none() {
+    let Some(id) = log.channel_id(topic) else {
         return Err(Error::UnknownTopic {
             path: path.to_owned(),
             topic: topic.to_owned(),
             available: log.topics(),
         });
+    };
+    if let Some(why) = log.undecodable(id) {
+        return Err(Error::Embedded(format!(
+            "`{}`: the messages of `{topic}` cannot be decoded: {why}",
+            path.display()
+        )));
     }
     let mut columns: Vec<String> = vec!["log_time_ns".into()];
     let mut index: HashMap<String, usize> = HashMap::new();
     let mut rows: Vec<Vec<(usize, String)>> = Vec::new();
     let mut skipped = 0u64;
     for m in log.on(topic) {
-        let Some(v) = parse_msg(m) else {
+        let Some(v) = log.parse(m) else {
             skipped += 1;
             continue;
         };
@@ -831,7 +870,7 @@ pub struct RrdStats {
 /// of a live recording. The wing meshes come from the embedded model.
 #[cfg(feature = "rerun")]
 pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats> {
-    use crate::messages::FrameData;
+    use crate::sample::FrameData;
     use crate::schema::{FORCE_PARTS, TOPIC_TF_WING_LEFT, TOPIC_TF_WING_RIGHT};
 
     let path = path.as_ref();
@@ -863,7 +902,7 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
         })
     }
     for m in log.on(TOPIC_STATE) {
-        let Some(v) = parse_msg(m) else { continue };
+        let Some(v) = log.parse(m) else { continue };
         let (Some(p), Some(q)) = (v.vec3_at("position_m"), v.quat_at("attitude")) else {
             continue;
         };
@@ -880,7 +919,7 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
     }
     for (i, topic) in [TOPIC_TF_WING_LEFT, TOPIC_TF_WING_RIGHT].iter().enumerate() {
         for m in log.on(topic) {
-            let Some(v) = parse_msg(m) else { continue };
+            let Some(v) = log.parse(m) else { continue };
             let (Some(t), Some(q)) = (v.vec3_at("translation"), v.quat_at("rotation")) else {
                 continue;
             };
@@ -892,7 +931,7 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
     }
     for (i, topic) in [TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT].iter().enumerate() {
         for m in log.on(topic) {
-            let Some(v) = parse_msg(m) else { continue };
+            let Some(v) = log.parse(m) else { continue };
             let s = slot(&mut frames, m.log_time);
             let mut ok = true;
             for (j, part) in FORCE_PARTS.iter().enumerate() {
@@ -926,7 +965,7 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
     }
     let mut events = 0u64;
     for m in log.on(TOPIC_EVENTS) {
-        let Some(v) = parse_msg(m) else { continue };
+        let Some(v) = log.parse(m) else { continue };
         let level = v
             .get("level")
             .and_then(Json::as_i64)

@@ -25,7 +25,7 @@ use std::time::Duration;
 use flapsim::Vehicle;
 use rerun::{RecordingStream, RecordingStreamBuilder};
 
-use crate::messages::FrameData;
+use crate::sample::FrameData;
 use crate::schema::FORCE_PARTS;
 use crate::{Error, Level, LogOptions, Result};
 
