@@ -6,7 +6,8 @@
 //! `round(duration_s / dt)` steps with no controller (exactly what `flapwing simulate`
 //! does), picks samples with the same [`crate::Decimator`], and compares every logged
 //! `/vehicle/state` sample: position, velocity, attitude quaternion and body rates, as f64
-//! bits (protobuf doubles are the bits themselves; the JSON numbers of logs written before
+//! bits (protobuf doubles are the bits themselves, but for the sign of a zero, which proto3
+//! does not keep; the JSON numbers of logs written before
 //! issue #16 are read back with a correctly rounded parser, so they survive the round trip
 //! exactly, and there a logged 0 matches a non-finite value, which JSON could not hold). A
 //! log that ends early (a stopped or truncated run) is compared as far as it goes.
@@ -84,10 +85,13 @@ fn rerun_values(s: &flapsim::State) -> [f64; 13] {
     ]
 }
 
-/// True when a logged number is the re-run's: the same bits, or (JSON logs only) 0 for a
+/// True when a logged number is the re-run's: the same bits; or zeros of either sign (proto3
+/// leaves zeros off the wire, so a -0.0 reads back as 0.0); or (JSON logs only) 0 for a
 /// non-finite value.
 fn same(logged: f64, rerun: f64, json: bool) -> bool {
-    logged.to_bits() == rerun.to_bits() || (json && !rerun.is_finite() && logged == 0.0)
+    logged.to_bits() == rerun.to_bits()
+        || (logged == 0.0 && rerun == 0.0)
+        || (json && !rerun.is_finite() && logged == 0.0)
 }
 
 /// Re-runs a `simulate` log and compares it (see the module docs). Errors: the file cannot
