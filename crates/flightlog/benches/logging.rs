@@ -120,7 +120,10 @@ fn overhead_ratio() {
 
 /// The messages of a log: (topic, schema name, schema data, [(log time, bytes)]) per channel,
 /// and the file order as (channel index, message index).
-type Messages = (Vec<(String, String, Vec<u8>, Vec<(u64, Vec<u8>)>)>, Vec<(usize, usize)>);
+type Messages = (
+    Vec<(String, String, Vec<u8>, Vec<(u64, Vec<u8>)>)>,
+    Vec<(usize, usize)>,
+);
 
 fn read_messages(path: &std::path::Path) -> Messages {
     let bytes = std::fs::read(path).expect("log");
@@ -132,7 +135,12 @@ fn read_messages(path: &std::path::Path) -> Messages {
             Some(c) => c,
             None => {
                 let s = m.channel.schema.as_ref().expect("schema");
-                channels.push((m.channel.topic.clone(), s.name.clone(), s.data.to_vec(), vec![]));
+                channels.push((
+                    m.channel.topic.clone(),
+                    s.name.clone(),
+                    s.data.to_vec(),
+                    vec![],
+                ));
                 channels.len() - 1
             }
         };

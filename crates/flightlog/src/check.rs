@@ -18,7 +18,7 @@ use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::json::Json;
-use crate::replay::read_log;
+use crate::read::read_log;
 use crate::schema::TOPIC_STATE;
 use crate::{Decimator, Error, Result, SimSettings};
 

@@ -55,6 +55,7 @@ mod json;
 mod live;
 mod mcap_write;
 pub mod proto;
+mod read;
 mod recorder;
 pub mod replay;
 #[cfg(feature = "rerun")]
