@@ -3,11 +3,14 @@
 //! indexes, the summary with schemas, channels, statistics and indexes, the footer), with the
 //! same CRCs, written the way logging at every step needs it:
 //!
-//! - the messages of a chunk are appended to one buffer as MCAP message records, and that
-//!   buffer goes to zstd in large pieces (the `mcap` crate feeds zstd one small write per
-//!   record field: about half its time was that overhead);
-//! - zstd runs with parameters picked for speed on this JSON ([`zstd_params`]): less CPU
-//!   than level 1 for larger chunks (figures there);
+//! - the simulation thread encodes the messages of a chunk straight into one buffer as MCAP
+//!   message records ([`RawChunk`]); the writer thread compresses that buffer in one zstd
+//!   call ([`ChunkBuilder`]) and writes the chunk, its message indexes and (at the end) the
+//!   summary ([`McapWriter`]). The `mcap` crate's writer feeds zstd one small write per record
+//!   field, and the foxglove SDK's writer, which goes through it, took about twice as long
+//!   (`writer_ratio` in `benches/logging.rs`) and reports write errors only as
+//!   `tracing::warn!`: hence this writer;
+//! - zstd runs with parameters picked for speed ([`zstd_params`]);
 //! - each chunk is compressed in memory and written whole when it closes, so the file only
 //!   grows by whole chunks (a killed run keeps every closed chunk).
 //!
@@ -47,18 +50,16 @@ mod op {
 pub(crate) const MESSAGE_HEADER_LEN: usize = 1 + 8 + 2 + 4 + 8 + 8;
 
 /// The zstd parameters of the chunks: the "fast" strategy as in level 1, with a 64 KiB hash
-/// table (hash log 14: it stays in the core's cache beside the recent window, and the JSON
-/// keys repeat every few hundred bytes), a window that holds a whole chunk (no slow "external
-/// dictionary" path when the stream's buffer wraps), and an acceleration factor of 8 (which
-/// also stores the literals without Huffman coding). Any zstd decoder reads it (the window is
-/// 2 MiB).
+/// table (hash log 14), a window that holds a whole chunk, a minimum match of 7 and an
+/// acceleration factor of 8 (which also stores the literals without Huffman coding). Any
+/// zstd decoder reads it (the window is 2 MiB).
 ///
-/// Measured on drosophila samples (2026-12-01, chunks of 200 samples, one thread, with the
-/// VM's minute-to-minute drift): free flight, hash log 16 / 14 / 13 / 12: 8.1 / 7.4 / 6.9 /
-/// 6.5 us per sample for 4.3 / 3.8 / 3.5 / 3.3x smaller; tethered, 16 / 14: 4.8 us per sample
-/// both, for 8.4 / 7.4x. In the recorder (interleaved runs, see the `overhead_ratio`
-/// benchmark), 14 instead of 16 took the full-rate overhead from 3.13-3.37x to 2.82-3.21x
-/// in free flight and from 2.26-2.36x to 2.17-2.29x tethered, for files 11% larger.
+/// Measured on the protobuf messages of a free flight at full rate (2026-12-02, one thread,
+/// 2000 samples at once): these settings 0.97 us per sample for a ratio of 2.5; plain level 1
+/// 2.07 us for 3.4; level -5 1.44 us for 2.5; hash log 12 with acceleration 32 0.59 us for
+/// 1.5. In the files (200-sample chunks, record headers included) it is about 1.0 KB per
+/// sample, against 1.8 KB of the JSON logs before, so the fastest setting that keeps the files
+/// well below the old size was kept.
 fn zstd_params(cctx: &mut CCtx<'static>) -> io::Result<()> {
     for p in [
         CParameter::CompressionLevel(1),
