@@ -82,6 +82,11 @@ impl LiveSink {
         self.server.port()
     }
 
+    /// True while a client subscribes to at least one channel.
+    pub fn wanted(&self) -> bool {
+        self.channels.iter().any(|c| c.has_sinks())
+    }
+
     fn log(&mut self, index: usize, t_ns: u64, m: &dyn Encoded) {
         let channel = &self.channels[index];
         if channel.has_sinks() {

@@ -258,13 +258,19 @@ impl Recorder {
         Ok(())
     }
 
+    /// True when a sample has somewhere to go (the live view only while a client subscribes,
+    /// so an unwatched live run builds no messages).
     fn any_output(&self) -> bool {
         #[cfg(feature = "rerun")]
         if self.rerun.is_some() {
             return true;
         }
         #[cfg(feature = "live")]
-        if self.live.is_some() {
+        if self
+            .live
+            .as_ref()
+            .is_some_and(crate::live::LiveSink::wanted)
+        {
             return true;
         }
         self.mcap.is_some()
