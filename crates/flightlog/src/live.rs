@@ -21,6 +21,8 @@ pub(crate) struct LiveSink {
     server: WebSocketServerHandle,
     channels: Vec<Arc<RawChannel>>,
     buf: Vec<u8>,
+    /// Whether the current /scene/wings subscription has had the planforms.
+    scene_sent: bool,
     /// Keeps the channels' context alive.
     _context: Arc<Context>,
 }
@@ -73,6 +75,7 @@ impl LiveSink {
             server,
             channels,
             buf: Vec::new(),
+            scene_sent: false,
             _context: context,
         })
     }
@@ -108,7 +111,18 @@ impl LiveSink {
 
     /// Sends an event on /events.
     pub fn event(&mut self, t_ns: u64, log: &foxglove::messages::Log) {
-        self.log(CHANNELS.len() - 1, t_ns, log);
+        self.log(CHANNELS.len() - 2, t_ns, log);
+    }
+
+    /// Sends the wing planforms on /scene/wings to a subscribed client that has not had them
+    /// yet (a client may join at any time).
+    pub fn scene(&mut self, make: impl FnOnce() -> foxglove::messages::SceneUpdate, t_ns: u64) {
+        let c = CHANNELS.len() - 1;
+        let subscribed = self.channels[c].has_sinks();
+        if subscribed && !self.scene_sent {
+            self.log(c, t_ns, &make());
+        }
+        self.scene_sent = subscribed;
     }
 
     /// Stops the server (clients are disconnected).

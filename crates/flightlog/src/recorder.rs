@@ -25,6 +25,8 @@ const FLUSH_INTERVAL_NS: u64 = 50_000_000;
 const CHUNK_SAMPLES: u64 = 200;
 /// Index of the /events channel in [`CHANNELS`].
 const EVENTS: usize = 10;
+/// Index of the /scene/wings channel in [`CHANNELS`].
+const SCENE: usize = 11;
 
 /// Picks the steps to log: with a rate `r`, step k (time t_k) is logged when
 /// `floor(t_k r)` differs from that of the last logged step (the first step is always
@@ -297,6 +299,11 @@ impl Recorder {
         }
         self.builder.build(out, &mut self.sample);
         if let Some(m) = &mut self.mcap {
+            if self.stats.samples == 1 {
+                let scene = crate::sample::wing_scene(&self.vehicle, self.sample.t_ns);
+                m.add(SCENE, self.sample.t_ns, &scene);
+                self.stats.mcap_messages += 1;
+            }
             m.sample(&self.sample)?;
             self.stats.mcap_messages += SAMPLE_MESSAGES as u64;
         }
@@ -306,6 +313,8 @@ impl Recorder {
         }
         #[cfg(feature = "live")]
         if let Some(l) = &mut self.live {
+            let (vehicle, t_ns) = (&self.vehicle, self.sample.t_ns);
+            l.scene(|| crate::sample::wing_scene(vehicle, t_ns), t_ns);
             l.sample(&self.sample);
         }
         Ok(())

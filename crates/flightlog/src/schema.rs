@@ -29,6 +29,8 @@ pub const TOPIC_FORCES_LEFT: &str = "/wing/left/forces";
 pub const TOPIC_FORCES_RIGHT: &str = "/wing/right/forces";
 /// Run events, `foxglove.Log`.
 pub const TOPIC_EVENTS: &str = "/events";
+/// The wing planforms, `foxglove.SceneUpdate` (once, with the first sample).
+pub const TOPIC_SCENE: &str = "/scene/wings";
 
 /// The world frame (z up).
 pub const FRAME_WORLD: &str = "world";
@@ -57,7 +59,7 @@ pub fn wing_frame_doc() -> &'static str {
 }
 
 /// Every channel: (topic, schema name).
-pub const CHANNELS: [(&str, &str); 11] = [
+pub const CHANNELS: [(&str, &str); 12] = [
     (TOPIC_POSE, "foxglove.PoseInFrame"),
     (TOPIC_TF_BODY, "foxglove.FrameTransform"),
     (TOPIC_TF_WING_LEFT, "foxglove.FrameTransform"),
@@ -69,6 +71,7 @@ pub const CHANNELS: [(&str, &str); 11] = [
     (TOPIC_FORCES_LEFT, "flapwing.WingForces"),
     (TOPIC_FORCES_RIGHT, "flapwing.WingForces"),
     (TOPIC_EVENTS, "foxglove.Log"),
+    (TOPIC_SCENE, "foxglove.SceneUpdate"),
 ];
 
 /// The names of the four terms and the total, in the order of the forces message's objects.
@@ -90,6 +93,7 @@ pub fn schema_data(name: &str) -> Option<Vec<u8>> {
         "foxglove.PoseInFrame" => foxglove::<foxglove::messages::PoseInFrame>(),
         "foxglove.FrameTransform" => foxglove::<foxglove::messages::FrameTransform>(),
         "foxglove.Log" => foxglove::<foxglove::messages::Log>(),
+        "foxglove.SceneUpdate" => foxglove::<foxglove::messages::SceneUpdate>(),
         "flapwing.VehicleState"
         | "flapwing.Controls"
         | "flapwing.WingKinematics"

@@ -54,6 +54,8 @@ fn round_trip_full_rate() {
         assert_eq!(c.message_encoding, "protobuf");
         let expect = if topic == schema::TOPIC_EVENTS {
             run.stats.events
+        } else if topic == schema::TOPIC_SCENE {
+            1
         } else {
             n
         };
@@ -135,7 +137,12 @@ fn round_trip_full_rate() {
         let topic = m.channel.topic.clone();
         let v = common::decode(&m);
         assert_eq!(m.log_time, m.publish_time);
-        let ts = &v["timestamp"];
+        // A scene update has its times in its entities.
+        let ts = if topic == schema::TOPIC_SCENE {
+            &v["entities"][0]["timestamp"]
+        } else {
+            &v["timestamp"]
+        };
         assert_eq!(
             ts["seconds"].as_u64().unwrap() * 1_000_000_000 + ts["nanos"].as_u64().unwrap(),
             m.log_time
@@ -145,6 +152,20 @@ fn round_trip_full_rate() {
         *i += 1;
         if topic == schema::TOPIC_EVENTS {
             assert_eq!(v["level"], 3, "{v}");
+            continue;
+        }
+        if topic == schema::TOPIC_SCENE {
+            // Once, with the first sample: each wing's planform, locked to its frame.
+            assert_eq!(k, 0);
+            assert_eq!(m.log_time, (run.outs[0].t_s * 1e9).round() as u64);
+            let entities = v["entities"].as_array().unwrap();
+            assert_eq!(entities.len(), 2);
+            for (e, frame) in entities.iter().zip(["wing_left", "wing_right"]) {
+                assert_eq!(e["frame_id"], frame);
+                assert_eq!(e["frame_locked"], true);
+                let points = e["triangles"][0]["points"].as_array().unwrap();
+                assert!(points.len() >= 3 && points.len() % 3 == 0);
+            }
             continue;
         }
         let out = &run.outs[k];
