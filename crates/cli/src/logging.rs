@@ -27,6 +27,10 @@ pub struct LogArgs {
     /// Stream to a running Rerun viewer at this gRPC URL (e.g. rerun+http://127.0.0.1:9876/proxy).
     #[arg(long, value_name = "URL")]
     pub connect: Option<String>,
+    /// Serve the run live to the Foxglove app over its WebSocket protocol (Open connection,
+    /// ws://ADDR) while it runs; ADDR is host:port, port 0 picks a free one.
+    #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = "127.0.0.1:8765")]
+    pub foxglove: Option<String>,
     /// Log samples per second of simulated time.
     #[arg(
         long = "log-rate-hz",
@@ -123,7 +127,7 @@ pub fn open(
     for w in range_warnings(vehicle) {
         crate::output::note(&format!("warning: {w}"));
     }
-    if args.no_log && !args.spawn && args.connect.is_none() {
+    if args.no_log && !args.spawn && args.connect.is_none() && args.foxglove.is_none() {
         return Ok(None);
     }
     let stamp = utc_stamp();
@@ -154,6 +158,7 @@ pub fn open(
         } else {
             Some(args.log_rate_hz)
         },
+        foxglove: args.foxglove.clone(),
     };
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     let info = RunInfo::new(
@@ -167,6 +172,12 @@ pub fn open(
         .map_err(|e| input_error(format!("cannot open the logs: {e}")))?;
     for p in options.mcap.iter().chain(options.rrd.iter()) {
         crate::output::note(&format!("logging to {}", p.display()));
+    }
+    if let (Some(addr), Some(port)) = (&options.foxglove, rec.foxglove_port()) {
+        let host = addr.rsplit_once(':').map_or(addr.as_str(), |(h, _)| h);
+        crate::output::note(&format!(
+            "serving the run live to Foxglove at ws://{host}:{port}"
+        ));
     }
     Ok(Some(rec))
 }

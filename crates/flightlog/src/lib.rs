@@ -9,10 +9,13 @@
 //! [`Recorder::event`], and **call [`Recorder::finish`]** at the end, also after an error or
 //! Ctrl-C. `Drop` finishes the file as a best effort but cannot report errors.
 //!
-//! The outputs are written by a background thread: `record` only decimates and queues the step
-//! (the machine's second core does the serializing, compressing and writing). Errors of the
-//! writer thread come back from the next `record`/`event` call and from `finish`. The file's
-//! bytes do not depend on the threads' timing.
+//! Messages are protobuf: Foxglove's types from the foxglove crate and flapwing's own
+//! ([`proto`], `proto/flapwing.proto`), with their descriptor sets embedded as the schemas.
+//! `record` builds and encodes a sample into the open MCAP chunk; a writer thread compresses
+//! and writes closed chunks. Errors of the writer thread come back from the next
+//! `record`/`event` call and from `finish`. The file's bytes do not depend on the threads'
+//! timing. With the `live` feature, [`LogOptions::foxglove`] serves the run to the Foxglove
+//! app over its WebSocket protocol.
 //!
 //! ```no_run
 //! use flightlog::{LogOptions, Recorder, RunInfo, SimSettings, Level};
@@ -38,21 +41,28 @@
 //! ```
 //!
 //! Reading: [`replay::read_summary`], [`replay::export_csv`], `replay::to_rrd` (feature
-//! `rerun`) and [`check::check_log`]. They read whatever complete chunks a truncated file
-//! (a killed run) holds and say what was lost; they never panic on any input.
+//! `rerun`) and [`check::check_log`]. They read today's protobuf logs and the JSON logs of
+//! earlier versions, whatever complete chunks a truncated file (a killed run) holds, say
+//! what was lost, and never panic on any input.
 //!
 //! The channels, schemas and metadata are listed in the crate's README.md.
 
 pub mod check;
+mod decode;
 mod error;
 mod json;
+#[cfg(feature = "live")]
+mod live;
 mod mcap_write;
-mod messages;
+pub mod proto;
+mod read;
 mod recorder;
 pub mod replay;
 #[cfg(feature = "rerun")]
 mod rerun_sink;
+mod sample;
 pub mod schema;
+mod writer;
 
 use std::path::PathBuf;
 
@@ -111,6 +121,9 @@ pub struct LogOptions {
     /// Samples per second of simulated time; `None` logs every step. The CLI default is
     /// 2000 Hz (about 9 samples per drosophila wingbeat). See [`Decimator`].
     pub log_rate_hz: Option<f64>,
+    /// Serve the run live over the Foxglove WebSocket protocol at this `host:port` (port 0:
+    /// any free port, see [`Recorder::foxglove_port`]; needs the `live` feature).
+    pub foxglove: Option<String>,
 }
 
 impl LogOptions {
@@ -120,6 +133,7 @@ impl LogOptions {
             || self.rrd.is_some()
             || self.rerun_spawn
             || self.rerun_connect.is_some()
+            || self.foxglove.is_some()
     }
 }
 

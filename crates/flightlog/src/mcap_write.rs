@@ -3,11 +3,14 @@
 //! indexes, the summary with schemas, channels, statistics and indexes, the footer), with the
 //! same CRCs, written the way logging at every step needs it:
 //!
-//! - the messages of a chunk are appended to one buffer as MCAP message records, and that
-//!   buffer goes to zstd in large pieces (the `mcap` crate feeds zstd one small write per
-//!   record field: about half its time was that overhead);
-//! - zstd runs with parameters picked for speed on this JSON ([`zstd_params`]): less CPU
-//!   than level 1 for larger chunks (figures there);
+//! - the simulation thread encodes the messages of a chunk straight into one buffer as MCAP
+//!   message records ([`RawChunk`]); the writer thread compresses that buffer in one zstd
+//!   call ([`ChunkBuilder`]) and writes the chunk, its message indexes and (at the end) the
+//!   summary ([`McapWriter`]). The `mcap` crate's writer feeds zstd one small write per record
+//!   field, and the foxglove SDK's writer, which goes through it, took about twice as long
+//!   (`writer_ratio` in `benches/logging.rs`) and reports write errors only as
+//!   `tracing::warn!`: hence this writer;
+//! - zstd runs with parameters picked for speed ([`zstd_params`]);
 //! - each chunk is compressed in memory and written whole when it closes, so the file only
 //!   grows by whole chunks (a killed run keeps every closed chunk).
 //!
@@ -18,8 +21,9 @@ use std::collections::BTreeMap;
 use std::io::{self, Write};
 
 use crc32fast::Hasher;
-use zstd::zstd_safe::zstd_sys::ZSTD_EndDirective;
-use zstd::zstd_safe::{CCtx, CParameter, InBuffer, OutBuffer, ResetDirective, Strategy};
+use zstd::zstd_safe::{CCtx, CParameter, Strategy};
+
+use crate::sample::Encoded;
 
 const MAGIC: &[u8] = b"\x89MCAP0\r\n";
 
@@ -45,22 +49,17 @@ mod op {
 /// publish times.
 pub(crate) const MESSAGE_HEADER_LEN: usize = 1 + 8 + 2 + 4 + 8 + 8;
 
-/// Compress the pending records once this many bytes are waiting.
-const PUMP_AT: usize = 32 * 1024;
-
 /// The zstd parameters of the chunks: the "fast" strategy as in level 1, with a 64 KiB hash
-/// table (hash log 14: it stays in the core's cache beside the recent window, and the JSON
-/// keys repeat every few hundred bytes), a window that holds a whole chunk (no slow "external
-/// dictionary" path when the stream's buffer wraps), and an acceleration factor of 8 (which
-/// also stores the literals without Huffman coding). Any zstd decoder reads it (the window is
-/// 2 MiB).
+/// table (hash log 14), a window that holds a whole chunk, a minimum match of 7 and an
+/// acceleration factor of 8 (which also stores the literals without Huffman coding). Any
+/// zstd decoder reads it (the window is 2 MiB).
 ///
-/// Measured on drosophila samples (2026-12-01, chunks of 200 samples, one thread, with the
-/// VM's minute-to-minute drift): free flight, hash log 16 / 14 / 13 / 12: 8.1 / 7.4 / 6.9 /
-/// 6.5 us per sample for 4.3 / 3.8 / 3.5 / 3.3x smaller; tethered, 16 / 14: 4.8 us per sample
-/// both, for 8.4 / 7.4x. In the recorder (interleaved runs, see the `overhead_ratio`
-/// benchmark), 14 instead of 16 took the full-rate overhead from 3.13-3.37x to 2.82-3.21x
-/// in free flight and from 2.26-2.36x to 2.17-2.29x tethered, for files 11% larger.
+/// Measured on the protobuf messages of a free flight at full rate (2026-12-02, one thread,
+/// 2000 samples at once): these settings 0.97 us per sample for a ratio of 2.5; plain level 1
+/// 2.07 us for 3.4; level -5 1.44 us for 2.5; hash log 12 with acceleration 32 0.59 us for
+/// 1.5. In the files (200-sample chunks, record headers included) it is about 1.0 KB per
+/// sample, against 1.8 KB of the JSON logs before, so the fastest setting that keeps the files
+/// well below the old size was kept.
 fn zstd_params(cctx: &mut CCtx<'static>) -> io::Result<()> {
     for p in [
         CParameter::CompressionLevel(1),
@@ -158,151 +157,93 @@ struct ChunkIndex {
     uncompressed_size: u64,
 }
 
-/// The chunk being written: the compressed part so far in `body` (its `crc` is set when it
-/// closes), the records not yet given to zstd, and the running CRC of all records.
-struct OpenChunk {
-    body: BuiltChunk,
-    /// Message records not yet given to zstd.
-    pending: Vec<u8>,
-    crc: Hasher,
+/// The records of a chunk not yet compressed: message records appended one by one (on the
+/// simulation thread), with what the chunk record and its message indexes need.
+#[derive(Debug, Default)]
+pub(crate) struct RawChunk {
+    records: Vec<u8>,
+    bounds: Option<(u64, u64)>,
+    /// Per channel id: (log time, offset in the uncompressed chunk) of each message.
+    index: Vec<Vec<(u64, u64)>>,
+}
+
+impl RawChunk {
+    /// True when the chunk holds no record.
+    pub fn is_empty(&self) -> bool {
+        self.records.is_empty()
+    }
+
+    /// Empties the chunk, keeping its buffers.
+    pub fn clear(&mut self) {
+        self.records.clear();
+        self.bounds = None;
+        self.index.iter_mut().for_each(Vec::clear);
+    }
+
+    /// Appends a message record of `data` (encoded straight into the chunk).
+    pub fn message(&mut self, channel_id: u16, sequence: u32, t_ns: u64, data: &dyn Encoded) {
+        let mut head = [0u8; MESSAGE_HEADER_LEN];
+        message_header(&mut head, channel_id, sequence, t_ns, data.len());
+        widen(&mut self.bounds, t_ns);
+        let c = usize::from(channel_id);
+        if self.index.len() <= c {
+            self.index.resize_with(c + 1, Vec::new);
+        }
+        self.index[c].push((t_ns, self.records.len() as u64));
+        self.records.extend_from_slice(&head);
+        data.put(&mut self.records);
+    }
+
+    /// Appends a whole record that is not a message (a schema, a channel).
+    fn record(&mut self, record: &[u8]) {
+        self.records.extend_from_slice(record);
+    }
 }
 
 /// A chunk closed and compressed, ready to be written (see [`McapWriter::write_chunk`]).
+#[derive(Debug)]
 pub(crate) struct BuiltChunk {
     compressed: Vec<u8>,
     /// Uncompressed bytes and their CRC.
     size: u64,
     crc: u32,
     bounds: Option<(u64, u64)>,
-    /// Per channel: (log time, offset in the uncompressed chunk) of each message.
-    index: BTreeMap<u16, Vec<(u64, u64)>>,
+    /// (channel id, entries) of the channels with messages, by id.
+    index: Vec<(u16, Vec<(u64, u64)>)>,
 }
 
-/// Builds chunks: message records in, one zstd frame out. The writer thread has one inside
-/// its [`McapWriter`]; the simulation thread has one for the chunks it builds itself. A chunk
-/// is the same bytes whichever builds it (the zstd stream restarts at every chunk).
+/// Compresses chunks: one zstd frame per chunk, the same bytes whichever thread runs it.
 pub(crate) struct ChunkBuilder {
     cctx: CCtx<'static>,
-    chunk: Option<OpenChunk>,
-    /// Buffers kept between chunks (records, compressed).
-    spare: (Vec<u8>, Vec<u8>),
 }
 
 impl ChunkBuilder {
     pub fn new() -> io::Result<Self> {
         let mut cctx = CCtx::try_create().ok_or_else(|| io::Error::other("zstd: no context"))?;
         zstd_params(&mut cctx)?;
-        Ok(Self {
-            cctx,
-            chunk: None,
-            spare: (Vec::with_capacity(2 * PUMP_AT), Vec::new()),
-        })
+        Ok(Self { cctx })
     }
 
-    fn open(&mut self) -> io::Result<&mut OpenChunk> {
-        if self.chunk.is_none() {
-            self.cctx
-                .reset(ResetDirective::SessionOnly)
-                .map_err(zstd_error)?;
-            let (mut pending, mut compressed) = std::mem::take(&mut self.spare);
-            pending.clear();
-            compressed.clear();
-            self.chunk = Some(OpenChunk {
-                body: BuiltChunk {
-                    compressed,
-                    size: 0,
-                    crc: 0,
-                    bounds: None,
-                    index: BTreeMap::new(),
-                },
-                pending,
-                crc: Hasher::new(),
-            });
-        }
-        Ok(self.chunk.as_mut().expect("opened above"))
-    }
-
-    /// Appends a message to the open chunk (opening one if needed).
-    pub fn message(
-        &mut self,
-        channel_id: u16,
-        sequence: u32,
-        t_ns: u64,
-        data: &[u8],
-    ) -> io::Result<()> {
-        let mut head = [0u8; MESSAGE_HEADER_LEN];
-        message_header(&mut head, channel_id, sequence, t_ns, data.len());
-        let c = self.open()?;
-        widen(&mut c.body.bounds, t_ns);
-        let offset = c.body.size + c.pending.len() as u64;
-        c.body
+    /// The chunk `raw` compressed (in one call: zstd gets the whole chunk at once).
+    pub fn compress(&mut self, raw: &RawChunk) -> io::Result<BuiltChunk> {
+        let mut compressed = Vec::with_capacity(zstd::zstd_safe::compress_bound(raw.records.len()));
+        self.cctx
+            .compress2(&mut compressed, &raw.records)
+            .map_err(zstd_error)?;
+        let index = raw
             .index
-            .entry(channel_id)
-            .or_default()
-            .push((t_ns, offset));
-        c.pending.extend_from_slice(&head);
-        c.pending.extend_from_slice(data);
-        if c.pending.len() >= PUMP_AT {
-            self.pump()?;
-        }
-        Ok(())
-    }
-
-    /// Gives the pending records to zstd. Never a flush before the chunk ends: a flush ends a
-    /// zstd block, and a chunk must be the same bytes however its records arrived.
-    pub fn pump(&mut self) -> io::Result<()> {
-        self.compress(ZSTD_EndDirective::ZSTD_e_continue)
-    }
-
-    fn compress(&mut self, directive: ZSTD_EndDirective) -> io::Result<()> {
-        let Some(c) = self.chunk.as_mut() else {
-            return Ok(());
-        };
-        c.crc.update(&c.pending);
-        c.body.size += c.pending.len() as u64;
-        let mut input = InBuffer::around(&c.pending);
-        loop {
-            // zstd writes at most a block (128 KiB) plus a little per call when it has room.
-            let need = zstd::zstd_safe::CCtx::out_size().max(input.src.len() / 2 + 1024);
-            c.body.compressed.reserve(need);
-            let len = c.body.compressed.len();
-            let mut output = OutBuffer::around_pos(&mut c.body.compressed, len);
-            let left = self
-                .cctx
-                .compress_stream2(&mut output, &mut input, directive)
-                .map_err(zstd_error)?;
-            let consumed = input.pos() == input.src.len();
-            let done = match directive {
-                ZSTD_EndDirective::ZSTD_e_continue => consumed,
-                _ => consumed && left == 0,
-            };
-            if done {
-                break;
-            }
-        }
-        c.pending.clear();
-        Ok(())
-    }
-
-    /// Closes the open chunk (if any) and returns it compressed.
-    pub fn finish(&mut self) -> io::Result<Option<BuiltChunk>> {
-        if self.chunk.is_none() {
-            return Ok(None);
-        }
-        self.compress(ZSTD_EndDirective::ZSTD_e_end)?;
-        Ok(self.chunk.take().map(|c| {
-            // The records' buffer stays for the next chunk.
-            self.spare.0 = c.pending;
-            BuiltChunk {
-                crc: c.crc.finalize(),
-                ..c.body
-            }
-        }))
-    }
-
-    /// Takes back a written chunk's buffers for the next chunk.
-    pub fn recycle(&mut self, chunk: BuiltChunk) {
-        self.spare.1 = chunk.compressed;
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| !e.is_empty())
+            .map(|(c, e)| (c as u16, e.clone()))
+            .collect();
+        Ok(BuiltChunk {
+            compressed,
+            size: raw.records.len() as u64,
+            crc: crc32fast::hash(&raw.records),
+            bounds: raw.bounds,
+            index,
+        })
     }
 }
 
@@ -312,7 +253,8 @@ pub(crate) struct McapWriter<W: Write> {
     /// Bytes written to `out`, and the CRC of all of them (the data section's CRC).
     pos: u64,
     crc: Hasher,
-    /// The chunk this writer builds from the messages given to it.
+    /// The chunk this writer builds from the records given to it, and its compressor.
+    open: RawChunk,
     builder: ChunkBuilder,
     rec: Vec<u8>,
     schemas: Vec<Schema>,
@@ -340,6 +282,7 @@ impl<W: Write> McapWriter<W> {
             out,
             pos: 0,
             crc: Hasher::new(),
+            open: RawChunk::default(),
             builder: ChunkBuilder::new()?,
             rec: Vec::with_capacity(4096),
             schemas: Vec::new(),
@@ -482,45 +425,25 @@ impl<W: Write> McapWriter<W> {
 
     /// Appends a whole record to the open chunk.
     fn chunk_record(&mut self, record: &[u8]) -> io::Result<()> {
-        self.builder.open()?.pending.extend_from_slice(record);
+        self.open.record(record);
         Ok(())
     }
 
-    /// Appends a message to the open chunk (opening one if needed).
-    pub fn message(
-        &mut self,
-        channel_id: u16,
-        sequence: u32,
-        t_ns: u64,
-        data: &[u8],
-    ) -> io::Result<()> {
-        self.builder.message(channel_id, sequence, t_ns, data)
-    }
-
-    /// Gives the pending records to zstd (see [`ChunkBuilder::pump`]).
-    pub fn pump(&mut self) -> io::Result<()> {
-        self.builder.pump()
-    }
-
-    /// Closes the open chunk, if any: compresses the rest and writes the chunk record and its
-    /// message indexes.
+    /// Closes the open chunk, if it holds anything: compresses it and writes the chunk record
+    /// and its message indexes.
     pub fn close_chunk(&mut self) -> io::Result<()> {
-        match self.builder.finish()? {
-            Some(chunk) => {
-                let res = self.write_chunk(&chunk);
-                self.builder.recycle(chunk);
-                res
-            }
-            None => Ok(()),
+        if self.open.is_empty() {
+            return Ok(());
         }
+        let chunk = self.builder.compress(&self.open)?;
+        self.open.clear();
+        self.write_chunk(&chunk)
     }
 
     /// Writes a chunk built elsewhere (by a [`ChunkBuilder`] of another thread) after closing
     /// the open one: the chunk record, its message indexes, and its part of the summary.
     pub fn write_chunk(&mut self, chunk: &BuiltChunk) -> io::Result<()> {
-        if self.builder.chunk.is_some() {
-            self.close_chunk()?;
-        }
+        self.close_chunk()?;
         let BuiltChunk {
             compressed,
             size,
@@ -529,7 +452,7 @@ impl<W: Write> McapWriter<W> {
             index,
             ..
         } = chunk;
-        for (channel, entries) in index {
+        for (channel, entries) in index.iter() {
             *self.counts.entry(*channel).or_insert(0) += entries.len() as u64;
         }
         let (start, end) = bounds.unwrap_or((0, 0));
@@ -558,7 +481,7 @@ impl<W: Write> McapWriter<W> {
         b.clear();
         let index_start = self.pos;
         let mut offsets = Vec::with_capacity(index.len());
-        for (channel, entries) in index {
+        for (channel, entries) in index.iter() {
             offsets.push((*channel, index_start + b.len() as u64));
             let at = begin_record(&mut b, op::MESSAGE_INDEX);
             put_u16(&mut b, *channel);
@@ -699,9 +622,9 @@ impl<W: Write> McapWriter<W> {
         self.out.flush()
     }
 
-    /// The file (after [`McapWriter::finish`]).
-    pub fn into_inner(self) -> W {
-        self.out
+    /// Bytes written so far.
+    pub fn position(&self) -> u64 {
+        self.pos
     }
 }
 

@@ -25,7 +25,7 @@ use std::time::Duration;
 use flapsim::Vehicle;
 use rerun::{RecordingStream, RecordingStreamBuilder};
 
-use crate::messages::FrameData;
+use crate::sample::{FrameData, planform_mesh};
 use crate::schema::FORCE_PARTS;
 use crate::{Error, Level, LogOptions, Result};
 
@@ -34,35 +34,6 @@ const TIMELINE: &str = "sim_time";
 
 fn rr(e: impl std::fmt::Display) -> Error {
     Error::Rerun(e.to_string())
-}
-
-/// Vertices and triangles of a wing planform in its wing frame (x chordwise towards the
-/// leading edge, y spanwise from the hinge).
-pub(crate) fn planform_mesh(g: &wingforce::Geometry) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
-    let n = g.strips.len().max(1);
-    let dr = g.span_m / n as f64;
-    let mut rows: Vec<(f64, f64, f64)> = Vec::with_capacity(n + 2); // (r, le, te)
-    for s in &g.strips {
-        let c = if dr > 0.0 { s.area_m2 / dr } else { 0.0 };
-        let le = s.x_cp_m + 0.25 * c;
-        rows.push((s.r_m, le, le - c));
-    }
-    if let (Some(&first), Some(&last)) = (rows.first(), rows.last()) {
-        rows.insert(0, (g.r_root_m, first.1, first.2));
-        rows.push((g.r_tip_m, last.1, last.2));
-    }
-    let mut verts = Vec::with_capacity(2 * rows.len());
-    for (r, le, te) in &rows {
-        verts.push([*le as f32, *r as f32, 0.0]);
-        verts.push([*te as f32, *r as f32, 0.0]);
-    }
-    let mut tris = Vec::new();
-    for i in 0..rows.len().saturating_sub(1) as u32 {
-        let (a, b, c, d) = (2 * i, 2 * i + 1, 2 * i + 2, 2 * i + 3);
-        tris.push([a, b, c]);
-        tris.push([b, d, c]);
-    }
-    (verts, tris)
 }
 
 fn f3(v: [f64; 3]) -> [f32; 3] {

@@ -2,7 +2,7 @@
 
 mod common;
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 use common::{ORIGIN, mcap_opts, record, wingbeats};
 use flightlog::check::{CheckOutcome, check_log};
@@ -14,8 +14,9 @@ use serde_json::Value;
 use wingforce::wing::WingFrame;
 
 fn close(a: f64, b: f64) -> bool {
-    // serde_json's default float parser may be one unit in the last place off.
-    (a - b).abs() <= 1e-14 * a.abs().max(b.abs()) + 1e-300
+    // Protobuf doubles are the bits themselves, but proto3 leaves zeros off the wire, so a
+    // -0.0 reads back as 0.0.
+    a.to_bits() == b.to_bits() || (a == 0.0 && b == 0.0)
 }
 
 fn assert_vec(v: &Value, expect: &Vector3<f64>, what: &str) {
@@ -24,62 +25,6 @@ fn assert_vec(v: &Value, expect: &Vector3<f64>, what: &str) {
             .as_f64()
             .unwrap_or_else(|| panic!("{what}.{k} missing: {v}"));
         assert!(close(got, *e), "{what}.{k}: {got} vs {e}");
-    }
-}
-
-/// Every message conforms to its schema: same keys, single types; and each schema follows
-/// Foxglove's rules for custom schemas.
-fn conforms(schema: &Value, v: &Value, path: &str) {
-    let ty = schema["type"]
-        .as_str()
-        .unwrap_or_else(|| panic!("{path}: type not a string"));
-    match ty {
-        "object" => {
-            let props = schema["properties"].as_object().expect("properties");
-            let obj = v
-                .as_object()
-                .unwrap_or_else(|| panic!("{path}: not an object"));
-            // Every property is present, but for the parts only actuated wings have (their
-            // schema says so in its description) when the vehicle has none.
-            let optional = |k: &str| {
-                props[k]["description"]
-                    .as_str()
-                    .is_some_and(|d| d.starts_with("actuated wings only"))
-            };
-            let mut a: Vec<_> = props
-                .keys()
-                .filter(|k| obj.contains_key(k.as_str()) || !optional(k))
-                .collect();
-            let mut b: Vec<_> = obj.keys().collect();
-            a.sort();
-            b.sort();
-            assert_eq!(a, b, "{path}: keys");
-            for (k, s) in props {
-                if let Some(x) = obj.get(k) {
-                    conforms(s, x, &format!("{path}.{k}"));
-                }
-            }
-        }
-        "number" => assert!(v.is_number(), "{path}: {v}"),
-        "integer" => assert!(v.is_i64() || v.is_u64(), "{path}: {v}"),
-        "boolean" => assert!(v.is_boolean(), "{path}: {v}"),
-        "string" => assert!(v.is_string(), "{path}: {v}"),
-        other => panic!("{path}: type {other}"),
-    }
-}
-
-fn schema_is_simple(s: &Value, path: &str) {
-    let text = s.to_string();
-    assert!(
-        !text.contains("$ref") && !text.contains("\"null\""),
-        "{path}"
-    );
-    assert!(s["type"].is_string(), "{path}: type must be one string");
-    assert_ne!(s["type"], "array", "{path}: no arrays");
-    if s["type"] == "object" {
-        for (k, p) in s["properties"].as_object().expect("properties") {
-            schema_is_simple(p, &format!("{path}.{k}"));
-        }
     }
 }
 
@@ -105,10 +50,12 @@ fn round_trip_full_rate() {
     for (topic, schema_name) in CHANNELS {
         let c = s.channels.iter().find(|c| c.topic == topic).unwrap();
         assert_eq!(c.schema_name, schema_name);
-        assert_eq!(c.schema_encoding, "jsonschema");
-        assert_eq!(c.message_encoding, "json");
+        assert_eq!(c.schema_encoding, "protobuf");
+        assert_eq!(c.message_encoding, "protobuf");
         let expect = if topic == schema::TOPIC_EVENTS {
             run.stats.events
+        } else if topic == schema::TOPIC_SCENE {
+            1
         } else {
             n
         };
@@ -172,7 +119,6 @@ fn round_trip_full_rate() {
 
     // Every message, read with the mcap crate itself.
     let bytes = std::fs::read(&path).unwrap();
-    let mut schemas: HashMap<String, Value> = HashMap::new();
     let mut counts: BTreeMap<String, usize> = BTreeMap::new();
     let wings_static: Vec<_> = run
         .vehicle
@@ -189,20 +135,16 @@ fn round_trip_full_rate() {
     for m in mcap::MessageStream::new(&bytes).unwrap() {
         let m = m.unwrap();
         let topic = m.channel.topic.clone();
-        let sch = m.channel.schema.as_ref().unwrap();
-        assert_eq!(sch.encoding, "jsonschema");
-        assert_eq!(m.channel.message_encoding, "json");
-        let schema_v = schemas
-            .entry(sch.name.clone())
-            .or_insert_with(|| serde_json::from_slice(&sch.data).unwrap())
-            .clone();
-        schema_is_simple(&schema_v, &sch.name);
-        let v: Value = serde_json::from_slice(&m.data).unwrap();
-        conforms(&schema_v, &v, &topic);
+        let v = common::decode(&m);
         assert_eq!(m.log_time, m.publish_time);
-        let ts = &v["timestamp"];
+        // A scene update has its times in its entities.
+        let ts = if topic == schema::TOPIC_SCENE {
+            &v["entities"][0]["timestamp"]
+        } else {
+            &v["timestamp"]
+        };
         assert_eq!(
-            ts["sec"].as_u64().unwrap() * 1_000_000_000 + ts["nsec"].as_u64().unwrap(),
+            ts["seconds"].as_u64().unwrap() * 1_000_000_000 + ts["nanos"].as_u64().unwrap(),
             m.log_time
         );
         let i = counts.entry(topic.clone()).or_default();
@@ -210,6 +152,20 @@ fn round_trip_full_rate() {
         *i += 1;
         if topic == schema::TOPIC_EVENTS {
             assert_eq!(v["level"], 3, "{v}");
+            continue;
+        }
+        if topic == schema::TOPIC_SCENE {
+            // Once, with the first sample: each wing's planform, locked to its frame.
+            assert_eq!(k, 0);
+            assert_eq!(m.log_time, (run.outs[0].t_s * 1e9).round() as u64);
+            let entities = v["entities"].as_array().unwrap();
+            assert_eq!(entities.len(), 2);
+            for (e, frame) in entities.iter().zip(["wing_left", "wing_right"]) {
+                assert_eq!(e["frame_id"], frame);
+                assert_eq!(e["frame_locked"], true);
+                let points = e["triangles"][0]["points"].as_array().unwrap();
+                assert!(points.len() >= 3 && points.len() % 3 == 0);
+            }
             continue;
         }
         let out = &run.outs[k];
@@ -228,7 +184,6 @@ fn round_trip_full_rate() {
                 let q = &out.state.world_from_body;
                 assert!(close(v["attitude"]["w"].as_f64().unwrap(), q.w));
                 assert!(close(v["attitude"]["x"].as_f64().unwrap(), q.i));
-                assert_eq!(v["nonfinite"], false);
             }
             "/vehicle/pose" => {
                 assert_eq!(v["frame_id"], "world");
@@ -475,7 +430,7 @@ fn actuated_wings_log_their_hinge_and_actuator() {
         if m.channel.topic != schema::TOPIC_KIN_RIGHT {
             continue;
         }
-        let v: Value = serde_json::from_slice(&m.data).unwrap();
+        let v = common::decode(&m);
         let out = &run.outs[k];
         let a = &out.actuated.as_ref().expect("actuated output")[1];
         let x = &v["actuation"];
@@ -508,7 +463,7 @@ fn actuated_wings_log_their_hinge_and_actuator() {
         .map(|m| m.unwrap())
         .find(|m| m.channel.topic == schema::TOPIC_CONTROLS)
         .expect("a controls message");
-    let v: Value = serde_json::from_slice(&controls.data).unwrap();
+    let v = common::decode(&controls);
     assert_eq!(v["drive"]["amplitude_v"], 0.0, "{v}");
     // The drive swings through its amplitude and the pitch moves off the hinge's rest.
     let volts = run

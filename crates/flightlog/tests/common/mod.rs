@@ -121,3 +121,53 @@ pub fn copy_with_metadata(src: &Path, dst: &Path, edit: impl Fn(&mut BTreeMap<St
     }
     w.finish().unwrap();
 }
+
+/// A log message decoded by the descriptor set its channel's schema embeds (protobuf, as the
+/// recorder writes them), as JSON-like values: every field of the descriptor by name (proto3
+/// scalars left off the wire read back as their defaults), sub-messages only when present.
+/// Panics on a message that does not decode, or that holds fields its schema lacks.
+pub fn decode(m: &mcap::Message) -> serde_json::Value {
+    use prost_reflect::{DescriptorPool, DynamicMessage, Kind, ReflectMessage, Value};
+    use serde_json::{Value as J, json};
+    fn message(m: &DynamicMessage) -> J {
+        assert!(
+            m.unknown_fields().next().is_none(),
+            "fields outside the schema"
+        );
+        let mut o = serde_json::Map::new();
+        for f in m.descriptor().fields() {
+            if matches!(f.kind(), Kind::Message(_)) && !f.is_list() && !m.has_field(&f) {
+                continue;
+            }
+            o.insert(f.name().to_owned(), value(&m.get_field(&f)));
+        }
+        J::Object(o)
+    }
+    fn value(v: &Value) -> J {
+        match v {
+            Value::Bool(b) => json!(b),
+            Value::I32(x) | Value::EnumNumber(x) => json!(x),
+            Value::I64(x) => json!(x),
+            Value::U32(x) => json!(x),
+            Value::U64(x) => json!(x),
+            Value::F32(x) => json!(x),
+            Value::F64(x) => json!(x),
+            Value::String(s) => json!(s),
+            Value::Message(m) => message(m),
+            Value::List(items) => J::Array(items.iter().map(value).collect()),
+            other => panic!("unexpected protobuf value {other:?}"),
+        }
+    }
+    let schema = m
+        .channel
+        .schema
+        .as_ref()
+        .expect("every channel has a schema");
+    assert_eq!(schema.encoding, "protobuf");
+    assert_eq!(m.channel.message_encoding, "protobuf");
+    let pool = DescriptorPool::decode(&schema.data[..]).expect("a FileDescriptorSet");
+    let desc = pool
+        .get_message_by_name(&schema.name)
+        .unwrap_or_else(|| panic!("{} not in its own descriptor set", schema.name));
+    message(&DynamicMessage::decode(desc, &m.data[..]).expect("the message decodes"))
+}

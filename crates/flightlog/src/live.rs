@@ -1,0 +1,158 @@
+//! The live Foxglove view (feature `live`): the run served over the Foxglove WebSocket
+//! protocol (subprotocol `foxglove.sdk.v1`) by the foxglove SDK's server, on the same
+//! channels, schemas and protobuf messages as the MCAP file.
+//!
+//! The channels live in a context of their own (nothing else logs to them). A channel has a
+//! sink only while a client subscribes to it, and a sample's message is encoded only for
+//! such channels, so without a client the view costs a check per message.
+
+use std::sync::Arc;
+
+use foxglove::{
+    Context, PartialMetadata, RawChannel, Schema, WebSocketServer, WebSocketServerHandle,
+};
+
+use crate::sample::{Encoded, Sample};
+use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING};
+use crate::{Error, Result};
+
+/// The running server and its channels (in the order of [`CHANNELS`]).
+pub(crate) struct LiveSink {
+    server: WebSocketServerHandle,
+    channels: Vec<Arc<RawChannel>>,
+    buf: Vec<u8>,
+    /// Whether the current /scene/wings subscription has had the planforms.
+    scene_sent: bool,
+    /// Keeps the channels' context alive.
+    _context: Arc<Context>,
+}
+
+/// `host:port` split (an IPv6 host in brackets: `[::1]:8765`).
+fn host_port(addr: &str) -> Result<(String, u16)> {
+    let bad = |why: &str| {
+        Error::Options(format!(
+            "--foxglove address `{addr}`: {why} (expected HOST:PORT, e.g. 127.0.0.1:8765)"
+        ))
+    };
+    let (host, port) = addr.rsplit_once(':').ok_or_else(|| bad("no port"))?;
+    let port = port
+        .parse::<u16>()
+        .map_err(|_| bad("the port is not a number 0-65535"))?;
+    let host = host.trim_start_matches('[').trim_end_matches(']');
+    if host.is_empty() {
+        return Err(bad("no host"));
+    }
+    Ok((host.to_owned(), port))
+}
+
+impl LiveSink {
+    /// Starts the server at `addr` (`host:port`; port 0 picks a free one).
+    pub fn start(addr: &str) -> Result<Self> {
+        let (host, port) = host_port(addr)?;
+        let context = Context::new();
+        let mut channels = Vec::with_capacity(CHANNELS.len());
+        for (topic, name) in CHANNELS {
+            let data = schema::schema_data(name).unwrap_or_default();
+            let channel = context
+                .channel_builder(topic)
+                .message_encoding(MESSAGE_ENCODING)
+                .schema(Schema::new(name, SCHEMA_ENCODING, data))
+                .build_raw()
+                .map_err(|e| Error::Options(format!("Foxglove channel {topic}: {e}")))?;
+            channels.push(channel);
+        }
+        let server = WebSocketServer::new()
+            .name("flapwing")
+            .bind(host, port)
+            .context(&context)
+            .start_blocking()
+            .map_err(|e| {
+                Error::Options(format!(
+                    "cannot serve the live Foxglove view at `{addr}`: {e}"
+                ))
+            })?;
+        Ok(Self {
+            server,
+            channels,
+            buf: Vec::new(),
+            scene_sent: false,
+            _context: context,
+        })
+    }
+
+    /// The port the server listens on.
+    pub fn port(&self) -> u16 {
+        self.server.port()
+    }
+
+    /// True while a client subscribes to at least one channel.
+    pub fn wanted(&self) -> bool {
+        self.channels.iter().any(|c| c.has_sinks())
+    }
+
+    fn log(&mut self, index: usize, t_ns: u64, m: &dyn Encoded) {
+        let channel = &self.channels[index];
+        if channel.has_sinks() {
+            self.buf.clear();
+            m.put(&mut self.buf);
+            channel.log_with_meta(
+                &self.buf,
+                PartialMetadata {
+                    log_time: Some(t_ns),
+                },
+            );
+        }
+    }
+
+    /// Sends a sample to the clients subscribed to its channels.
+    pub fn sample(&mut self, s: &Sample) {
+        s.each(|i, m| self.log(i, s.t_ns, m));
+    }
+
+    /// Sends an event on /events.
+    pub fn event(&mut self, t_ns: u64, log: &foxglove::messages::Log) {
+        self.log(CHANNELS.len() - 2, t_ns, log);
+    }
+
+    /// Sends the wing planforms on /scene/wings to a subscribed client that has not had them
+    /// yet (a client may join at any time).
+    pub fn scene(&mut self, make: impl FnOnce() -> foxglove::messages::SceneUpdate, t_ns: u64) {
+        let c = CHANNELS.len() - 1;
+        let subscribed = self.channels[c].has_sinks();
+        if subscribed && !self.scene_sent {
+            self.log(c, t_ns, &make());
+        }
+        self.scene_sent = subscribed;
+    }
+
+    /// Stops the server (clients are disconnected).
+    pub fn stop(self) {
+        self.server.stop().detach_all();
+    }
+}
+
+impl std::fmt::Debug for LiveSink {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LiveSink")
+            .field("port", &self.port())
+            .finish_non_exhaustive()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::host_port;
+
+    #[test]
+    fn addresses() {
+        assert_eq!(
+            host_port("127.0.0.1:8765").unwrap(),
+            ("127.0.0.1".into(), 8765)
+        );
+        assert_eq!(host_port("[::1]:0").unwrap(), ("::1".into(), 0));
+        for bad in ["127.0.0.1", "127.0.0.1:x", ":8765", "h:70000"] {
+            let e = host_port(bad).unwrap_err().to_string();
+            assert!(e.contains(bad) && e.contains("HOST:PORT"), "{e}");
+        }
+    }
+}

@@ -1,0 +1,162 @@
+//! The MCAP writer thread: compresses the chunks the simulation thread fills and writes them.
+//!
+//! Jobs travel on a bounded queue of [`QUEUE`] chunks, so `record` blocks only while the
+//! thread is that far behind (a slow disk slows the run instead of filling memory), and a
+//! killed run loses at most the chunks in the queue and the one being filled. Emptied chunk
+//! buffers come back for reuse. The first error of the thread ends it; the next call here
+//! returns it, and later calls say that the writer stopped because of it.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::mpsc::{self, Receiver, Sender, SyncSender};
+use std::thread::JoinHandle;
+
+use crate::mcap_write::{ChunkBuilder, McapWriter, RawChunk};
+use crate::schema;
+use crate::{Error, Result};
+
+/// Chunks queued for the writer thread at most.
+const QUEUE: usize = 2;
+
+enum Job {
+    Chunk(RawChunk),
+    /// Answer once everything before is in the file.
+    Sync(Sender<()>),
+    /// Write the end metadata, the summary and the footer; answer with the file size.
+    Finish(BTreeMap<String, String>),
+}
+
+type File64 = McapWriter<BufWriter<File>>;
+
+/// The simulation thread's handle on the writer thread.
+pub(crate) struct Writer {
+    jobs: Option<SyncSender<Job>>,
+    /// Emptied chunks coming back (a Mutex: the recorder is `Sync`).
+    spare: Mutex<Receiver<RawChunk>>,
+    thread: Option<JoinHandle<Result<u64>>>,
+    /// The writer thread's error, once it stopped.
+    failed: Option<String>,
+    path: PathBuf,
+}
+
+fn run(mut w: File64, path: &Path, jobs: Receiver<Job>, spare: Sender<RawChunk>) -> Result<u64> {
+    let io = |e| Error::io("cannot write", path, e);
+    let mut zstd = ChunkBuilder::new().map_err(io)?;
+    for job in jobs {
+        match job {
+            Job::Chunk(mut raw) => {
+                let chunk = zstd.compress(&raw).map_err(io)?;
+                w.write_chunk(&chunk).map_err(io)?;
+                // Each chunk reaches the file whole before the next one starts.
+                w.flush().map_err(io)?;
+                raw.clear();
+                let _ = spare.send(raw);
+            }
+            Job::Sync(done) => {
+                let _ = done.send(());
+            }
+            Job::Finish(end) => {
+                w.metadata(schema::METADATA_END, &end).map_err(io)?;
+                w.finish().map_err(io)?;
+                return Ok(w.position());
+            }
+        }
+    }
+    // The recorder went away without finishing (dropped after an error): end the file anyway.
+    w.finish().map_err(io)?;
+    Ok(w.position())
+}
+
+impl Writer {
+    /// Starts the thread with a file whose start is written.
+    pub fn start(w: File64, path: &Path) -> Result<Self> {
+        let (jobs, jobs_rx) = mpsc::sync_channel(QUEUE);
+        let (spare_tx, spare) = mpsc::channel();
+        let thread_path = path.to_owned();
+        let thread = std::thread::Builder::new()
+            .name("flightlog-writer".into())
+            .spawn(move || run(w, &thread_path, jobs_rx, spare_tx))
+            .map_err(|e| Error::io("cannot start the writer thread for", path, e))?;
+        Ok(Self {
+            jobs: Some(jobs),
+            spare: Mutex::new(spare),
+            thread: Some(thread),
+            failed: None,
+            path: path.to_owned(),
+        })
+    }
+
+    /// The error of a writer that stopped: the thread's own error the first time, then a
+    /// reminder of it.
+    fn stopped(&mut self) -> Error {
+        if let Some(why) = &self.failed {
+            return Error::io(
+                "cannot write",
+                &self.path,
+                std::io::Error::other(format!("the writer stopped after an error: {why}")),
+            );
+        }
+        self.jobs = None;
+        let e = match self.thread.take().map(JoinHandle::join) {
+            Some(Ok(Err(e))) => e,
+            _ => Error::io(
+                "cannot write",
+                &self.path,
+                std::io::Error::other("the writer thread ended unexpectedly"),
+            ),
+        };
+        self.failed = Some(e.to_string());
+        e
+    }
+
+    fn send(&mut self, job: Job) -> Result<()> {
+        match &self.jobs {
+            Some(jobs) if self.failed.is_none() => match jobs.send(job) {
+                Ok(()) => Ok(()),
+                Err(_) => Err(self.stopped()),
+            },
+            _ => Err(self.stopped()),
+        }
+    }
+
+    /// An empty chunk to fill (one the thread has written, when there is one).
+    pub fn spare_chunk(&self) -> RawChunk {
+        let spare = self.spare.lock().ok().and_then(|r| r.try_recv().ok());
+        spare.unwrap_or_default()
+    }
+
+    /// Queues a closed chunk.
+    pub fn chunk(&mut self, raw: RawChunk) -> Result<()> {
+        self.send(Job::Chunk(raw))
+    }
+
+    /// Returns once every chunk queued so far is in the file.
+    pub fn sync(&mut self) -> Result<()> {
+        let (tx, rx) = mpsc::channel();
+        self.send(Job::Sync(tx))?;
+        rx.recv().map_err(|_| self.stopped())
+    }
+
+    /// Ends the file with the `flapwing.end` metadata and the summary; the file size.
+    pub fn finish(&mut self, end: BTreeMap<String, String>) -> Result<u64> {
+        self.send(Job::Finish(end))?;
+        self.jobs = None;
+        match self.thread.take().map(JoinHandle::join) {
+            Some(Ok(res)) => res,
+            _ => Err(self.stopped()),
+        }
+    }
+}
+
+impl Drop for Writer {
+    /// Lets the thread end the file and waits for it.
+    fn drop(&mut self) {
+        self.jobs = None;
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}

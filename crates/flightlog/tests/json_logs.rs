@@ -1,0 +1,92 @@
+//! Logs written by flapwing before issue #16, with JSON messages (the fixtures in
+//! tests/fixtures/, made by `scripts/make-json-log-fixtures` with the last such version),
+//! still replay: summary, CSV export, the re-run check and (feature `rerun`) the Rerun
+//! conversion, with the same numbers as today's protobuf logs of the same run.
+
+mod common;
+
+use std::path::PathBuf;
+
+use flightlog::check::{CheckOutcome, check_log};
+use flightlog::replay::{export_csv, read_summary};
+use flightlog::schema::CHANNELS;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures")
+        .join(name)
+}
+
+#[test]
+fn old_json_logs_replay_and_check() {
+    for (name, samples) in [
+        ("json-drosophila-free.mcap", 40),
+        ("json-robobee-tethered.mcap", 20),
+    ] {
+        let path = fixture(name);
+        let s = read_summary(&path).unwrap();
+        assert!(s.complete, "{name}: {:?}", s.damage);
+        assert_eq!(s.samples, samples, "{name}");
+        // Every channel of today but /scene/wings, which came with the protobuf logs.
+        assert_eq!(s.channels.len(), CHANNELS.len() - 1);
+        for c in &s.channels {
+            assert_eq!(c.message_encoding, "json", "{name}");
+            assert_eq!(c.schema_encoding, "jsonschema", "{name}");
+        }
+        assert!(s.cycle_mean.is_some() || samples < 40, "{name}");
+        match check_log(&path).unwrap() {
+            CheckOutcome::Match { samples: n, note } => {
+                assert_eq!(n, samples, "{name}");
+                assert_eq!(note, None, "{name}");
+            }
+            other => panic!("{name}: {other:?}"),
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let csv = dir.path().join("kin.csv");
+        let st = export_csv(&path, "/wing/left/kinematics", &csv).unwrap();
+        assert_eq!((st.rows, st.skipped), (samples, 0), "{name}");
+        let header = std::fs::read_to_string(&csv).unwrap();
+        let header = header.lines().next().unwrap();
+        assert!(header.contains("angles_deg.phi"), "{header}");
+        assert_eq!(
+            header.contains("actuation.voltage_v"),
+            name.contains("robobee")
+        );
+    }
+}
+
+/// The old log and a protobuf log of the same run hold the same trajectory.
+#[test]
+fn old_and_new_logs_of_one_run_agree() {
+    let old = read_summary(fixture("json-drosophila-free.mcap")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("new.mcap");
+    let settings = old.settings().unwrap();
+    let run = common::record(
+        &common::mcap_opts(&path, settings.log_rate_hz),
+        "simulate",
+        settings.duration_s,
+    );
+    assert_eq!(run.stats.samples, old.samples);
+    let new = read_summary(&path).unwrap();
+    assert_eq!(new.final_position_m, old.final_position_m);
+    assert_eq!(new.max_excursion_m, old.max_excursion_m);
+    let (a, b) = (old.cycle_mean.unwrap(), new.cycle_mean.unwrap());
+    assert_eq!(a.wingbeats, b.wingbeats);
+    for i in 0..3 {
+        assert!(
+            (a.force_body_n[i] - b.force_body_n[i]).abs()
+                <= 1e-12 * a.force_body_n[i].abs().max(1e-12)
+        );
+    }
+}
+
+#[cfg(feature = "rerun")]
+#[test]
+fn old_json_log_converts_to_rrd() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("old.rrd");
+    let st = flightlog::replay::to_rrd(fixture("json-drosophila-free.mcap"), &out).unwrap();
+    assert_eq!(st.frames, 40);
+    assert!(std::fs::metadata(&out).unwrap().len() > 1000);
+}
