@@ -27,6 +27,7 @@ pub mod model;
 pub mod pitch_flip;
 pub mod planform;
 pub mod quad;
+mod spline;
 pub mod wing;
 
 pub use axes::AxisMoments;
