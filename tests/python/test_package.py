@@ -96,13 +96,13 @@ def test_errors_are_python_exceptions_with_flapwing_messages(tmp_path):
 
 
 def test_tethered_cycle_means_match_the_cli():
-    # README, `flapwing simulate --tethered --duration-s 0.05`: mean lift/weight 1.2476 over
+    # README, `flapwing simulate --tethered --duration-s 0.05`: mean lift/weight 1.0084 over
     # the complete wingbeats of 1090 steps.
     sim = flapwing.Simulation("drosophila", "tethered")
     tr = sim.run(1090)
     assert tr["force_n"].shape == (1090, 3)
     assert tr["term_force_n"].shape == (1090, 4, 3)
-    assert sim.summary()["mean_lift_over_weight"] == pytest.approx(1.2476, abs=1e-4)
+    assert sim.summary()["mean_lift_over_weight"] == pytest.approx(1.0084, abs=1e-4)
     np.testing.assert_allclose(tr["term_force_n"].sum(axis=1) + 0.0, tr["force_n"] - 0.0,
                                rtol=1e-9, atol=1e-18)
 
@@ -144,9 +144,9 @@ def test_free_fall_with_controls_and_state():
 def test_trim_stability_and_lqr():
     v = flapwing.Vehicle("drosophila")
     t = v.trim()
-    # README: trim body pitch 45.00 deg, stroke amplitude 125.122 deg (-14.878 offset).
+    # README: trim body pitch 45.00 deg, stroke amplitude 139.502 deg (-0.498 offset).
     assert math.degrees(t["pitch_rad"]) == pytest.approx(45.0, abs=0.01)
-    assert math.degrees(t["controls"]["amplitude_rad"]) == pytest.approx(-14.878, abs=1e-3)
+    assert math.degrees(t["controls"]["amplitude_rad"]) == pytest.approx(-0.4977, abs=1e-3)
     r = v.stability(floquet=False)
     a = r["a_longitudinal"]
     assert a.shape == (len(r["longitudinal_states"]),) * 2

@@ -242,7 +242,22 @@ impl VehicleSpec {
         }
         let length = v.positive("body.length_m", self.body.length_m)?;
         let g = v.within("gravity_m_s2", self.gravity_m_s2, 0.0, 100.0)?;
-        let aero = self.aero.build(&v, "aero")?;
+        let mut aero = self.aero.build(&v, "aero")?;
+        if self.aero.induced_inflow {
+            if self.actuation.is_some() {
+                return Err(v
+                    .invalid(
+                        "aero.induced_inflow",
+                        true,
+                        "false for an actuated vehicle (its amplitude is an output of the wing dynamics, and the inflow's disc area needs it)",
+                    )
+                    .into());
+            }
+            // Hover: the pair carries the weight, each wing half of it (wingforce::inflow).
+            aero.induced_inflow = Some(wingforce::InducedInflow {
+                thrust_n: 0.5 * mass * g,
+            });
+        }
         let geometry = build_geometry(&self.wing, &v, "wing", &self.aero)?;
         let base = self
             .kinematics

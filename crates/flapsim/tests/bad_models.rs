@@ -67,3 +67,15 @@ fn errors_name_file_field_value_and_range() {
         "{wrong_type}"
     );
 }
+
+#[test]
+fn an_actuated_vehicle_refuses_the_hover_downwash() {
+    // The downwash's disc is set by the stroke amplitude, which an actuated wing's dynamics
+    // produce rather than take as an input (wingforce::inflow).
+    let text = format!("{}\n[aero]\ninduced_inflow = true\n", flapsim::ROBOBEE_TOML);
+    let e = err(&text);
+    assert!(
+        e.starts_with("bad.toml") && e.contains("aero.induced_inflow") && e.contains("actuated"),
+        "{e}"
+    );
+}

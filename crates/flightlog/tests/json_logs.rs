@@ -62,10 +62,15 @@ fn old_and_new_logs_of_one_run_agree() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("new.mcap");
     let settings = old.settings().unwrap();
-    let run = common::record(
+    // The run of the model the old log embeds (models change between versions: the fly
+    // gained its hover downwash after the JSON logs).
+    let run = common::record_model(
         &common::mcap_opts(&path, settings.log_rate_hz),
         "simulate",
         settings.duration_s,
+        flapsim::Mode::Free,
+        &old.metadata["model_toml"],
+        &old.metadata["model_origin"],
     );
     assert_eq!(run.stats.samples, old.samples);
     let new = read_summary(&path).unwrap();

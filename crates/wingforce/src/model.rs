@@ -68,6 +68,10 @@ pub struct AeroSpec {
     pub strips: usize,
     /// Translational centre of pressure behind the leading edge, fraction of the chord.
     pub cp_chord_frac: f64,
+    /// The induced inflow of a hovering vehicle through its stroke plane (momentum theory
+    /// with the weight as thrust; [`crate::inflow`]). Only a vehicle, which has a weight, can
+    /// switch it on; its builder sets [`AeroOptions::induced_inflow`].
+    pub induced_inflow: bool,
 }
 
 impl Default for AeroSpec {
@@ -83,6 +87,7 @@ impl Default for AeroSpec {
             c_rot: o.c_rot,
             strips: 20,
             cp_chord_frac: 0.25,
+            induced_inflow: false,
         }
     }
 }
@@ -183,6 +188,7 @@ impl AeroSpec {
                 None
             },
             c_rot: self.c_rot,
+            induced_inflow: None,
         })
     }
 }
@@ -225,6 +231,13 @@ impl WingModelSpec {
         let v = Validator::new(origin);
         let aero = &self.aero;
         let options = aero.build(&v, "aero")?;
+        if aero.induced_inflow {
+            return Err(v.invalid(
+                "aero.induced_inflow",
+                true,
+                "false for a wing on a fixed mount (the inflow is the downwash that carries a hovering vehicle's weight; a vehicle model switches it on)",
+            ));
+        }
         let geometry = build_geometry(&self.wing, &v, "wing", aero)?;
         let kinematics =
             Kinematics::from_spec(&self.kinematics, &v, "kinematics", geometry.r_gyration_m)?;

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 use wide::f64x2;
 
 use crate::coefficients::{self, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
+use crate::inflow::InducedInflow;
 use crate::kinematics::{Kinematics, StrokePhase, WingAngles};
 use crate::planform::Geometry;
 
@@ -92,6 +93,9 @@ pub struct AeroOptions {
     pub wake_capture: Option<WakeCaptureModel>,
     /// Van Veen et al.'s rotational coefficient C_rot (2.08 +- 0.13).
     pub c_rot: f64,
+    /// The induced inflow through the stroke plane (see [`crate::inflow`]), or `None` for
+    /// still air (the default).
+    pub induced_inflow: Option<InducedInflow>,
 }
 
 impl Default for AeroOptions {
@@ -103,6 +107,7 @@ impl Default for AeroOptions {
             added_mass: true,
             wake_capture: Some(WakeCaptureModel::paper()),
             c_rot: 2.08,
+            induced_inflow: None,
         }
     }
 }
@@ -254,6 +259,9 @@ struct Cache {
     hinge_s: Vector3<f64>,
     /// -(pi/4) rho.
     am_k: f64,
+    /// The wing's velocity relative to the induced inflow's air, stroke frame, m/s: the air
+    /// comes down through the stroke plane at w_i, so the wing moves up through it.
+    inflow_s: Vector3<f64>,
 }
 
 impl Cache {
@@ -322,6 +330,7 @@ impl Cache {
             stroke_from_body: Matrix3::identity(),
             hinge_s: Vector3::zeros(),
             am_k: 0.0,
+            inflow_s: Vector3::zeros(),
         }
     }
 }
@@ -382,7 +391,20 @@ impl Wing {
             stroke_from_body: *rot.inverse().matrix(),
             hinge_s: *rot.inverse().matrix() * self.mount.hinge_in_body_m,
             am_k: -0.25 * std::f64::consts::PI * rho,
+            inflow_s: Vector3::z() * self.induced_downwash_m_s(),
         };
+    }
+
+    /// The induced downwash through the stroke plane at the current amplitude, m/s (zero
+    /// without [`AeroOptions::induced_inflow`]).
+    pub fn induced_downwash_m_s(&self) -> f64 {
+        self.options.induced_inflow.map_or(0.0, |i| {
+            i.downwash_m_s(
+                self.fluid.density_kg_m3,
+                self.kinematics.amplitude_rad,
+                self.geometry.r_tip_m,
+            )
+        })
     }
 
     /// Replaces the kinematics (a controller does this between wingbeats).
@@ -684,7 +706,7 @@ impl Wing {
         let c = &self.cache;
         let v_body_s = c.stroke_from_body * body.velocity_m_s;
         let w_body_s = c.stroke_from_body * body.angular_velocity_rad_s;
-        let v_hinge_s = v_body_s + w_body_s.cross(&c.hinge_s);
+        let v_hinge_s = v_body_s + w_body_s.cross(&c.hinge_s) + c.inflow_s;
         let b = (frame.omega + w_body_s).cross(&frame.e_span);
         StripVelocity {
             a_le: v_hinge_s.dot(&frame.e_le),
