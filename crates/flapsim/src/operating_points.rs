@@ -154,7 +154,7 @@ pub fn operating_points() -> Result<Vec<OperatingPoint>> {
             halves.len()
         )));
     }
-    let pitch_limitation = "the two pitch-dominated modes scale with M_u, M_q and I_y over the body; I_y is an ellipsoid estimate, and 30% less of it (the least the inertia's triangle inequality allows) brings them to 0.41 s and 0.035 s, not within: the rest lies in the quasi-steady M_u and M_q (the derivative table of `stability`), while the same model puts the doubling and slow-subsidence times within 20%";
+    let pitch_limitation = "the two pitch-dominated modes scale with M_u, M_q and I_y over the body; I_y is an ellipsoid estimate, and 30% less of it (the least the inertia's triangle inequality allows) brings them to 0.42 s and 0.035 s, not within: the rest lies in the quasi-steady M_u and M_q (the derivative table of `stability`), while the same model puts the doubling and slow-subsidence times within 20%";
     let source = "Sun & Xiong 2005, abstract";
     let mode_rows = [
         (
