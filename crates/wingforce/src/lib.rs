@@ -22,6 +22,7 @@ pub mod axes;
 pub mod coefficients;
 pub mod cycle;
 mod error;
+mod frame;
 pub mod inflow;
 pub mod kinematics;
 pub mod model;
@@ -29,6 +30,7 @@ pub mod pitch_flip;
 pub mod planform;
 pub mod quad;
 mod spline;
+mod strips;
 pub mod wing;
 
 pub use axes::AxisMoments;

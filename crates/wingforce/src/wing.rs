@@ -8,12 +8,16 @@
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use serde::{Deserialize, Serialize};
-use wide::f64x2;
 
 use crate::coefficients::{self, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
 use crate::inflow::InducedInflow;
 use crate::kinematics::{Kinematics, StrokePhase, WingAngles};
 use crate::planform::Geometry;
+use crate::strips::{
+    StripSums, StripVelocity, dickinson1999_sums, lee2016_sums, lee2016_sums_pair,
+};
+
+pub use crate::frame::WingFrame;
 
 /// Which side of the body a wing is on. The right wing is the mirror image of the left in
 /// the body's x-z plane.
@@ -207,10 +211,10 @@ impl WingForces {
 
 /// Strip data laid out for the hot loop.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct StripK {
-    r_m: f64,
-    half_rho_area: f64,
-    x_cp_m: f64,
+pub(crate) struct StripK {
+    pub(crate) r_m: f64,
+    pub(crate) half_rho_area: f64,
+    pub(crate) x_cp_m: f64,
 }
 
 /// A wing ready to evaluate: everything that depends only on Re, the planform or the
@@ -224,7 +228,7 @@ pub struct Wing {
     options: AeroOptions,
     /// Measured stroke in place of the kinematics' own (dynamic wings).
     stroke_reference: Option<StrokeReference>,
-    cache: Cache,
+    pub(crate) cache: Cache,
 }
 
 /// The stroke quantities that set Re and the wake-capture inputs, for a wing whose stroke is
@@ -242,16 +246,16 @@ pub struct StrokeReference {
 }
 
 #[derive(Debug, Clone, PartialEq)]
-struct Cache {
-    strips: Vec<StripK>,
+pub(crate) struct Cache {
+    pub(crate) strips: Vec<StripK>,
     reynolds: f64,
     v_ref_m_s: f64,
     /// 0.5 rho V_ref^2 S, N.
     q_ref_s_n: f64,
     /// Lee: 2 K_l f, C_d0 f, 2 K_d f (f = f_AR f_Ro or 1).
-    kl2: f64,
-    cd0: f64,
-    kd2: f64,
+    pub(crate) kl2: f64,
+    pub(crate) cd0: f64,
+    pub(crate) kd2: f64,
     wake: Option<WakeCaptureParams>,
     body_from_stroke: Matrix3<f64>,
     stroke_from_body: Matrix3<f64>,
@@ -757,375 +761,4 @@ pub struct KinematicLoads {
     pub frame: WingFrame,
     /// In the order of [`Term::ALL`], body frame; the translational entry is zero.
     pub terms: [TermForce; 4],
-}
-
-/// Components of the pitch-axis velocity at radius r: u_le = a_le + r b_le, u_n = a_n + r b_n.
-#[derive(Debug, Clone, Copy)]
-struct StripVelocity {
-    a_le: f64,
-    b_le: f64,
-    a_n: f64,
-    b_n: f64,
-}
-
-/// Sums over the strips of the (e_le, n) force components and their first moments.
-#[derive(Debug, Clone, Copy, Default)]
-struct StripSums {
-    f_le: f64,
-    f_n: f64,
-    rf_le: f64,
-    rf_n: f64,
-    xf_n: f64,
-}
-
-/// Lee et al. translational strip sums of one wing: the arithmetic of [`lee2016_lanes`] on
-/// plain numbers (the same operations in the same order, so the same bits), written out over
-/// pairs of strips, which the compiler schedules better than the generic form.
-#[inline(always)]
-fn lee2016_sums(c: &Cache, u: &StripVelocity) -> StripSums {
-    let (kl2, cd0, kd2) = (c.kl2, c.cd0, c.kd2);
-    let strip = |s: &StripK| {
-        let u_le = u.a_le + s.r_m * u.b_le;
-        let u_n = u.a_n + s.r_m * u.b_n;
-        let v2 = (u_le * u_le + u_n * u_n).max(f64::MIN_POSITIVE);
-        let inv = 1.0 / v2.sqrt();
-        let lift = kl2 * u_n * u_le * inv;
-        let drag = (cd0 + kd2 * u_n * u_n * inv * inv) * (v2 * inv);
-        (
-            s.half_rho_area * (lift * u_n - drag * u_le),
-            s.half_rho_area * (-(lift * u_le) - drag * u_n),
-        )
-    };
-    let mut acc = [[0.0f64; 5]; 2];
-    let mut add = |k: usize, s: &StripK| {
-        let (fl, fn_) = strip(s);
-        let a = &mut acc[k];
-        a[0] += fl;
-        a[1] += fn_;
-        a[2] += s.r_m * fl;
-        a[3] += s.r_m * fn_;
-        a[4] += s.x_cp_m * fn_;
-    };
-    let pairs = c.strips.chunks_exact(2);
-    let rest = pairs.remainder();
-    for pair in pairs {
-        add(0, &pair[0]);
-        add(1, &pair[1]);
-    }
-    for s in rest {
-        add(0, s);
-    }
-    StripSums {
-        f_le: acc[0][0] + acc[1][0],
-        f_n: acc[0][1] + acc[1][1],
-        rf_le: acc[0][2] + acc[1][2],
-        rf_n: acc[0][3] + acc[1][3],
-        xf_n: acc[0][4] + acc[1][4],
-    }
-}
-
-/// Lee et al. translational strip sums of two wings with the same number of strips, side by
-/// side in the two lanes of a SIMD register (each lane's arithmetic is that of
-/// [`lee2016_sums`], so the results are identical bit for bit).
-fn lee2016_sums_pair(c: [&Cache; 2], u: [&StripVelocity; 2]) -> [StripSums; 2] {
-    lee2016_lanes::<f64x2, 2>(c, u)
-}
-
-#[cfg(test)]
-mod lanes_tests {
-    use super::*;
-
-    #[test]
-    fn one_lane_generic_equals_the_written_out_loop() {
-        // The generic lane code on plain numbers and the written-out single-wing loop must
-        // agree bit for bit (the pair path relies on it), for odd and even strip counts.
-        for n in [1usize, 2, 7, 20] {
-            let wing = crate::model::WingModelSpec::from_toml(
-                &include_str!("../../../models/robofly.toml")
-                    .replace("strips = 20", &format!("strips = {n}")),
-                "robofly",
-            )
-            .and_then(|s| s.build("robofly"))
-            .expect("robofly model");
-            let u = StripVelocity {
-                a_le: 0.031,
-                b_le: -0.7,
-                a_n: 0.002,
-                b_n: 0.35,
-            };
-            let a = lee2016_sums(&wing.cache, &u);
-            let [b] = lee2016_lanes::<f64, 1>([&wing.cache], [&u]);
-            assert_eq!(
-                [a.f_le, a.f_n, a.rf_le, a.rf_n, a.xf_n],
-                [b.f_le, b.f_n, b.rf_le, b.rf_n, b.xf_n],
-                "{n} strips"
-            );
-        }
-    }
-}
-
-/// Arithmetic on one value or on two side by side.
-trait Lanes:
-    Copy
-    + std::ops::Add<Output = Self>
-    + std::ops::Sub<Output = Self>
-    + std::ops::Mul<Output = Self>
-    + std::ops::Div<Output = Self>
-    + std::ops::Neg<Output = Self>
-{
-    /// The lanes from a function of the lane index.
-    fn gather(f: impl Fn(usize) -> f64) -> Self;
-    /// The same value in every lane.
-    fn splat(x: f64) -> Self;
-    /// Lane `l`.
-    fn lane(self, l: usize) -> f64;
-    /// Square root, lane by lane.
-    fn sqrt(self) -> Self;
-    /// The larger of the two, lane by lane (`other` where `self` is NaN).
-    fn max(self, other: Self) -> Self;
-}
-
-impl Lanes for f64 {
-    #[inline(always)]
-    fn gather(f: impl Fn(usize) -> f64) -> Self {
-        f(0)
-    }
-    #[inline(always)]
-    fn splat(x: f64) -> Self {
-        x
-    }
-    #[inline(always)]
-    fn lane(self, _: usize) -> f64 {
-        self
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f64::sqrt(self)
-    }
-    #[inline(always)]
-    fn max(self, other: Self) -> Self {
-        f64::max(self, other)
-    }
-}
-
-impl Lanes for f64x2 {
-    #[inline(always)]
-    fn gather(f: impl Fn(usize) -> f64) -> Self {
-        f64x2::new([f(0), f(1)])
-    }
-    #[inline(always)]
-    fn splat(x: f64) -> Self {
-        f64x2::splat(x)
-    }
-    #[inline(always)]
-    fn lane(self, l: usize) -> f64 {
-        self.to_array()[l]
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f64x2::sqrt(self)
-    }
-    #[inline(always)]
-    fn max(self, other: Self) -> Self {
-        f64x2::max(self, other)
-    }
-}
-
-/// The Lee et al. strip sums, wing `l` in lane `l` of `T` (which has `L` lanes; every wing
-/// has the same number of strips). In the (e_le, n) plane with u = (u_le, u_n),
-/// |V|^2 sin(2 alpha) along the lift direction is 2 u_le u_n (u_n, -u_le)/|V| and
-/// sin^2(alpha) is u_n^2/|V|^2, so no trigonometry is needed per strip. Branch-free: a strip
-/// at rest has u = 0 and gets zero force from the same expressions. Even and odd strips
-/// accumulate separately (two independent chains keep the FP pipelines busy) and are added
-/// at the end.
-#[inline(always)]
-fn lee2016_lanes<T: Lanes, const L: usize>(
-    c: [&Cache; L],
-    u: [&StripVelocity; L],
-) -> [StripSums; L] {
-    let n = c[0].strips.len();
-    // Slices of one known length, so the indexing below needs no bounds checks.
-    let strips: [&[StripK]; L] = std::array::from_fn(|l| &c[l].strips[..n]);
-    let (kl2, cd0, kd2) = (
-        T::gather(|l| c[l].kl2),
-        T::gather(|l| c[l].cd0),
-        T::gather(|l| c[l].kd2),
-    );
-    let (a_le, b_le) = (T::gather(|l| u[l].a_le), T::gather(|l| u[l].b_le));
-    let (a_n, b_n) = (T::gather(|l| u[l].a_n), T::gather(|l| u[l].b_n));
-    let tiny = T::splat(f64::MIN_POSITIVE);
-    let one = T::splat(1.0);
-    let strip = |i: usize| -> [T; 5] {
-        let r = T::gather(|l| strips[l][i].r_m);
-        let hra = T::gather(|l| strips[l][i].half_rho_area);
-        let x_cp = T::gather(|l| strips[l][i].x_cp_m);
-        let u_le = a_le + r * b_le;
-        let u_n = a_n + r * b_n;
-        let v2 = (u_le * u_le + u_n * u_n).max(tiny);
-        let inv = one / v2.sqrt();
-        let lift = kl2 * u_n * u_le * inv;
-        let drag = (cd0 + kd2 * u_n * u_n * inv * inv) * (v2 * inv);
-        let fl = hra * (lift * u_n - drag * u_le);
-        let fn_ = hra * (-(lift * u_le) - drag * u_n);
-        [fl, fn_, r * fl, r * fn_, x_cp * fn_]
-    };
-    let zero = T::splat(0.0);
-    let (mut even, mut odd) = ([zero; 5], [zero; 5]);
-    let add = |acc: &mut [T; 5], d: [T; 5]| {
-        for (a, d) in acc.iter_mut().zip(d) {
-            *a = *a + d;
-        }
-    };
-    let mut i = 0;
-    while i + 1 < n {
-        add(&mut even, strip(i));
-        add(&mut odd, strip(i + 1));
-        i += 2;
-    }
-    if i < n {
-        add(&mut even, strip(i));
-    }
-    let s: [T; 5] = std::array::from_fn(|k| even[k] + odd[k]);
-    std::array::from_fn(|l| StripSums {
-        f_le: s[0].lane(l),
-        f_n: s[1].lane(l),
-        rf_le: s[2].lane(l),
-        rf_n: s[3].lane(l),
-        xf_n: s[4].lane(l),
-    })
-}
-
-/// Dickinson et al. (1999) translational strip sums (angle of attack from the velocity).
-fn dickinson1999_sums(strips: &[StripK], u: StripVelocity) -> StripSums {
-    let mut s = StripSums::default();
-    for k in strips {
-        let u_le = u.a_le + k.r_m * u.b_le;
-        let u_n = u.a_n + k.r_m * u.b_n;
-        let v2 = u_le * u_le + u_n * u_n;
-        if v2 <= 0.0 {
-            continue;
-        }
-        let (fl, fn_) = strip_lift_drag_dickinson(u_le, u_n, v2, k.half_rho_area);
-        s.f_le += fl;
-        s.f_n += fn_;
-        s.rf_le += k.r_m * fl;
-        s.rf_n += k.r_m * fn_;
-        s.xf_n += k.x_cp_m * fn_;
-    }
-    s
-}
-
-/// Dickinson et al. (1999) strip force in the (e_le, n) components, alpha from the velocity.
-#[inline]
-fn strip_lift_drag_dickinson(u_le: f64, u_n: f64, v2: f64, half_rho_area: f64) -> (f64, f64) {
-    let vm = v2.sqrt();
-    let alpha = u_n.abs().atan2(u_le); // 0..pi
-    // Beyond 90 deg the flow meets the trailing edge first: the plate looks like one at
-    // 180 - alpha with its lift reversed.
-    let (cl, cd) = if alpha <= std::f64::consts::FRAC_PI_2 {
-        coefficients::dickinson1999_deg(alpha.to_degrees())
-    } else {
-        let (cl, cd) = coefficients::dickinson1999_deg(180.0 - alpha.to_degrees());
-        (-cl, cd)
-    };
-    let sgn = if u_n < 0.0 { -1.0 } else { 1.0 };
-    // Lift direction sgn(u_n) (u_n e_le - u_le n)/|V|; drag along -(u_le e_le + u_n n)/|V|.
-    let q = half_rho_area * v2;
-    let fl = q * (cl * sgn * u_n - cd * u_le) / vm;
-    let fn_ = q * (-cl * sgn * u_le - cd * u_n) / vm;
-    (fl, fn_)
-}
-
-/// The wing's unit vectors and rigid-body rates in its stroke-plane frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WingFrame {
-    /// Span axis (root to tip).
-    pub e_span: Vector3<f64>,
-    /// Forward stroke tangent (horizontal; direction of increasing phi).
-    pub t: Vector3<f64>,
-    /// Leading-edge chord direction.
-    pub e_le: Vector3<f64>,
-    /// Wing normal, n = d e_le / d theta; (e_span, e_le, n) is right-handed for the right
-    /// wing and left-handed for the left (mirror images), so use explicit cross products.
-    pub n: Vector3<f64>,
-    /// Angular velocity of the wing relative to the stroke frame, rad/s.
-    pub omega: Vector3<f64>,
-    /// Angular acceleration relative to the stroke frame, rad/s^2.
-    pub alpha: Vector3<f64>,
-}
-
-impl WingFrame {
-    /// The frame for given angles. The wing orientation is a rotation by phi about the
-    /// stroke-plane normal, then eta about the stroke tangent, then theta about the span.
-    pub fn new(a: &WingAngles, side: Side) -> Self {
-        let s = side.sign();
-        let (sf, cf) = a.phi.sin_cos();
-        let (se, ce) = if a.eta == 0.0 {
-            (0.0, 1.0)
-        } else {
-            a.eta.sin_cos()
-        };
-        let (st, ct) = a.theta.sin_cos();
-        let z = Vector3::z();
-        let h = Vector3::new(sf, s * cf, 0.0);
-        let t = Vector3::new(cf, -s * sf, 0.0);
-        let e_span = ce * h + se * z;
-        let zp = -se * h + ce * z;
-        let e_le = ct * t + st * zp;
-        let n = -st * t + ct * zp;
-        let k_phi = Vector3::new(0.0, 0.0, -s); // h x t
-        let k_eta = e_span.cross(&zp);
-        let k_theta = t.cross(&zp);
-        let w_phi = a.phi_dot * k_phi;
-        let w12 = w_phi + a.eta_dot * k_eta;
-        let omega = w12 + a.theta_dot * k_theta;
-        let alpha = a.phi_ddot * k_phi
-            + a.eta_ddot * k_eta
-            + a.theta_ddot * k_theta
-            + a.eta_dot * w_phi.cross(&k_eta)
-            + a.theta_dot * w12.cross(&k_theta);
-        Self {
-            e_span,
-            t,
-            e_le,
-            n,
-            omega,
-            alpha,
-        }
-    }
-
-    /// The mirror image in the body's x-z plane (left wing to right wing with the same
-    /// angles): polar vectors flip y, the angular velocity and acceleration (pseudovectors)
-    /// flip x and z.
-    pub fn mirrored(&self) -> Self {
-        let m = |v: &Vector3<f64>| Vector3::new(v.x, -v.y, v.z);
-        let p = |v: &Vector3<f64>| Vector3::new(-v.x, v.y, -v.z);
-        Self {
-            e_span: m(&self.e_span),
-            t: m(&self.t),
-            e_le: m(&self.e_le),
-            n: m(&self.n),
-            omega: p(&self.omega),
-            alpha: p(&self.alpha),
-        }
-    }
-
-    /// Normal acceleration n . a of the wing point at span `r_m` and chordwise `x_m` (from
-    /// the pitch axis towards the leading edge) from the rigid-wing kinematics alone.
-    pub fn normal_acceleration(&self, r_m: f64, x_m: f64) -> f64 {
-        let p = r_m * self.e_span + x_m * self.e_le;
-        self.n
-            .dot(&(self.alpha.cross(&p) + self.omega.cross(&self.omega.cross(&p))))
-    }
-
-    /// A term's force and moment (stroke frame) with its lift and drag coefficients.
-    fn term(&self, f: Vector3<f64>, m: Vector3<f64>, q_ref_s: f64, downstroke: bool) -> TermForce {
-        let dir = if downstroke { 1.0 } else { -1.0 };
-        TermForce {
-            force_n: f,
-            moment_hinge_nm: m,
-            c_l: f.z / q_ref_s,
-            c_d: -f.dot(&(dir * self.t)) / q_ref_s,
-        }
-    }
 }
