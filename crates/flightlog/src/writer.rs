@@ -1,5 +1,9 @@
 //! The MCAP writer thread: compresses the chunks the simulation thread fills and writes them.
 //!
+//! The simulation thread encodes a chunk's samples (a few microseconds of work per sample
+//! at most, [`crate::encode`]); compressing them with zstd costs more than that, so it runs
+//! here, on the machine's second core.
+//!
 //! Jobs travel on a bounded queue of [`QUEUE`] chunks, so `record` blocks only while the
 //! thread is that far behind (a slow disk slows the run instead of filling memory), and a
 //! killed run loses at most the chunks in the queue and the one being filled. Emptied chunk
@@ -14,7 +18,8 @@ use std::sync::Mutex;
 use std::sync::mpsc::{self, Receiver, Sender, SyncSender};
 use std::thread::JoinHandle;
 
-use crate::mcap_write::{ChunkBuilder, McapWriter, RawChunk};
+use crate::chunk::{ChunkBuilder, RawChunk};
+use crate::mcap_write::McapWriter;
 use crate::schema;
 use crate::{Error, Result};
 

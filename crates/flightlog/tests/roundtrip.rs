@@ -57,6 +57,7 @@ fn round_trip_full_rate() {
         } else if topic == schema::TOPIC_SCENE {
             1
         } else {
+            // Every other channel, /scene/forces too, has one message per sample.
             n
         };
         assert_eq!(c.message_count, expect, "{topic}");
@@ -138,7 +139,7 @@ fn round_trip_full_rate() {
         let v = common::decode(&m);
         assert_eq!(m.log_time, m.publish_time);
         // A scene update has its times in its entities.
-        let ts = if topic == schema::TOPIC_SCENE {
+        let ts = if topic == schema::TOPIC_SCENE || topic == schema::TOPIC_SCENE_FORCES {
             &v["entities"][0]["timestamp"]
         } else {
             &v["timestamp"]
@@ -242,6 +243,21 @@ fn round_trip_full_rate() {
                     assert_vec(&v[part]["moment_nm"], &t.moment_about_com_nm(&hinge), part);
                     assert!(close(v[part]["c_l"].as_f64().unwrap(), t.c_l), "{part}");
                     assert!(close(v[part]["c_d"].as_f64().unwrap(), t.c_d), "{part}");
+                }
+            }
+            "/scene/forces" => {
+                // The arrows are the wings' total forces: length |F| / weight * body length.
+                let m_per_n = run.vehicle.length_m / run.vehicle.weight_n();
+                for (w, e) in common::force_arrows(&v).iter().enumerate() {
+                    assert_eq!(e.frame_id, "base_link");
+                    assert_eq!(e.position, wings_static[w].1);
+                    let f = out.wings[w].total.force_n;
+                    assert!(
+                        (e.vector / m_per_n - f).norm() <= 1e-12 * f.norm(),
+                        "step {} wing {w}: arrow {} for {f}",
+                        out.step,
+                        e.vector / m_per_n
+                    );
                 }
             }
             "/vehicle/controls" => {
