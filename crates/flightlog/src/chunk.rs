@@ -72,9 +72,14 @@ pub(crate) fn widen(bounds: &mut Option<(u64, u64)>, t: u64) {
 
 /// The records of a chunk not yet compressed: message records appended one by one, with what
 /// the chunk record and its message indexes need.
+///
+/// The records are the first `used` bytes of `buf`, which only grows (zero-filled once): a
+/// message is encoded straight into the room after them, so the buffer is neither cleared
+/// nor filled again for each message.
 #[derive(Debug, Default)]
 pub(crate) struct RawChunk {
-    records: Vec<u8>,
+    buf: Vec<u8>,
+    used: usize,
     bounds: Option<(u64, u64)>,
     /// Per channel id: (log time, offset in the uncompressed chunk) of each message.
     index: Vec<Vec<(u64, u64)>>,
@@ -83,37 +88,60 @@ pub(crate) struct RawChunk {
 impl RawChunk {
     /// True when the chunk holds no record.
     pub fn is_empty(&self) -> bool {
-        self.records.is_empty()
+        self.used == 0
     }
 
-    /// Makes room for `bytes` more bytes of records.
-    pub fn reserve(&mut self, bytes: usize) {
-        self.records.reserve(bytes);
+    /// The records.
+    pub fn records(&self) -> &[u8] {
+        &self.buf[..self.used]
+    }
+
+    /// The `n` bytes after the records (growing the buffer when needed).
+    fn room(&mut self, n: usize) -> &mut [u8] {
+        let need = self.used + n;
+        if self.buf.len() < need {
+            self.buf
+                .resize(need.max(2 * self.buf.len()).max(64 * 1024), 0);
+        }
+        &mut self.buf[self.used..need]
+    }
+
+    fn append(&mut self, bytes: &[u8]) {
+        self.room(bytes.len()).copy_from_slice(bytes);
+        self.used += bytes.len();
     }
 
     /// Empties the chunk, keeping its buffers.
     pub fn clear(&mut self) {
-        self.records.clear();
+        self.used = 0;
         self.bounds = None;
         self.index.iter_mut().for_each(Vec::clear);
     }
 
-    /// Appends a message record of `data` (encoded straight into the chunk).
-    pub fn message(&mut self, channel_id: u16, sequence: u32, t_ns: u64, data: &dyn Encoded) {
-        let mut head = [0u8; MESSAGE_HEADER_LEN];
-        message_header(&mut head, channel_id, sequence, t_ns, data.len());
+    /// Records the index entry of a message record starting now.
+    fn index_entry(&mut self, channel_id: u16, t_ns: u64) {
         widen(&mut self.bounds, t_ns);
         let c = usize::from(channel_id);
         if self.index.len() <= c {
             self.index.resize_with(c + 1, Vec::new);
         }
-        self.index[c].push((t_ns, self.records.len() as u64));
-        self.records.extend_from_slice(&head);
-        data.put(&mut self.records);
+        self.index[c].push((t_ns, self.used as u64));
+    }
+
+    /// Appends a message record of `data` (encoded by prost: the planforms, events).
+    pub fn message(&mut self, channel_id: u16, sequence: u32, t_ns: u64, data: &dyn Encoded) {
+        let mut head = [0u8; MESSAGE_HEADER_LEN];
+        message_header(&mut head, channel_id, sequence, t_ns, data.len());
+        self.index_entry(channel_id, t_ns);
+        let mut bytes = Vec::with_capacity(MESSAGE_HEADER_LEN + data.len());
+        bytes.extend_from_slice(&head);
+        data.put(&mut bytes);
+        self.append(&bytes);
     }
 
     /// Appends a message record whose data `encode` writes, in at most `bound` bytes (the
     /// record's length is filled in afterwards).
+    #[inline]
     pub fn message_with(
         &mut self,
         channel_id: u16,
@@ -122,27 +150,21 @@ impl RawChunk {
         bound: usize,
         encode: impl FnOnce(&mut Pb),
     ) {
-        widen(&mut self.bounds, t_ns);
-        let c = usize::from(channel_id);
-        if self.index.len() <= c {
-            self.index.resize_with(c + 1, Vec::new);
-        }
-        let at = self.records.len();
-        self.index[c].push((t_ns, at as u64));
-        let data = at + MESSAGE_HEADER_LEN;
-        self.records.resize(data + bound, 0);
-        let mut p = Pb::new(&mut self.records[data..]);
+        self.index_entry(channel_id, t_ns);
+        let room = self.room(MESSAGE_HEADER_LEN + bound);
+        let (head, data) = room.split_at_mut(MESSAGE_HEADER_LEN);
+        let mut p = Pb::new(data);
         encode(&mut p);
         let len = p.len();
-        self.records.truncate(data + len);
-        let mut head = [0u8; MESSAGE_HEADER_LEN];
-        message_header(&mut head, channel_id, sequence, t_ns, len);
-        self.records[at..data].copy_from_slice(&head);
+        let mut h = [0u8; MESSAGE_HEADER_LEN];
+        message_header(&mut h, channel_id, sequence, t_ns, len);
+        head.copy_from_slice(&h);
+        self.used += MESSAGE_HEADER_LEN + len;
     }
 
     /// Appends a whole record that is not a message (a schema, a channel).
     pub(crate) fn record(&mut self, record: &[u8]) {
-        self.records.extend_from_slice(record);
+        self.append(record);
     }
 }
 
@@ -173,9 +195,10 @@ impl ChunkBuilder {
 
     /// The chunk `raw` compressed (in one call: zstd gets the whole chunk at once).
     pub fn compress(&mut self, raw: &RawChunk) -> io::Result<BuiltChunk> {
-        let mut compressed = Vec::with_capacity(zstd::zstd_safe::compress_bound(raw.records.len()));
+        let records = raw.records();
+        let mut compressed = Vec::with_capacity(zstd::zstd_safe::compress_bound(records.len()));
         self.cctx
-            .compress2(&mut compressed, &raw.records)
+            .compress2(&mut compressed, records)
             .map_err(zstd_error)?;
         let index = raw
             .index
@@ -186,8 +209,8 @@ impl ChunkBuilder {
             .collect();
         Ok(BuiltChunk {
             compressed,
-            size: raw.records.len() as u64,
-            crc: crc32fast::hash(&raw.records),
+            size: records.len() as u64,
+            crc: crc32fast::hash(records),
             bounds: raw.bounds,
             index,
         })

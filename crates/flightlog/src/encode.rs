@@ -13,19 +13,24 @@ use foxglove::messages::{ArrowPrimitive, FrameTransform, PoseInFrame, SceneUpdat
 
 use crate::chunk::RawChunk;
 use crate::proto;
-use crate::sample::{Sample, SampleBuilder, timestamp};
+use crate::recorder::Decimator;
+use crate::sample::{SAMPLE_MESSAGES, Sample, SampleBuilder, timestamp};
 use crate::scene::ForceArrows;
-use crate::schema::{CHANNELS, EVENTS, SCENE_FORCES, SCENE_WINGS, channel_id};
+use crate::schema::{
+    CHANNELS, EVENTS, FORCE_ARROWS_MAX_RATE_HZ, SCENE_FORCES, SCENE_WINGS, channel_id,
+};
 
-/// Writes each logged step's messages into the open chunk: the ten of the sample and its
-/// force arrows, after the wing planforms with the very first step; and the events. Keeps
-/// the channels' sequence numbers, and the messages built last (reused by the next step, and
-/// by the Rerun and live views).
+/// Writes each logged step's messages into the open chunk: the ten of the sample and, at
+/// most [`FORCE_ARROWS_MAX_RATE_HZ`] times per simulated second, its force arrows, after the
+/// wing planforms with the very first step; and the events. Keeps the channels' sequence
+/// numbers, and the messages built last (reused by the next step, and by the Rerun and live
+/// views).
 pub(crate) struct SampleEncoder {
     builder: SampleBuilder,
     sample: Sample,
     arrows: ForceArrows,
     arrow_message: SceneUpdate,
+    arrow_decimator: Decimator,
     /// The wing planforms, until they go out with the first sample.
     planforms: Option<SceneUpdate>,
     sequences: [u32; CHANNELS.len()],
@@ -38,6 +43,7 @@ impl SampleEncoder {
             sample: Sample::default(),
             arrows,
             arrow_message: SceneUpdate::default(),
+            arrow_decimator: Decimator::new(Some(FORCE_ARROWS_MAX_RATE_HZ)),
             planforms: Some(planforms),
             sequences: [0; CHANNELS.len()],
         }
@@ -54,13 +60,14 @@ impl SampleEncoder {
         s
     }
 
-    /// Builds the messages of `out` and appends their records to `raw`.
-    pub fn sample(&mut self, out: &StepOutput, raw: &mut RawChunk) {
-        // A sample's records take about 2.3 kB.
-        raw.reserve(4096);
+    /// Builds the messages of `out` and appends their records to `raw`; the number of
+    /// messages written.
+    pub fn sample(&mut self, out: &StepOutput, raw: &mut RawChunk) -> u64 {
+        let mut messages = SAMPLE_MESSAGES as u64;
         self.builder.build(out, &mut self.sample);
         let t_ns = self.sample.t_ns;
         if let Some(mut scene) = self.planforms.take() {
+            messages += 1;
             for e in &mut scene.entities {
                 e.timestamp = Some(timestamp(t_ns));
             }
@@ -79,12 +86,16 @@ impl SampleEncoder {
             sequences[i] = seq.wrapping_add(1);
             raw.message_with(channel_id(i), seq, t_ns, bound, encode);
         });
-        arrows.build(sample, arrow_message);
-        let seq = self.next(SCENE_FORCES);
-        let bound = arrow_scene_bound(&self.arrow_message);
-        raw.message_with(channel_id(SCENE_FORCES), seq, t_ns, bound, |p| {
-            arrow_scene(p, &self.arrow_message);
-        });
+        if self.arrow_decimator.take(out.t_s) {
+            arrows.build(sample, arrow_message);
+            let seq = self.next(SCENE_FORCES);
+            let bound = arrow_scene_bound(&self.arrow_message);
+            raw.message_with(channel_id(SCENE_FORCES), seq, t_ns, bound, |p| {
+                arrow_scene(p, &self.arrow_message);
+            });
+            messages += 1;
+        }
+        messages
     }
 
     /// Appends an event's record to `raw`.
@@ -108,10 +119,10 @@ const VARINT: u8 = 0;
 const FIXED64: u8 = 1;
 const LEN: u8 = 2;
 
-/// Room enough for any of the sample's messages, strings aside (the largest, a
-/// `flapwing.WingForces` with every field set and the longest varints, takes under 500
-/// bytes; each sub-message may need 9 more bytes for a long length).
-pub(crate) const SAMPLE_BOUND: usize = 1024;
+/// Room enough for any of the sample's messages, strings aside: the largest, a
+/// `flapwing.WingForces` with every field set and the longest varints, takes 433 bytes (its
+/// sub-messages are all shorter than 128 bytes, so their lengths take one byte).
+pub(crate) const SAMPLE_BOUND: usize = 512;
 
 impl<'a> Pb<'a> {
     pub fn new(buf: &'a mut [u8]) -> Self {
@@ -123,25 +134,25 @@ impl<'a> Pb<'a> {
         self.n
     }
 
-    #[inline]
+    #[inline(always)]
     fn put(&mut self, bytes: &[u8]) {
         self.buf[self.n..self.n + bytes.len()].copy_from_slice(bytes);
         self.n += bytes.len();
     }
 
-    #[inline]
+    #[inline(always)]
     fn byte(&mut self, b: u8) {
         self.buf[self.n] = b;
         self.n += 1;
     }
 
-    #[inline]
+    #[inline(always)]
     fn key(&mut self, tag: u8, wire: u8) {
         debug_assert!(tag < 16);
         self.byte((tag << 3) | wire);
     }
 
-    #[inline]
+    #[inline(always)]
     fn varint(&mut self, mut v: u64) {
         while v >= 0x80 {
             self.byte((v as u8) | 0x80);
@@ -151,7 +162,7 @@ impl<'a> Pb<'a> {
     }
 
     /// A `double` field (left out when it equals 0.0, as proto3 does; -0.0 too).
-    #[inline]
+    #[inline(always)]
     pub fn double(&mut self, tag: u8, v: f64) {
         if v != 0.0 {
             debug_assert!(tag < 16);
@@ -165,7 +176,7 @@ impl<'a> Pb<'a> {
     /// A sub-message of `N` `double` fields numbered from 1, none of them zero: `B` (= 2 +
     /// 9 N) bytes written at once. Vectors and quaternions are rarely zero, so this is the
     /// path nearly all of them take.
-    #[inline]
+    #[inline(always)]
     fn doubles<const N: usize, const B: usize>(&mut self, tag: u8, v: [f64; N]) {
         debug_assert!(tag < 16 && B == 2 + 9 * N && B < 0x80);
         let mut b = [0u8; B];
@@ -179,7 +190,7 @@ impl<'a> Pb<'a> {
     }
 
     /// A `uint32`, `uint64` or `int64` field (an int64 as its two's complement u64).
-    #[inline]
+    #[inline(always)]
     pub fn uint(&mut self, tag: u8, v: u64) {
         if v != 0 {
             self.key(tag, VARINT);
@@ -187,7 +198,7 @@ impl<'a> Pb<'a> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     pub fn boolean(&mut self, tag: u8, v: bool) {
         if v {
             self.key(tag, VARINT);
@@ -195,7 +206,7 @@ impl<'a> Pb<'a> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     pub fn string(&mut self, tag: u8, s: &str) {
         if !s.is_empty() {
             self.key(tag, LEN);
@@ -205,7 +216,7 @@ impl<'a> Pb<'a> {
     }
 
     /// A sub-message written by `fields`.
-    #[inline]
+    #[inline(always)]
     pub fn message(&mut self, tag: u8, fields: impl FnOnce(&mut Self)) {
         self.key(tag, LEN);
         let at = self.n;
@@ -215,23 +226,30 @@ impl<'a> Pb<'a> {
         if len < 0x80 {
             self.buf[at] = len as u8;
         } else {
-            // A longer length takes more bytes: move the fields up to make room.
-            let mut head = [0u8; 10];
-            let (mut v, mut k) = (len as u64, 0);
-            while v >= 0x80 {
-                head[k] = (v as u8) | 0x80;
-                v >>= 7;
-                k += 1;
-            }
-            head[k] = v as u8;
-            k += 1;
-            self.buf.copy_within(at + 1..self.n, at + k);
-            self.buf[at..at + k].copy_from_slice(&head[..k]);
-            self.n += k - 1;
+            self.long_length(at, len);
         }
     }
 
-    #[inline]
+    /// Moves the fields of a sub-message of `len` bytes at `at` up to make room for its
+    /// length, which takes more than one byte.
+    #[cold]
+    #[inline(never)]
+    fn long_length(&mut self, at: usize, len: usize) {
+        let mut head = [0u8; 10];
+        let (mut v, mut k) = (len as u64, 0);
+        while v >= 0x80 {
+            head[k] = (v as u8) | 0x80;
+            v >>= 7;
+            k += 1;
+        }
+        head[k] = v as u8;
+        k += 1;
+        self.buf.copy_within(at + 1..self.n, at + k);
+        self.buf[at..at + k].copy_from_slice(&head[..k]);
+        self.n += k - 1;
+    }
+
+    #[inline(always)]
     fn timestamp(&mut self, tag: u8, t: &Option<Timestamp>) {
         if let Some(t) = t {
             self.message(tag, |p| {
@@ -241,7 +259,7 @@ impl<'a> Pb<'a> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn xyz(&mut self, tag: u8, v: Option<[f64; 3]>) {
         match v {
             Some(v) if v.iter().all(|x| *x != 0.0) => self.doubles::<3, 29>(tag, v),
@@ -254,7 +272,7 @@ impl<'a> Pb<'a> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn xyzw(&mut self, tag: u8, q: Option<[f64; 4]>) {
         match q {
             Some(q) if q.iter().all(|x| *x != 0.0) => self.doubles::<4, 38>(tag, q),
@@ -268,6 +286,7 @@ impl<'a> Pb<'a> {
         }
     }
 
+    #[inline(always)]
     fn pose(&mut self, tag: u8, pose: &Option<foxglove::messages::Pose>) {
         if let Some(pose) = pose {
             self.message(tag, |p| {
@@ -278,7 +297,7 @@ impl<'a> Pb<'a> {
     }
 
     /// The common head of flapwing's messages: timestamp, step, t_s, phase.
-    #[inline]
+    #[inline(always)]
     fn head(&mut self, ts: &Option<Timestamp>, step: u64, t_s: f64, phase: f64) {
         self.timestamp(1, ts);
         self.uint(2, step);
@@ -286,14 +305,17 @@ impl<'a> Pb<'a> {
         self.double(4, phase);
     }
 
+    #[inline(always)]
     fn angles(&mut self, tag: u8, a: &Option<proto::WingAngles>) {
         self.xyz(tag, a.map(|a| [a.phi, a.theta, a.eta]));
     }
 
+    #[inline(always)]
     fn vec3(&mut self, tag: u8, v: &Option<proto::Vector3>) {
         self.xyz(tag, v.map(|v| [v.x, v.y, v.z]));
     }
 
+    #[inline(always)]
     fn force_term(&mut self, tag: u8, t: &Option<proto::ForceTerm>) {
         if let Some(t) = t {
             self.message(tag, |p| {
@@ -306,12 +328,14 @@ impl<'a> Pb<'a> {
     }
 }
 
+#[inline(always)]
 pub(crate) fn pose_in_frame(p: &mut Pb, m: &PoseInFrame) {
     p.timestamp(1, &m.timestamp);
     p.string(2, &m.frame_id);
     p.pose(3, &m.pose);
 }
 
+#[inline(always)]
 pub(crate) fn frame_transform(p: &mut Pb, m: &FrameTransform) {
     p.timestamp(1, &m.timestamp);
     p.string(2, &m.parent_frame_id);
@@ -320,6 +344,7 @@ pub(crate) fn frame_transform(p: &mut Pb, m: &FrameTransform) {
     p.xyzw(5, m.rotation.map(|q| [q.x, q.y, q.z, q.w]));
 }
 
+#[inline(always)]
 pub(crate) fn vehicle_state(p: &mut Pb, m: &proto::VehicleState) {
     p.head(&m.timestamp, m.step, m.t_s, m.phase);
     p.vec3(5, &m.position_m);
@@ -332,6 +357,7 @@ pub(crate) fn vehicle_state(p: &mut Pb, m: &proto::VehicleState) {
     p.double(12, m.lift_over_weight);
 }
 
+#[inline(always)]
 pub(crate) fn controls(p: &mut Pb, m: &proto::Controls) {
     p.head(&m.timestamp, m.step, m.t_s, m.phase);
     p.double(5, m.mean_stroke_deg);
@@ -352,6 +378,7 @@ pub(crate) fn controls(p: &mut Pb, m: &proto::Controls) {
     }
 }
 
+#[inline(always)]
 pub(crate) fn wing_kinematics(p: &mut Pb, m: &proto::WingKinematics) {
     p.head(&m.timestamp, m.step, m.t_s, m.phase);
     p.angles(5, &m.angles_deg);
@@ -373,6 +400,7 @@ pub(crate) fn wing_kinematics(p: &mut Pb, m: &proto::WingKinematics) {
     }
 }
 
+#[inline(always)]
 pub(crate) fn wing_forces(p: &mut Pb, m: &proto::WingForces) {
     p.head(&m.timestamp, m.step, m.t_s, m.phase);
     p.force_term(5, &m.translational);
@@ -382,6 +410,7 @@ pub(crate) fn wing_forces(p: &mut Pb, m: &proto::WingForces) {
     p.force_term(9, &m.total);
 }
 
+#[inline(always)]
 fn arrow(p: &mut Pb, a: &ArrowPrimitive) {
     p.pose(1, &a.pose);
     p.double(2, a.shaft_length);
@@ -469,8 +498,7 @@ mod tests {
         let mut here = Vec::new();
         each_encoder(s, |i, bound, encode| {
             let b = enc(bound, encode);
-            // Far from the bound: each sub-message has room for a long length.
-            assert!(b.len() + 200 < bound, "{i}: {} bytes", b.len());
+            assert!(b.len() + 64 < bound, "{i}: {} bytes", b.len());
             here.push((i, b));
         });
         let bound = arrow_scene_bound(arrows);

@@ -19,7 +19,7 @@ use crate::encode::SampleEncoder;
 use crate::mcap_write::McapWriter;
 #[cfg(any(feature = "rerun", feature = "live"))]
 use crate::sample::Sample;
-use crate::sample::{SAMPLE_MESSAGES, SampleBuilder, WingStatic, time_ns, timestamp};
+use crate::sample::{SampleBuilder, WingStatic, time_ns, timestamp};
 use crate::scene::ForceArrows;
 use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING, channel_id};
 use crate::writer::Writer;
@@ -29,8 +29,6 @@ use crate::{Error, Level, LogOptions, Result, RunInfo};
 const FLUSH_INTERVAL_NS: u64 = 50_000_000;
 /// Close the current chunk after this many samples (about 460 kB of protobuf).
 const CHUNK_SAMPLES: u64 = 200;
-/// MCAP messages per logged sample: the ten of the sample and its force arrows.
-const MESSAGES_PER_SAMPLE: u64 = SAMPLE_MESSAGES as u64 + 1;
 
 /// Picks the steps to log: with a rate `r`, step k (time t_k) is logged when
 /// `floor(t_k r)` differs from that of the last logged step (the first step is always
@@ -110,7 +108,8 @@ impl McapOut {
         self.writer.chunk(full)
     }
 
-    fn sample(&mut self, out: &StepOutput) -> Result<()> {
+    /// Adds a sample; the number of messages written.
+    fn sample(&mut self, out: &StepOutput) -> Result<u64> {
         let t_ns = time_ns(out.t_s);
         if self.chunk_samples > 0 && t_ns.saturating_sub(self.chunk_start_ns) >= FLUSH_INTERVAL_NS {
             self.close_chunk()?;
@@ -118,12 +117,12 @@ impl McapOut {
         if self.chunk_samples == 0 {
             self.chunk_start_ns = t_ns;
         }
-        self.encoder.sample(out, &mut self.chunk);
+        let messages = self.encoder.sample(out, &mut self.chunk);
         self.chunk_samples += 1;
         if self.chunk_samples >= CHUNK_SAMPLES {
             self.close_chunk()?;
         }
-        Ok(())
+        Ok(messages)
     }
 
     /// The event in a chunk of its own; returns once it is in the file.
@@ -306,9 +305,7 @@ impl Recorder {
         self.stats.samples += 1;
         self.stats.last_t_s = out.t_s;
         if let Some(m) = &mut self.mcap {
-            m.sample(out)?;
-            // The planforms go out with the first sample.
-            self.stats.mcap_messages += MESSAGES_PER_SAMPLE + u64::from(self.stats.samples == 1);
+            self.stats.mcap_messages += m.sample(out)?;
         }
         #[cfg(any(feature = "rerun", feature = "live"))]
         self.view(out)?;

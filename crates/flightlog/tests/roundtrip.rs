@@ -45,6 +45,16 @@ fn round_trip_full_rate() {
     assert_eq!(s.damage, None);
     assert_eq!(s.samples, n);
     assert_eq!(s.message_count, run.stats.mcap_messages);
+    // The force arrows: at most FORCE_ARROWS_MAX_RATE_HZ per second (by log time).
+    let mut arrow_decimator = Decimator::new(Some(schema::FORCE_ARROWS_MAX_RATE_HZ));
+    let arrow_steps: BTreeMap<u64, usize> = run
+        .outs
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| arrow_decimator.take(o.t_s))
+        .map(|(k, o)| ((o.t_s * 1e9).round() as u64, k))
+        .collect();
+    assert!(arrow_steps.len() < run.outs.len() / 5);
     let topics: Vec<&str> = s.channels.iter().map(|c| c.topic.as_str()).collect();
     assert_eq!(topics.len(), CHANNELS.len());
     for (topic, schema_name) in CHANNELS {
@@ -56,8 +66,9 @@ fn round_trip_full_rate() {
             run.stats.events
         } else if topic == schema::TOPIC_SCENE {
             1
+        } else if topic == schema::TOPIC_SCENE_FORCES {
+            arrow_steps.len() as u64
         } else {
-            // Every other channel, /scene/forces too, has one message per sample.
             n
         };
         assert_eq!(c.message_count, expect, "{topic}");
@@ -169,7 +180,11 @@ fn round_trip_full_rate() {
             }
             continue;
         }
-        let out = &run.outs[k];
+        let out = if topic == schema::TOPIC_SCENE_FORCES {
+            &run.outs[arrow_steps[&m.log_time]]
+        } else {
+            &run.outs[k]
+        };
         assert_eq!(m.log_time, (out.t_s * 1e9).round() as u64);
         match topic.as_str() {
             "/vehicle/state" => {

@@ -1,17 +1,19 @@
-//! `/scene/forces`: per logged sample, each wing's total aerodynamic force as a Foxglove arrow
-//! (`foxglove.SceneUpdate` with one `ArrowPrimitive` per wing), decoded back and compared with
-//! the forces the simulation produced.
+//! `/scene/forces`: each wing's total aerodynamic force as a Foxglove arrow
+//! (`foxglove.SceneUpdate` with one `ArrowPrimitive` per wing) on every logged sample, at most
+//! `FORCE_ARROWS_MAX_RATE_HZ` times per second, decoded back and compared with the forces the
+//! simulation produced.
 
 mod common;
 
 use common::{force_arrows, mcap_opts, record_model, wingbeats};
 use flapsim::Mode;
 use flightlog::Decimator;
-use flightlog::schema::{TOPIC_SCENE_FORCES, TOPIC_STATE};
+use flightlog::schema::{FORCE_ARROWS_MAX_RATE_HZ, TOPIC_SCENE_FORCES, TOPIC_STATE};
 
 /// Records `model` at `rate` and checks every arrow against the logged step's forces: one
-/// message per sample at the sample's time; per wing an arrow in `base_link`, locked to it, at
-/// the hinge, whose vector is the total force times body length / weight.
+/// message per sample (at most 2000 per second) at the sample's time; per wing an arrow in
+/// `base_link`, locked to it, at the hinge, whose vector is the total force times body length
+/// / weight.
 fn arrows_are_the_forces(toml: &str, origin: &str, mode: Mode, rate: Option<f64>) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("run.mcap");
@@ -26,6 +28,17 @@ fn arrows_are_the_forces(toml: &str, origin: &str, mode: Mode, rate: Option<f64>
     let mut decimator = Decimator::new(rate);
     let logged: Vec<_> = run.outs.iter().filter(|o| decimator.take(o.t_s)).collect();
     assert_eq!(logged.len() as u64, run.stats.samples);
+    let samples = logged.len();
+    let mut arrow_decimator = Decimator::new(Some(FORCE_ARROWS_MAX_RATE_HZ));
+    let logged: Vec<_> = logged
+        .into_iter()
+        .filter(|o| arrow_decimator.take(o.t_s))
+        .collect();
+    if rate.is_some_and(|r| r <= FORCE_ARROWS_MAX_RATE_HZ) {
+        assert_eq!(logged.len(), samples, "an arrow on every sample");
+    } else {
+        assert!(logged.len() < samples / 3, "{} of {samples}", logged.len());
+    }
     let m_per_n = run.vehicle.length_m / run.vehicle.weight_n();
 
     let bytes = std::fs::read(&path).unwrap();
@@ -62,7 +75,17 @@ fn arrows_are_the_forces(toml: &str, origin: &str, mode: Mode, rate: Option<f64>
         }
     }
     assert_eq!(arrows, logged.len());
-    assert_eq!(states, arrows);
+    assert_eq!(states, samples);
+}
+
+#[test]
+fn arrows_at_a_low_rate() {
+    arrows_are_the_forces(
+        flapsim::DROSOPHILA_TOML,
+        "drosophila.toml",
+        Mode::Free,
+        Some(700.0),
+    );
 }
 
 #[test]
