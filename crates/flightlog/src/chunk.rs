@@ -33,17 +33,19 @@ pub(crate) fn message_header(
     out[23..31].copy_from_slice(&t_ns.to_le_bytes());
 }
 
-/// The zstd parameters of the chunks: the "fast" strategy as in level 1, with a 64 KiB hash
-/// table (hash log 14), a window that holds a whole chunk, a minimum match of 7 and an
-/// acceleration factor of 8 (which also stores the literals without Huffman coding). Any
-/// zstd decoder reads it (the window is 2 MiB).
+/// The zstd parameters of the chunks: the "fast" strategy as in level 1, with a 128 KiB hash
+/// table (hash log 15), a window that holds a whole chunk, a minimum match of 7 and an
+/// acceleration factor of 4 (small enough that zstd Huffman-codes the literals: the exponent
+/// bytes of the doubles repeat). Any zstd decoder reads it (the window is 2 MiB).
 ///
-/// Measured on the protobuf messages of a free flight at full rate (2026-12-02, one thread,
-/// 2000 samples at once): these settings 0.97 us per sample for a ratio of 2.5; plain level 1
-/// 2.07 us for 3.4; level -5 1.44 us for 2.5; hash log 12 with acceleration 32 0.59 us for
-/// 1.5. In the files (200-sample chunks, record headers included) it is about 1.0 KB per
-/// sample, against 1.8 KB of the JSON logs before, so the fastest setting that keeps the files
-/// well below the old size was kept.
+/// Measured on the chunks of a 0.5 s free flight at full rate (2026-12-02, instructions
+/// counted with callgrind, 21.4 MB of records with the force arrows): these settings 7.66 MB,
+/// 23.3 k instructions per sample; the acceleration factor 8 of before 9.24 MB (hash log
+/// 15) or 9.45 MB (hash log 14) for 19.1 k; factor 5 8.17 MB for 22.4 k; hash log 16 and 17
+/// gain under 1 %. Factors 6 and above store the literals raw. The files are about 7 % (at
+/// 2000 Hz) and 15 % (full rate) smaller than with the settings before, force arrows
+/// included, for about 20 % more time of the writer thread, which at full rate still has
+/// more time than the simulation thread needs to fill the chunks.
 fn zstd_params(cctx: &mut CCtx<'static>) -> io::Result<()> {
     for p in [
         CParameter::CompressionLevel(1),
