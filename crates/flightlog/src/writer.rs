@@ -4,9 +4,11 @@
 //! at most, [`crate::encode`]); compressing them with zstd costs more than that, so it runs
 //! here, on the machine's second core.
 //!
-//! Jobs travel on a bounded queue of [`QUEUE`] chunks, so `record` blocks only while the
-//! thread is that far behind (a slow disk slows the run instead of filling memory), and a
-//! killed run loses at most the chunks in the queue and the one being filled. Emptied chunk
+//! Jobs travel on a bounded queue of [`QUEUE`] chunk besides the one the thread is writing, so
+//! `record` blocks only while the thread is two closed chunks behind (a slow disk slows the
+//! run instead of filling memory), and a killed run loses at most those two chunks and the one
+//! being filled: when a close returns, every chunk closed before the two newest is in the
+//! file. Emptied chunk
 //! buffers come back for reuse. The first error of the thread ends it; the next call here
 //! returns it, and later calls say that the writer stopped because of it.
 
@@ -23,8 +25,9 @@ use crate::mcap_write::McapWriter;
 use crate::schema;
 use crate::{Error, Result};
 
-/// Chunks queued for the writer thread at most.
-const QUEUE: usize = 2;
+/// Chunks waiting for the writer thread at most, besides the one it is writing (the queue
+/// of `sync_channel(QUEUE)` holds jobs the thread has not taken yet).
+const QUEUE: usize = 1;
 
 enum Job {
     Chunk(RawChunk),
