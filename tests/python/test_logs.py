@@ -103,6 +103,26 @@ def test_every_message_decodes_to_the_simulated_values(run_flapwing, tmp_path):
             for i in range(3):
                 assert total[i] == pytest.approx(sum(p[i] for p in parts), rel=1e-9, abs=1e-18)
         assert not msgs["/vehicle/controls"][k].HasField("drive")
+    # /scene/forces: at most 2000 per simulated second (here about one step in 11), per wing an
+    # arrow from the hinge along its total force, the same length per newton on every message
+    # (body length / weight).
+    by_ns = {round(s.t_s * 1e9): k for k, s in enumerate(states)}
+    scenes = msgs["/scene/forces"]
+    assert steps // 12 < len(scenes) < steps // 5
+    scale = None
+    for scene in scenes:
+        assert [e.id for e in scene.entities] == ["force_left", "force_right"]
+        for side, e in zip(["left", "right"], scene.entities):
+            assert e.frame_id == "base_link" and e.frame_locked
+            k = by_ns[e.timestamp.seconds * 1_000_000_000 + e.timestamp.nanos]
+            (arrow,) = e.arrows
+            f = xyz(msgs[f"/wing/{side}/forces"][k].total.force_n)
+            length = arrow.shaft_length + arrow.head_length
+            q = arrow.pose.orientation
+            # The arrow's +x axis turned by its orientation.
+            d = [1 - 2 * (q.y**2 + q.z**2), 2 * (q.x * q.y + q.w * q.z), 2 * (q.x * q.z - q.w * q.y)]
+            scale = scale or length / math.hypot(*f)
+            assert [length * c for c in d] == pytest.approx([scale * c for c in f], rel=1e-9, abs=1e-12 * length)
 
     # The last sample is the shorter run's final state, bit for bit.
     final, last = short["summary"]["final_state"], states[-1]

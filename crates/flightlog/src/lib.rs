@@ -48,7 +48,9 @@
 //! The channels, schemas and metadata are listed in the crate's README.md.
 
 pub mod check;
+mod chunk;
 mod decode;
+mod encode;
 mod error;
 mod json;
 #[cfg(feature = "live")]
@@ -61,6 +63,7 @@ pub mod replay;
 #[cfg(feature = "rerun")]
 mod rerun_sink;
 mod sample;
+mod scene;
 pub mod schema;
 mod writer;
 

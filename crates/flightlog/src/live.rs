@@ -13,7 +13,9 @@ use foxglove::{
 };
 
 use crate::sample::{Encoded, Sample};
-use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING};
+use crate::schema::{
+    self, CHANNELS, EVENTS, MESSAGE_ENCODING, SCENE_FORCES, SCENE_WINGS, SCHEMA_ENCODING,
+};
 use crate::{Error, Result};
 
 /// The running server and its channels (in the order of [`CHANNELS`]).
@@ -111,13 +113,23 @@ impl LiveSink {
 
     /// Sends an event on /events.
     pub fn event(&mut self, t_ns: u64, log: &foxglove::messages::Log) {
-        self.log(CHANNELS.len() - 2, t_ns, log);
+        self.log(EVENTS, t_ns, log);
+    }
+
+    /// True while a client subscribes to /scene/forces.
+    pub fn forces_wanted(&self) -> bool {
+        self.channels[SCENE_FORCES].has_sinks()
+    }
+
+    /// Sends a sample's force arrows on /scene/forces.
+    pub fn forces(&mut self, t_ns: u64, arrows: &foxglove::messages::SceneUpdate) {
+        self.log(SCENE_FORCES, t_ns, arrows);
     }
 
     /// Sends the wing planforms on /scene/wings to a subscribed client that has not had them
     /// yet (a client may join at any time).
     pub fn scene(&mut self, make: impl FnOnce() -> foxglove::messages::SceneUpdate, t_ns: u64) {
-        let c = CHANNELS.len() - 1;
+        let c = SCENE_WINGS;
         let subscribed = self.channels[c].has_sinks();
         if subscribed && !self.scene_sent {
             self.log(c, t_ns, &make());

@@ -4,13 +4,12 @@
 //! same CRCs, written the way logging at every step needs it:
 //!
 //! - the simulation thread encodes the messages of a chunk straight into one buffer as MCAP
-//!   message records ([`RawChunk`]); the writer thread compresses that buffer in one zstd
-//!   call ([`ChunkBuilder`]) and writes the chunk, its message indexes and (at the end) the
-//!   summary ([`McapWriter`]). The `mcap` crate's writer feeds zstd one small write per record
-//!   field, and the foxglove SDK's writer, which goes through it, took about twice as long
-//!   (`writer_ratio` in `benches/logging.rs`) and reports write errors only as
+//!   message records ([`crate::chunk::RawChunk`]); the writer thread compresses that buffer
+//!   in one zstd call ([`crate::chunk::ChunkBuilder`]) and writes the chunk, its message
+//!   indexes and (at the end) the summary ([`McapWriter`]). The `mcap` crate's writer feeds zstd one small write
+//!   per record field, and the foxglove SDK's writer, which goes through it, took about twice
+//!   as long (`writer_ratio` in `benches/logging.rs`) and reports write errors only as
 //!   `tracing::warn!`: hence this writer;
-//! - zstd runs with parameters picked for speed ([`zstd_params`]);
 //! - each chunk is compressed in memory and written whole when it closes, so the file only
 //!   grows by whole chunks (a killed run keeps every closed chunk).
 //!
@@ -21,9 +20,8 @@ use std::collections::BTreeMap;
 use std::io::{self, Write};
 
 use crc32fast::Hasher;
-use zstd::zstd_safe::{CCtx, CParameter, Strategy};
 
-use crate::sample::Encoded;
+use crate::chunk::{BuiltChunk, ChunkBuilder, RawChunk, widen};
 
 const MAGIC: &[u8] = b"\x89MCAP0\r\n";
 
@@ -32,7 +30,6 @@ mod op {
     pub const FOOTER: u8 = 0x02;
     pub const SCHEMA: u8 = 0x03;
     pub const CHANNEL: u8 = 0x04;
-    pub const MESSAGE: u8 = 0x05;
     pub const CHUNK: u8 = 0x06;
     pub const MESSAGE_INDEX: u8 = 0x07;
     pub const CHUNK_INDEX: u8 = 0x08;
@@ -43,40 +40,6 @@ mod op {
     pub const METADATA_INDEX: u8 = 0x0D;
     pub const SUMMARY_OFFSET: u8 = 0x0E;
     pub const DATA_END: u8 = 0x0F;
-}
-
-/// Bytes of a message record before its data: opcode, length, channel id, sequence, log and
-/// publish times.
-pub(crate) const MESSAGE_HEADER_LEN: usize = 1 + 8 + 2 + 4 + 8 + 8;
-
-/// The zstd parameters of the chunks: the "fast" strategy as in level 1, with a 64 KiB hash
-/// table (hash log 14), a window that holds a whole chunk, a minimum match of 7 and an
-/// acceleration factor of 8 (which also stores the literals without Huffman coding). Any
-/// zstd decoder reads it (the window is 2 MiB).
-///
-/// Measured on the protobuf messages of a free flight at full rate (2026-12-02, one thread,
-/// 2000 samples at once): these settings 0.97 us per sample for a ratio of 2.5; plain level 1
-/// 2.07 us for 3.4; level -5 1.44 us for 2.5; hash log 12 with acceleration 32 0.59 us for
-/// 1.5. In the files (200-sample chunks, record headers included) it is about 1.0 KB per
-/// sample, against 1.8 KB of the JSON logs before, so the fastest setting that keeps the files
-/// well below the old size was kept.
-fn zstd_params(cctx: &mut CCtx<'static>) -> io::Result<()> {
-    for p in [
-        CParameter::CompressionLevel(1),
-        CParameter::Strategy(Strategy::ZSTD_fast),
-        CParameter::WindowLog(21),
-        CParameter::HashLog(14),
-        CParameter::MinMatch(7),
-        CParameter::TargetLength(8),
-        CParameter::ChecksumFlag(false),
-    ] {
-        cctx.set_parameter(p).map_err(zstd_error)?;
-    }
-    Ok(())
-}
-
-fn zstd_error(code: usize) -> io::Error {
-    io::Error::other(format!("zstd: {}", zstd::zstd_safe::get_error_name(code)))
 }
 
 fn put_u16(b: &mut Vec<u8>, v: u16) {
@@ -115,23 +78,6 @@ fn end_record(b: &mut [u8], at: usize) {
     b[at + 1..at + 9].copy_from_slice(&len.to_le_bytes());
 }
 
-/// Writes the header of a message record (see [`MESSAGE_HEADER_LEN`]) for `data_len` bytes
-/// of data into `out`.
-pub(crate) fn message_header(
-    out: &mut [u8; MESSAGE_HEADER_LEN],
-    channel_id: u16,
-    sequence: u32,
-    t_ns: u64,
-    data_len: usize,
-) {
-    out[0] = op::MESSAGE;
-    out[1..9].copy_from_slice(&((MESSAGE_HEADER_LEN - 9 + data_len) as u64).to_le_bytes());
-    out[9..11].copy_from_slice(&channel_id.to_le_bytes());
-    out[11..15].copy_from_slice(&sequence.to_le_bytes());
-    out[15..23].copy_from_slice(&t_ns.to_le_bytes());
-    out[23..31].copy_from_slice(&t_ns.to_le_bytes());
-}
-
 struct Schema {
     id: u16,
     name: String,
@@ -157,96 +103,6 @@ struct ChunkIndex {
     uncompressed_size: u64,
 }
 
-/// The records of a chunk not yet compressed: message records appended one by one (on the
-/// simulation thread), with what the chunk record and its message indexes need.
-#[derive(Debug, Default)]
-pub(crate) struct RawChunk {
-    records: Vec<u8>,
-    bounds: Option<(u64, u64)>,
-    /// Per channel id: (log time, offset in the uncompressed chunk) of each message.
-    index: Vec<Vec<(u64, u64)>>,
-}
-
-impl RawChunk {
-    /// True when the chunk holds no record.
-    pub fn is_empty(&self) -> bool {
-        self.records.is_empty()
-    }
-
-    /// Empties the chunk, keeping its buffers.
-    pub fn clear(&mut self) {
-        self.records.clear();
-        self.bounds = None;
-        self.index.iter_mut().for_each(Vec::clear);
-    }
-
-    /// Appends a message record of `data` (encoded straight into the chunk).
-    pub fn message(&mut self, channel_id: u16, sequence: u32, t_ns: u64, data: &dyn Encoded) {
-        let mut head = [0u8; MESSAGE_HEADER_LEN];
-        message_header(&mut head, channel_id, sequence, t_ns, data.len());
-        widen(&mut self.bounds, t_ns);
-        let c = usize::from(channel_id);
-        if self.index.len() <= c {
-            self.index.resize_with(c + 1, Vec::new);
-        }
-        self.index[c].push((t_ns, self.records.len() as u64));
-        self.records.extend_from_slice(&head);
-        data.put(&mut self.records);
-    }
-
-    /// Appends a whole record that is not a message (a schema, a channel).
-    fn record(&mut self, record: &[u8]) {
-        self.records.extend_from_slice(record);
-    }
-}
-
-/// A chunk closed and compressed, ready to be written (see [`McapWriter::write_chunk`]).
-#[derive(Debug)]
-pub(crate) struct BuiltChunk {
-    compressed: Vec<u8>,
-    /// Uncompressed bytes and their CRC.
-    size: u64,
-    crc: u32,
-    bounds: Option<(u64, u64)>,
-    /// (channel id, entries) of the channels with messages, by id.
-    index: Vec<(u16, Vec<(u64, u64)>)>,
-}
-
-/// Compresses chunks: one zstd frame per chunk, the same bytes whichever thread runs it.
-pub(crate) struct ChunkBuilder {
-    cctx: CCtx<'static>,
-}
-
-impl ChunkBuilder {
-    pub fn new() -> io::Result<Self> {
-        let mut cctx = CCtx::try_create().ok_or_else(|| io::Error::other("zstd: no context"))?;
-        zstd_params(&mut cctx)?;
-        Ok(Self { cctx })
-    }
-
-    /// The chunk `raw` compressed (in one call: zstd gets the whole chunk at once).
-    pub fn compress(&mut self, raw: &RawChunk) -> io::Result<BuiltChunk> {
-        let mut compressed = Vec::with_capacity(zstd::zstd_safe::compress_bound(raw.records.len()));
-        self.cctx
-            .compress2(&mut compressed, &raw.records)
-            .map_err(zstd_error)?;
-        let index = raw
-            .index
-            .iter()
-            .enumerate()
-            .filter(|(_, e)| !e.is_empty())
-            .map(|(c, e)| (c as u16, e.clone()))
-            .collect();
-        Ok(BuiltChunk {
-            compressed,
-            size: raw.records.len() as u64,
-            crc: crc32fast::hash(&raw.records),
-            bounds: raw.bounds,
-            index,
-        })
-    }
-}
-
 /// Writes an MCAP file to `W` (see the module docs).
 pub(crate) struct McapWriter<W: Write> {
     out: W,
@@ -266,13 +122,6 @@ pub(crate) struct McapWriter<W: Write> {
     metadata_indexes: Vec<(u64, u64, String)>,
     bounds: Option<(u64, u64)>,
     counts: BTreeMap<u16, u64>,
-}
-
-fn widen(bounds: &mut Option<(u64, u64)>, t: u64) {
-    *bounds = Some(match *bounds {
-        None => (t, t),
-        Some((a, b)) => (a.min(t), b.max(t)),
-    });
 }
 
 impl<W: Write> McapWriter<W> {

@@ -1,11 +1,12 @@
 //! The recorder: one object that writes a run to MCAP, Rerun and a live Foxglove view.
 //!
-//! [`Recorder::record`] runs on the simulation thread: it decimates, builds the sample's ten
-//! protobuf messages and encodes them straight into the open MCAP chunk (a few hundred
-//! nanoseconds). A closed chunk goes to one writer thread ([`crate::writer`]) that compresses
-//! it with zstd and writes it, so compression runs on the machine's second core. Rerun's SDK
-//! batches on its own threads; the live Foxglove server encodes only for subscribed channels.
-//! The file's bytes depend on the samples alone, never on thread timing.
+//! [`Recorder::record`] runs on the simulation thread: it decimates, builds the sample's
+//! protobuf messages and encodes them in one pass straight into the open MCAP chunk
+//! ([`crate::encode`], a microsecond or two). A closed chunk goes to one writer thread
+//! ([`crate::writer`]) that compresses it with zstd and writes it, so compression runs on the
+//! machine's second core. Rerun's SDK batches on its own threads; the live Foxglove server
+//! encodes only for subscribed channels. The file's bytes depend on the samples alone, never
+//! on thread timing.
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -13,20 +14,21 @@ use std::path::{Path, PathBuf};
 
 use flapsim::{Controls, StepOutput, Vehicle};
 
-use crate::mcap_write::{McapWriter, RawChunk};
-use crate::sample::{SAMPLE_MESSAGES, Sample, SampleBuilder, WingStatic, time_ns, timestamp};
-use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING};
+use crate::chunk::RawChunk;
+use crate::encode::SampleEncoder;
+use crate::mcap_write::McapWriter;
+#[cfg(any(feature = "rerun", feature = "live"))]
+use crate::sample::Sample;
+use crate::sample::{SampleBuilder, WingStatic, time_ns, timestamp};
+use crate::scene::ForceArrows;
+use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING, channel_id};
 use crate::writer::Writer;
 use crate::{Error, Level, LogOptions, Result, RunInfo};
 
 /// Close the current chunk (so a killed run keeps it) at least this often, simulated time.
 const FLUSH_INTERVAL_NS: u64 = 50_000_000;
-/// Close the current chunk after this many samples (about 420 kB of protobuf).
+/// Close the current chunk after this many samples (about 460 kB of protobuf).
 const CHUNK_SAMPLES: u64 = 200;
-/// Index of the /events channel in [`CHANNELS`].
-const EVENTS: usize = 10;
-/// Index of the /scene/wings channel in [`CHANNELS`].
-const SCENE: usize = 11;
 
 /// Picks the steps to log: with a rate `r`, step k (time t_k) is logged when
 /// `floor(t_k r)` differs from that of the last logged step (the first step is always
@@ -90,18 +92,11 @@ struct McapOut {
     /// Log time of the first sample of the open chunk, and its samples.
     chunk_start_ns: u64,
     chunk_samples: u64,
-    sequences: [u32; CHANNELS.len()],
+    encoder: SampleEncoder,
     writer: Writer,
 }
 
 impl McapOut {
-    fn add(&mut self, index: usize, t_ns: u64, message: &dyn crate::sample::Encoded) {
-        let sequence = self.sequences[index];
-        self.sequences[index] = sequence.wrapping_add(1);
-        self.chunk
-            .message(channel_id(index), sequence, t_ns, message);
-    }
-
     /// Hands the open chunk (if it holds anything) to the writer thread.
     fn close_chunk(&mut self) -> Result<()> {
         if self.chunk.is_empty() {
@@ -113,26 +108,27 @@ impl McapOut {
         self.writer.chunk(full)
     }
 
-    fn sample(&mut self, s: &Sample) -> Result<()> {
-        if self.chunk_samples > 0 && s.t_ns.saturating_sub(self.chunk_start_ns) >= FLUSH_INTERVAL_NS
-        {
+    /// Adds a sample; the number of messages written.
+    fn sample(&mut self, out: &StepOutput) -> Result<u64> {
+        let t_ns = time_ns(out.t_s);
+        if self.chunk_samples > 0 && t_ns.saturating_sub(self.chunk_start_ns) >= FLUSH_INTERVAL_NS {
             self.close_chunk()?;
         }
         if self.chunk_samples == 0 {
-            self.chunk_start_ns = s.t_ns;
+            self.chunk_start_ns = t_ns;
         }
-        s.each(|i, m| self.add(i, s.t_ns, m));
+        let messages = self.encoder.sample(out, &mut self.chunk);
         self.chunk_samples += 1;
         if self.chunk_samples >= CHUNK_SAMPLES {
             self.close_chunk()?;
         }
-        Ok(())
+        Ok(messages)
     }
 
     /// The event in a chunk of its own; returns once it is in the file.
     fn event(&mut self, t_ns: u64, log: &foxglove::messages::Log) -> Result<()> {
         self.close_chunk()?;
-        self.add(EVENTS, t_ns, log);
+        self.encoder.event(t_ns, log, &mut self.chunk);
         self.close_chunk()?;
         self.writer.sync()
     }
@@ -146,8 +142,15 @@ pub struct Recorder {
     rerun: Option<crate::rerun_sink::RerunSink>,
     #[cfg(feature = "live")]
     live: Option<crate::live::LiveSink>,
+    /// The views' sample when there is no MCAP output (which builds its own).
+    #[cfg(any(feature = "rerun", feature = "live"))]
     builder: SampleBuilder,
+    #[cfg(any(feature = "rerun", feature = "live"))]
     sample: Sample,
+    #[cfg(feature = "live")]
+    arrows: ForceArrows,
+    #[cfg(feature = "live")]
+    arrow_message: foxglove::messages::SceneUpdate,
     decimator: Decimator,
     vehicle: Vehicle,
     controls: Option<Controls>,
@@ -225,8 +228,14 @@ impl Recorder {
             rerun,
             #[cfg(feature = "live")]
             live,
+            #[cfg(any(feature = "rerun", feature = "live"))]
             builder: SampleBuilder::new(WingStatic::of(vehicle), vehicle.weight_n()),
+            #[cfg(any(feature = "rerun", feature = "live"))]
             sample: Sample::default(),
+            #[cfg(feature = "live")]
+            arrows: ForceArrows::of(vehicle),
+            #[cfg(feature = "live")]
+            arrow_message: foxglove::messages::SceneUpdate::default(),
             decimator: Decimator::new(options.log_rate_hz),
             vehicle: vehicle.clone(),
             controls: None,
@@ -260,9 +269,10 @@ impl Recorder {
         Ok(())
     }
 
-    /// True when a sample has somewhere to go (the live view only while a client subscribes,
-    /// so an unwatched live run builds no messages).
-    fn any_output(&self) -> bool {
+    /// True when a view wants the sample: Rerun, or the live view while a client subscribes
+    /// (so an unwatched live run without a file builds no messages).
+    #[cfg(any(feature = "rerun", feature = "live"))]
+    fn view_wanted(&self) -> bool {
         #[cfg(feature = "rerun")]
         if self.rerun.is_some() {
             return true;
@@ -275,7 +285,7 @@ impl Recorder {
         {
             return true;
         }
-        self.mcap.is_some()
+        false
     }
 
     /// Takes one step's output; logs it if the decimation picks it. Blocks only when the
@@ -294,28 +304,41 @@ impl Recorder {
         }
         self.stats.samples += 1;
         self.stats.last_t_s = out.t_s;
-        if !self.any_output() {
+        if let Some(m) = &mut self.mcap {
+            self.stats.mcap_messages += m.sample(out)?;
+        }
+        #[cfg(any(feature = "rerun", feature = "live"))]
+        self.view(out)?;
+        Ok(())
+    }
+
+    /// Hands the sample to the Rerun and live views that want it (the messages the MCAP
+    /// output built, or built here without one).
+    #[cfg(any(feature = "rerun", feature = "live"))]
+    fn view(&mut self, out: &StepOutput) -> Result<()> {
+        if !self.view_wanted() {
             return Ok(());
         }
-        self.builder.build(out, &mut self.sample);
-        if let Some(m) = &mut self.mcap {
-            if self.stats.samples == 1 {
-                let scene = crate::sample::wing_scene(&self.vehicle, self.sample.t_ns);
-                m.add(SCENE, self.sample.t_ns, &scene);
-                self.stats.mcap_messages += 1;
+        let sample = match &self.mcap {
+            Some(m) => m.encoder.last(),
+            None => {
+                self.builder.build(out, &mut self.sample);
+                &self.sample
             }
-            m.sample(&self.sample)?;
-            self.stats.mcap_messages += SAMPLE_MESSAGES as u64;
-        }
+        };
         #[cfg(feature = "rerun")]
         if let Some(r) = &self.rerun {
-            r.frame(&crate::sample::FrameData::of(&self.sample))?;
+            r.frame(&crate::sample::FrameData::of(sample))?;
         }
         #[cfg(feature = "live")]
         if let Some(l) = &mut self.live {
-            let (vehicle, t_ns) = (&self.vehicle, self.sample.t_ns);
-            l.scene(|| crate::sample::wing_scene(vehicle, t_ns), t_ns);
-            l.sample(&self.sample);
+            let (vehicle, t_ns) = (&self.vehicle, sample.t_ns);
+            l.scene(|| crate::scene::wing_scene(vehicle, t_ns), t_ns);
+            l.sample(sample);
+            if l.forces_wanted() {
+                self.arrows.build(sample, &mut self.arrow_message);
+                l.forces(t_ns, &self.arrow_message);
+            }
         }
         Ok(())
     }
@@ -520,14 +543,13 @@ fn open_mcap(
         chunk: RawChunk::default(),
         chunk_start_ns: 0,
         chunk_samples: 0,
-        sequences: [0; CHANNELS.len()],
+        encoder: SampleEncoder::new(
+            SampleBuilder::new(WingStatic::of(vehicle), vehicle.weight_n()),
+            ForceArrows::of(vehicle),
+            crate::scene::wing_scene(vehicle, 0),
+        ),
         writer,
     })
-}
-
-/// The MCAP channel id of channel `index` of [`CHANNELS`] (added in order, numbered from 1).
-fn channel_id(index: usize) -> u16 {
-    index as u16 + 1
 }
 
 #[cfg(test)]

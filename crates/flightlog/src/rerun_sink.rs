@@ -25,7 +25,8 @@ use std::time::Duration;
 use flapsim::Vehicle;
 use rerun::{RecordingStream, RecordingStreamBuilder};
 
-use crate::sample::{FrameData, planform_mesh};
+use crate::sample::FrameData;
+use crate::scene::planform_mesh;
 use crate::schema::FORCE_PARTS;
 use crate::{Error, Level, LogOptions, Result};
 

@@ -101,7 +101,9 @@ pub(crate) struct Sample {
 }
 
 impl Sample {
-    /// Calls `f(channel index, message)` for the ten messages in channel order.
+    /// Calls `f(channel index, message)` for the ten messages in channel order (the live view
+    /// encodes them with prost; the MCAP file with [`crate::encode::each_encoder`]).
+    #[cfg_attr(not(feature = "live"), allow(dead_code))]
     pub fn each(&self, mut f: impl FnMut(usize, &dyn Encoded)) {
         f(0, &self.pose);
         for (i, t) in self.transforms.iter().enumerate() {
@@ -360,88 +362,5 @@ impl FrameData {
             }));
         }
         f
-    }
-}
-
-/// Vertices and triangles of a wing planform in its wing frame (x chordwise towards the
-/// leading edge, y spanwise from the hinge).
-pub(crate) fn planform_mesh(g: &wingforce::Geometry) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
-    let n = g.strips.len().max(1);
-    let dr = g.span_m / n as f64;
-    let mut rows: Vec<(f64, f64, f64)> = Vec::with_capacity(n + 2); // (r, le, te)
-    for s in &g.strips {
-        let c = if dr > 0.0 { s.area_m2 / dr } else { 0.0 };
-        let le = s.x_cp_m + 0.25 * c;
-        rows.push((s.r_m, le, le - c));
-    }
-    if let (Some(&first), Some(&last)) = (rows.first(), rows.last()) {
-        rows.insert(0, (g.r_root_m, first.1, first.2));
-        rows.push((g.r_tip_m, last.1, last.2));
-    }
-    let mut verts = Vec::with_capacity(2 * rows.len());
-    for (r, le, te) in &rows {
-        verts.push([*le as f32, *r as f32, 0.0]);
-        verts.push([*te as f32, *r as f32, 0.0]);
-    }
-    let mut tris = Vec::new();
-    for i in 0..rows.len().saturating_sub(1) as u32 {
-        let (a, b, c, d) = (2 * i, 2 * i + 1, 2 * i + 2, 2 * i + 3);
-        tris.push([a, b, c]);
-        tris.push([b, d, c]);
-    }
-    (verts, tris)
-}
-
-/// The wing planforms as a `foxglove.SceneUpdate` (the `/scene/wings` channel, logged with
-/// the first sample): one entity per wing in its wing frame, locked to the frame so the
-/// planform flaps with `/tf/wing_*`, drawn as a triangle list.
-pub(crate) fn wing_scene(vehicle: &flapsim::Vehicle, t_ns: u64) -> foxglove::messages::SceneUpdate {
-    use foxglove::messages::{Color, Point3, SceneEntity, SceneUpdate, TriangleListPrimitive};
-    let entities = [FRAME_WING_LEFT, FRAME_WING_RIGHT]
-        .iter()
-        .enumerate()
-        .map(|(i, frame)| {
-            let (verts, tris) = planform_mesh(vehicle.wings[i].geometry());
-            let points = tris
-                .iter()
-                .flatten()
-                .map(|&k| {
-                    let v = verts[k as usize];
-                    Point3 {
-                        x: f64::from(v[0]),
-                        y: f64::from(v[1]),
-                        z: f64::from(v[2]),
-                    }
-                })
-                .collect();
-            SceneEntity {
-                timestamp: Some(timestamp(t_ns)),
-                frame_id: (*frame).to_owned(),
-                id: format!("planform_{frame}"),
-                frame_locked: true,
-                triangles: vec![TriangleListPrimitive {
-                    pose: Some(foxglove::messages::Pose {
-                        position: Some(foxglove::messages::Vector3::default()),
-                        orientation: Some(foxglove::messages::Quaternion {
-                            w: 1.0,
-                            ..Default::default()
-                        }),
-                    }),
-                    points,
-                    color: Some(Color {
-                        r: 0.55,
-                        g: 0.75,
-                        b: 0.95,
-                        a: 0.7,
-                    }),
-                    ..Default::default()
-                }],
-                ..Default::default()
-            }
-        })
-        .collect();
-    SceneUpdate {
-        deletions: Vec::new(),
-        entities,
     }
 }

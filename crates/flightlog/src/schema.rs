@@ -1,6 +1,7 @@
 //! Topics, frames and the protobuf schemas of every channel.
 //!
-//! Foxglove types (`foxglove.PoseInFrame`, `foxglove.FrameTransform`, `foxglove.Log`) and
+//! Foxglove types (`foxglove.PoseInFrame`, `foxglove.FrameTransform`, `foxglove.Log`,
+//! `foxglove.SceneUpdate`) and
 //! their descriptor sets come from the foxglove crate; flapwing's own types are in
 //! `proto/flapwing.proto` ([`crate::proto`]). Every channel has schema encoding `protobuf`
 //! (the data is a serialized `FileDescriptorSet`) and message encoding `protobuf`.
@@ -31,6 +32,8 @@ pub const TOPIC_FORCES_RIGHT: &str = "/wing/right/forces";
 pub const TOPIC_EVENTS: &str = "/events";
 /// The wing planforms, `foxglove.SceneUpdate` (once, with the first sample).
 pub const TOPIC_SCENE: &str = "/scene/wings";
+/// Each wing's total aerodynamic force as an arrow, `foxglove.SceneUpdate` (every sample).
+pub const TOPIC_SCENE_FORCES: &str = "/scene/forces";
 
 /// The world frame (z up).
 pub const FRAME_WORLD: &str = "world";
@@ -59,7 +62,7 @@ pub fn wing_frame_doc() -> &'static str {
 }
 
 /// Every channel: (topic, schema name).
-pub const CHANNELS: [(&str, &str); 12] = [
+pub const CHANNELS: [(&str, &str); 13] = [
     (TOPIC_POSE, "foxglove.PoseInFrame"),
     (TOPIC_TF_BODY, "foxglove.FrameTransform"),
     (TOPIC_TF_WING_LEFT, "foxglove.FrameTransform"),
@@ -72,7 +75,27 @@ pub const CHANNELS: [(&str, &str); 12] = [
     (TOPIC_FORCES_RIGHT, "flapwing.WingForces"),
     (TOPIC_EVENTS, "foxglove.Log"),
     (TOPIC_SCENE, "foxglove.SceneUpdate"),
+    (TOPIC_SCENE_FORCES, "foxglove.SceneUpdate"),
 ];
+
+/// The most force arrows (`/scene/forces` messages) per simulated second: logs at a higher
+/// rate (full rate: 21,800 samples per second of drosophila flight) have arrows on the
+/// samples that [`crate::Decimator`] picks at this rate, which at the CLI's default of 2000 Hz is
+/// every sample. Arrows at every step of a full-rate log cost 16 % more bytes to compress,
+/// and 200 arrows per wingbeat show nothing that 20 do not.
+pub const FORCE_ARROWS_MAX_RATE_HZ: f64 = 2000.0;
+
+/// Index of /events in [`CHANNELS`].
+pub(crate) const EVENTS: usize = 10;
+/// Index of /scene/wings in [`CHANNELS`].
+pub(crate) const SCENE_WINGS: usize = 11;
+/// Index of /scene/forces in [`CHANNELS`].
+pub(crate) const SCENE_FORCES: usize = 12;
+
+/// The MCAP channel id of channel `index` of [`CHANNELS`] (added in order, numbered from 1).
+pub(crate) fn channel_id(index: usize) -> u16 {
+    index as u16 + 1
+}
 
 /// The names of the four terms and the total, in the order of the forces message's objects.
 pub const FORCE_PARTS: [&str; 5] = [

@@ -1,8 +1,14 @@
 //! The MCAP writer thread: compresses the chunks the simulation thread fills and writes them.
 //!
-//! Jobs travel on a bounded queue of [`QUEUE`] chunks, so `record` blocks only while the
-//! thread is that far behind (a slow disk slows the run instead of filling memory), and a
-//! killed run loses at most the chunks in the queue and the one being filled. Emptied chunk
+//! The simulation thread encodes a chunk's samples (a few microseconds of work per sample
+//! at most, [`crate::encode`]); compressing them with zstd costs more than that, so it runs
+//! here, on the machine's second core.
+//!
+//! Jobs travel on a bounded queue of [`QUEUE`] chunk besides the one the thread is writing, so
+//! `record` blocks only while the thread is two closed chunks behind (a slow disk slows the
+//! run instead of filling memory), and a killed run loses at most those two chunks and the one
+//! being filled: when a close returns, every chunk closed before the two newest is in the
+//! file. Emptied chunk
 //! buffers come back for reuse. The first error of the thread ends it; the next call here
 //! returns it, and later calls say that the writer stopped because of it.
 
@@ -14,12 +20,14 @@ use std::sync::Mutex;
 use std::sync::mpsc::{self, Receiver, Sender, SyncSender};
 use std::thread::JoinHandle;
 
-use crate::mcap_write::{ChunkBuilder, McapWriter, RawChunk};
+use crate::chunk::{ChunkBuilder, RawChunk};
+use crate::mcap_write::McapWriter;
 use crate::schema;
 use crate::{Error, Result};
 
-/// Chunks queued for the writer thread at most.
-const QUEUE: usize = 2;
+/// Chunks waiting for the writer thread at most, besides the one it is writing (the queue
+/// of `sync_channel(QUEUE)` holds jobs the thread has not taken yet).
+const QUEUE: usize = 1;
 
 enum Job {
     Chunk(RawChunk),

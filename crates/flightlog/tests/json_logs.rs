@@ -27,8 +27,9 @@ fn old_json_logs_replay_and_check() {
         let s = read_summary(&path).unwrap();
         assert!(s.complete, "{name}: {:?}", s.damage);
         assert_eq!(s.samples, samples, "{name}");
-        // Every channel of today but /scene/wings, which came with the protobuf logs.
-        assert_eq!(s.channels.len(), CHANNELS.len() - 1);
+        // Every channel of today but /scene/wings and /scene/forces, which came with the
+        // protobuf logs.
+        assert_eq!(s.channels.len(), CHANNELS.len() - 2);
         for c in &s.channels {
             assert_eq!(c.message_encoding, "json", "{name}");
             assert_eq!(c.schema_encoding, "jsonschema", "{name}");

@@ -45,6 +45,16 @@ fn round_trip_full_rate() {
     assert_eq!(s.damage, None);
     assert_eq!(s.samples, n);
     assert_eq!(s.message_count, run.stats.mcap_messages);
+    // The force arrows: at most FORCE_ARROWS_MAX_RATE_HZ per second (by log time).
+    let mut arrow_decimator = Decimator::new(Some(schema::FORCE_ARROWS_MAX_RATE_HZ));
+    let arrow_steps: BTreeMap<u64, usize> = run
+        .outs
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| arrow_decimator.take(o.t_s))
+        .map(|(k, o)| ((o.t_s * 1e9).round() as u64, k))
+        .collect();
+    assert!(arrow_steps.len() < run.outs.len() / 5);
     let topics: Vec<&str> = s.channels.iter().map(|c| c.topic.as_str()).collect();
     assert_eq!(topics.len(), CHANNELS.len());
     for (topic, schema_name) in CHANNELS {
@@ -56,6 +66,8 @@ fn round_trip_full_rate() {
             run.stats.events
         } else if topic == schema::TOPIC_SCENE {
             1
+        } else if topic == schema::TOPIC_SCENE_FORCES {
+            arrow_steps.len() as u64
         } else {
             n
         };
@@ -138,7 +150,7 @@ fn round_trip_full_rate() {
         let v = common::decode(&m);
         assert_eq!(m.log_time, m.publish_time);
         // A scene update has its times in its entities.
-        let ts = if topic == schema::TOPIC_SCENE {
+        let ts = if topic == schema::TOPIC_SCENE || topic == schema::TOPIC_SCENE_FORCES {
             &v["entities"][0]["timestamp"]
         } else {
             &v["timestamp"]
@@ -168,7 +180,11 @@ fn round_trip_full_rate() {
             }
             continue;
         }
-        let out = &run.outs[k];
+        let out = if topic == schema::TOPIC_SCENE_FORCES {
+            &run.outs[arrow_steps[&m.log_time]]
+        } else {
+            &run.outs[k]
+        };
         assert_eq!(m.log_time, (out.t_s * 1e9).round() as u64);
         match topic.as_str() {
             "/vehicle/state" => {
@@ -242,6 +258,21 @@ fn round_trip_full_rate() {
                     assert_vec(&v[part]["moment_nm"], &t.moment_about_com_nm(&hinge), part);
                     assert!(close(v[part]["c_l"].as_f64().unwrap(), t.c_l), "{part}");
                     assert!(close(v[part]["c_d"].as_f64().unwrap(), t.c_d), "{part}");
+                }
+            }
+            "/scene/forces" => {
+                // The arrows are the wings' total forces: length |F| / weight * body length.
+                let m_per_n = run.vehicle.length_m / run.vehicle.weight_n();
+                for (w, e) in common::force_arrows(&v).iter().enumerate() {
+                    assert_eq!(e.frame_id, "base_link");
+                    assert_eq!(e.position, wings_static[w].1);
+                    let f = out.wings[w].total.force_n;
+                    assert!(
+                        (e.vector / m_per_n - f).norm() <= 1e-12 * f.norm(),
+                        "step {} wing {w}: arrow {} for {f}",
+                        out.step,
+                        e.vector / m_per_n
+                    );
                 }
             }
             "/vehicle/controls" => {

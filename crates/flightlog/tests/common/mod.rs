@@ -171,3 +171,46 @@ pub fn decode(m: &mcap::Message) -> serde_json::Value {
         .unwrap_or_else(|| panic!("{} not in its own descriptor set", schema.name));
     message(&DynamicMessage::decode(desc, &m.data[..]).expect("the message decodes"))
 }
+
+/// One force arrow of a decoded `/scene/forces` message (see [`force_arrows`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceArrow {
+    pub frame_id: String,
+    pub frame_locked: bool,
+    pub id: String,
+    /// Where the arrow starts, in its frame.
+    pub position: nalgebra::Vector3<f64>,
+    /// From its start to its tip (shaft and head), in its frame, m.
+    pub vector: nalgebra::Vector3<f64>,
+}
+
+/// The arrows of a decoded `/scene/forces` message: one entity per wing (left, right) with one
+/// arrow each, which points along its pose's +x axis.
+pub fn force_arrows(v: &serde_json::Value) -> Vec<ForceArrow> {
+    let f = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k}: {v}"));
+    let entities = v["entities"].as_array().expect("entities");
+    assert_eq!(entities.len(), 2, "{v}");
+    entities
+        .iter()
+        .map(|e| {
+            let arrows = e["arrows"].as_array().expect("arrows");
+            assert_eq!(arrows.len(), 1, "{e}");
+            let a = &arrows[0];
+            let (p, o) = (&a["pose"]["position"], &a["pose"]["orientation"]);
+            let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+                f(o, "w"),
+                f(o, "x"),
+                f(o, "y"),
+                f(o, "z"),
+            ));
+            let length = f(a, "shaft_length") + f(a, "head_length");
+            ForceArrow {
+                frame_id: e["frame_id"].as_str().expect("frame_id").to_owned(),
+                frame_locked: e["frame_locked"].as_bool().expect("frame_locked"),
+                id: e["id"].as_str().expect("id").to_owned(),
+                position: nalgebra::Vector3::new(f(p, "x"), f(p, "y"), f(p, "z")),
+                vector: q * nalgebra::Vector3::x() * length,
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,598 @@
+//! Protobuf encoding of the messages logged every sample, in one pass straight into the
+//! open MCAP chunk ([`SampleEncoder`], on the simulation thread).
+//!
+//! prost writes a nested message's length before its fields, so it computes the length of
+//! every sub-message (and of theirs) before writing it: for the sample's three levels of
+//! nesting that is most of the encoding work. Every sub-message here is shorter than 128
+//! bytes, so its length is one byte, written as a placeholder and patched once the fields are
+//! in. The bytes are exactly prost's (fields in tag order, proto3 defaults left out, a set
+//! optional sub-message written even when empty); the tests check it on whole runs.
+
+use flapsim::StepOutput;
+use foxglove::messages::{ArrowPrimitive, FrameTransform, PoseInFrame, SceneUpdate, Timestamp};
+
+use crate::chunk::RawChunk;
+use crate::proto;
+use crate::recorder::Decimator;
+use crate::sample::{SAMPLE_MESSAGES, Sample, SampleBuilder, timestamp};
+use crate::scene::ForceArrows;
+use crate::schema::{
+    CHANNELS, EVENTS, FORCE_ARROWS_MAX_RATE_HZ, SCENE_FORCES, SCENE_WINGS, channel_id,
+};
+
+/// Writes each logged step's messages into the open chunk: the ten of the sample and, at
+/// most [`FORCE_ARROWS_MAX_RATE_HZ`] times per simulated second, its force arrows, after the
+/// wing planforms with the very first step; and the events. Keeps the channels' sequence
+/// numbers, and the messages built last (reused by the next step, and by the Rerun and live
+/// views).
+pub(crate) struct SampleEncoder {
+    builder: SampleBuilder,
+    sample: Sample,
+    arrows: ForceArrows,
+    arrow_message: SceneUpdate,
+    arrow_decimator: Decimator,
+    /// The wing planforms, until they go out with the first sample.
+    planforms: Option<SceneUpdate>,
+    sequences: [u32; CHANNELS.len()],
+}
+
+impl SampleEncoder {
+    pub fn new(builder: SampleBuilder, arrows: ForceArrows, planforms: SceneUpdate) -> Self {
+        Self {
+            builder,
+            sample: Sample::default(),
+            arrows,
+            arrow_message: SceneUpdate::default(),
+            arrow_decimator: Decimator::new(Some(FORCE_ARROWS_MAX_RATE_HZ)),
+            planforms: Some(planforms),
+            sequences: [0; CHANNELS.len()],
+        }
+    }
+
+    /// The messages of the last step given to [`SampleEncoder::sample`].
+    pub fn last(&self) -> &Sample {
+        &self.sample
+    }
+
+    fn next(&mut self, channel: usize) -> u32 {
+        let s = self.sequences[channel];
+        self.sequences[channel] = s.wrapping_add(1);
+        s
+    }
+
+    /// Builds the messages of `out` and appends their records to `raw`; the number of
+    /// messages written.
+    pub fn sample(&mut self, out: &StepOutput, raw: &mut RawChunk) -> u64 {
+        let mut messages = SAMPLE_MESSAGES as u64;
+        self.builder.build(out, &mut self.sample);
+        let t_ns = self.sample.t_ns;
+        if let Some(mut scene) = self.planforms.take() {
+            messages += 1;
+            for e in &mut scene.entities {
+                e.timestamp = Some(timestamp(t_ns));
+            }
+            let seq = self.next(SCENE_WINGS);
+            raw.message(channel_id(SCENE_WINGS), seq, t_ns, &scene);
+        }
+        let Self {
+            sample,
+            sequences,
+            arrows,
+            arrow_message,
+            ..
+        } = self;
+        each_encoder(sample, |i, bound, encode| {
+            let seq = sequences[i];
+            sequences[i] = seq.wrapping_add(1);
+            raw.message_with(channel_id(i), seq, t_ns, bound, encode);
+        });
+        if self.arrow_decimator.take(out.t_s) {
+            arrows.build(sample, arrow_message);
+            let seq = self.next(SCENE_FORCES);
+            let bound = arrow_scene_bound(&self.arrow_message);
+            raw.message_with(channel_id(SCENE_FORCES), seq, t_ns, bound, |p| {
+                arrow_scene(p, &self.arrow_message);
+            });
+            messages += 1;
+        }
+        messages
+    }
+
+    /// Appends an event's record to `raw`.
+    pub fn event(&mut self, t_ns: u64, log: &foxglove::messages::Log, raw: &mut RawChunk) {
+        let seq = self.next(EVENTS);
+        raw.message(channel_id(EVENTS), seq, t_ns, log);
+    }
+}
+
+/// A protobuf writer into a buffer with room for the whole message (field tags below 16:
+/// one-byte keys). The caller sizes the buffer by the message's bound ([`SAMPLE_BOUND`],
+/// [`arrow_scene_bound`]); the writer keeps its position in a register, where appending to a
+/// `Vec` would reload the vector's length and capacity around every byte written.
+#[derive(Debug)]
+pub(crate) struct Pb<'a> {
+    buf: &'a mut [u8],
+    n: usize,
+}
+
+const VARINT: u8 = 0;
+const FIXED64: u8 = 1;
+const LEN: u8 = 2;
+
+/// Room enough for any of the sample's messages, strings aside: the largest, a
+/// `flapwing.WingForces` with every field set and the longest varints, takes 433 bytes (its
+/// sub-messages are all shorter than 128 bytes, so their lengths take one byte).
+pub(crate) const SAMPLE_BOUND: usize = 512;
+
+impl<'a> Pb<'a> {
+    pub fn new(buf: &'a mut [u8]) -> Self {
+        Self { buf, n: 0 }
+    }
+
+    /// Bytes written.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    #[inline(always)]
+    fn put(&mut self, bytes: &[u8]) {
+        self.buf[self.n..self.n + bytes.len()].copy_from_slice(bytes);
+        self.n += bytes.len();
+    }
+
+    #[inline(always)]
+    fn byte(&mut self, b: u8) {
+        self.buf[self.n] = b;
+        self.n += 1;
+    }
+
+    #[inline(always)]
+    fn key(&mut self, tag: u8, wire: u8) {
+        debug_assert!(tag < 16);
+        self.byte((tag << 3) | wire);
+    }
+
+    #[inline(always)]
+    fn varint(&mut self, mut v: u64) {
+        while v >= 0x80 {
+            self.byte((v as u8) | 0x80);
+            v >>= 7;
+        }
+        self.byte(v as u8);
+    }
+
+    /// A `double` field (left out when it equals 0.0, as proto3 does; -0.0 too).
+    #[inline(always)]
+    pub fn double(&mut self, tag: u8, v: f64) {
+        if v != 0.0 {
+            debug_assert!(tag < 16);
+            let mut b = [0u8; 9];
+            b[0] = (tag << 3) | FIXED64;
+            b[1..].copy_from_slice(&v.to_le_bytes());
+            self.put(&b);
+        }
+    }
+
+    /// A sub-message of `N` `double` fields numbered from 1, none of them zero: `B` (= 2 +
+    /// 9 N) bytes written at once. Vectors and quaternions are rarely zero, so this is the
+    /// path nearly all of them take.
+    #[inline(always)]
+    fn doubles<const N: usize, const B: usize>(&mut self, tag: u8, v: [f64; N]) {
+        debug_assert!(tag < 16 && B == 2 + 9 * N && B < 0x80);
+        let mut b = [0u8; B];
+        b[0] = (tag << 3) | LEN;
+        b[1] = (B - 2) as u8;
+        for (i, x) in v.iter().enumerate() {
+            b[2 + 9 * i] = ((i as u8 + 1) << 3) | FIXED64;
+            b[3 + 9 * i..11 + 9 * i].copy_from_slice(&x.to_le_bytes());
+        }
+        self.put(&b);
+    }
+
+    /// A `uint32`, `uint64` or `int64` field (an int64 as its two's complement u64).
+    #[inline(always)]
+    pub fn uint(&mut self, tag: u8, v: u64) {
+        if v != 0 {
+            self.key(tag, VARINT);
+            self.varint(v);
+        }
+    }
+
+    #[inline(always)]
+    pub fn boolean(&mut self, tag: u8, v: bool) {
+        if v {
+            self.key(tag, VARINT);
+            self.byte(1);
+        }
+    }
+
+    #[inline(always)]
+    pub fn string(&mut self, tag: u8, s: &str) {
+        if !s.is_empty() {
+            self.key(tag, LEN);
+            self.varint(s.len() as u64);
+            self.put(s.as_bytes());
+        }
+    }
+
+    /// A sub-message written by `fields`.
+    #[inline(always)]
+    pub fn message(&mut self, tag: u8, fields: impl FnOnce(&mut Self)) {
+        self.key(tag, LEN);
+        let at = self.n;
+        self.n += 1;
+        fields(self);
+        let len = self.n - at - 1;
+        if len < 0x80 {
+            self.buf[at] = len as u8;
+        } else {
+            self.long_length(at, len);
+        }
+    }
+
+    /// Moves the fields of a sub-message of `len` bytes at `at` up to make room for its
+    /// length, which takes more than one byte.
+    #[cold]
+    #[inline(never)]
+    fn long_length(&mut self, at: usize, len: usize) {
+        let mut head = [0u8; 10];
+        let (mut v, mut k) = (len as u64, 0);
+        while v >= 0x80 {
+            head[k] = (v as u8) | 0x80;
+            v >>= 7;
+            k += 1;
+        }
+        head[k] = v as u8;
+        k += 1;
+        self.buf.copy_within(at + 1..self.n, at + k);
+        self.buf[at..at + k].copy_from_slice(&head[..k]);
+        self.n += k - 1;
+    }
+
+    #[inline(always)]
+    fn timestamp(&mut self, tag: u8, t: &Option<Timestamp>) {
+        if let Some(t) = t {
+            self.message(tag, |p| {
+                p.uint(1, u64::from(t.sec()));
+                p.uint(2, u64::from(t.nsec()));
+            });
+        }
+    }
+
+    #[inline(always)]
+    fn xyz(&mut self, tag: u8, v: Option<[f64; 3]>) {
+        match v {
+            Some(v) if v.iter().all(|x| *x != 0.0) => self.doubles::<3, 29>(tag, v),
+            Some([x, y, z]) => self.message(tag, |p| {
+                p.double(1, x);
+                p.double(2, y);
+                p.double(3, z);
+            }),
+            None => {}
+        }
+    }
+
+    #[inline(always)]
+    fn xyzw(&mut self, tag: u8, q: Option<[f64; 4]>) {
+        match q {
+            Some(q) if q.iter().all(|x| *x != 0.0) => self.doubles::<4, 38>(tag, q),
+            Some([x, y, z, w]) => self.message(tag, |p| {
+                p.double(1, x);
+                p.double(2, y);
+                p.double(3, z);
+                p.double(4, w);
+            }),
+            None => {}
+        }
+    }
+
+    #[inline(always)]
+    fn pose(&mut self, tag: u8, pose: &Option<foxglove::messages::Pose>) {
+        if let Some(pose) = pose {
+            self.message(tag, |p| {
+                p.xyz(1, pose.position.map(|v| [v.x, v.y, v.z]));
+                p.xyzw(2, pose.orientation.map(|q| [q.x, q.y, q.z, q.w]));
+            });
+        }
+    }
+
+    /// The common head of flapwing's messages: timestamp, step, t_s, phase.
+    #[inline(always)]
+    fn head(&mut self, ts: &Option<Timestamp>, step: u64, t_s: f64, phase: f64) {
+        self.timestamp(1, ts);
+        self.uint(2, step);
+        self.double(3, t_s);
+        self.double(4, phase);
+    }
+
+    #[inline(always)]
+    fn angles(&mut self, tag: u8, a: &Option<proto::WingAngles>) {
+        self.xyz(tag, a.map(|a| [a.phi, a.theta, a.eta]));
+    }
+
+    #[inline(always)]
+    fn vec3(&mut self, tag: u8, v: &Option<proto::Vector3>) {
+        self.xyz(tag, v.map(|v| [v.x, v.y, v.z]));
+    }
+
+    #[inline(always)]
+    fn force_term(&mut self, tag: u8, t: &Option<proto::ForceTerm>) {
+        if let Some(t) = t {
+            self.message(tag, |p| {
+                p.vec3(1, &t.force_n);
+                p.vec3(2, &t.moment_nm);
+                p.double(3, t.c_l);
+                p.double(4, t.c_d);
+            });
+        }
+    }
+}
+
+#[inline(always)]
+pub(crate) fn pose_in_frame(p: &mut Pb, m: &PoseInFrame) {
+    p.timestamp(1, &m.timestamp);
+    p.string(2, &m.frame_id);
+    p.pose(3, &m.pose);
+}
+
+#[inline(always)]
+pub(crate) fn frame_transform(p: &mut Pb, m: &FrameTransform) {
+    p.timestamp(1, &m.timestamp);
+    p.string(2, &m.parent_frame_id);
+    p.string(3, &m.child_frame_id);
+    p.xyz(4, m.translation.map(|v| [v.x, v.y, v.z]));
+    p.xyzw(5, m.rotation.map(|q| [q.x, q.y, q.z, q.w]));
+}
+
+#[inline(always)]
+pub(crate) fn vehicle_state(p: &mut Pb, m: &proto::VehicleState) {
+    p.head(&m.timestamp, m.step, m.t_s, m.phase);
+    p.vec3(5, &m.position_m);
+    p.vec3(6, &m.velocity_m_s);
+    p.xyzw(7, m.attitude.map(|q| [q.x, q.y, q.z, q.w]));
+    p.xyz(8, m.euler_deg.map(|e| [e.roll, e.pitch, e.yaw]));
+    p.vec3(9, &m.body_rates_rad_s);
+    p.vec3(10, &m.applied_force_body_n);
+    p.vec3(11, &m.applied_moment_body_nm);
+    p.double(12, m.lift_over_weight);
+}
+
+#[inline(always)]
+pub(crate) fn controls(p: &mut Pb, m: &proto::Controls) {
+    p.head(&m.timestamp, m.step, m.t_s, m.phase);
+    p.double(5, m.mean_stroke_deg);
+    p.double(6, m.amplitude_deg);
+    p.double(7, m.pitch_bias_deg);
+    p.double(8, m.freq_hz);
+    p.double(9, m.diff_amplitude_deg);
+    p.double(10, m.diff_pitch_bias_deg);
+    p.double(11, m.diff_mean_stroke_deg);
+    if let Some(d) = &m.drive {
+        p.message(12, |p| {
+            p.double(1, d.bias_v);
+            p.double(2, d.amplitude_v);
+            p.double(3, d.diff_amplitude_v);
+            p.double(4, d.diff_bias_v);
+            p.double(5, d.diff_second_harmonic);
+        });
+    }
+}
+
+#[inline(always)]
+pub(crate) fn wing_kinematics(p: &mut Pb, m: &proto::WingKinematics) {
+    p.head(&m.timestamp, m.step, m.t_s, m.phase);
+    p.angles(5, &m.angles_deg);
+    p.angles(6, &m.angles_rad);
+    p.angles(7, &m.rates_rad_s);
+    p.angles(8, &m.accelerations_rad_s2);
+    p.double(9, m.t_star);
+    p.uint(10, m.half_stroke as u64);
+    p.boolean(11, m.downstroke);
+    if let Some(a) = &m.actuation {
+        p.message(12, |p| {
+            p.double(1, a.hinge_moment_nm);
+            p.double(2, a.aero_pitch_moment_nm);
+            p.double(3, a.aero_stroke_moment_nm);
+            p.double(4, a.voltage_v);
+            p.double(5, a.displacement_m);
+            p.double(6, a.current_a);
+        });
+    }
+}
+
+#[inline(always)]
+pub(crate) fn wing_forces(p: &mut Pb, m: &proto::WingForces) {
+    p.head(&m.timestamp, m.step, m.t_s, m.phase);
+    p.force_term(5, &m.translational);
+    p.force_term(6, &m.rotational);
+    p.force_term(7, &m.added_mass);
+    p.force_term(8, &m.wake_capture);
+    p.force_term(9, &m.total);
+}
+
+#[inline(always)]
+fn arrow(p: &mut Pb, a: &ArrowPrimitive) {
+    p.pose(1, &a.pose);
+    p.double(2, a.shaft_length);
+    p.double(3, a.shaft_diameter);
+    p.double(4, a.head_length);
+    p.double(5, a.head_diameter);
+    p.xyzw(6, a.color.map(|c| [c.r, c.g, c.b, c.a]));
+}
+
+/// A `foxglove.SceneUpdate` of entities with arrows only (`/scene/forces`).
+///
+/// Entities with other primitives, metadata or a lifetime, and deletions, are not written:
+/// [`crate::scene::ForceArrows`] makes none (a debug assertion checks it).
+pub(crate) fn arrow_scene(p: &mut Pb, m: &SceneUpdate) {
+    debug_assert!(m.deletions.is_empty());
+    for e in &m.entities {
+        debug_assert!(e.lifetime.is_none() && e.metadata.is_empty() && e.cubes.is_empty());
+        debug_assert!(e.triangles.is_empty() && e.lines.is_empty() && e.texts.is_empty());
+        p.message(2, |p| {
+            p.timestamp(1, &e.timestamp);
+            p.string(2, &e.frame_id);
+            p.string(3, &e.id);
+            p.boolean(5, e.frame_locked);
+            for a in &e.arrows {
+                p.message(7, |p| arrow(p, a));
+            }
+        });
+    }
+}
+
+/// Room enough for [`arrow_scene`]'s encoding of `m`.
+pub(crate) fn arrow_scene_bound(m: &SceneUpdate) -> usize {
+    let entity = |e: &foxglove::messages::SceneEntity| {
+        // The fixed fields and each arrow (under 200 bytes) with slack for long lengths.
+        128 + e.frame_id.len() + e.id.len() + 256 * e.arrows.len()
+    };
+    64 + m.entities.iter().map(entity).sum::<usize>()
+}
+
+/// Calls `f(channel index, bound, encoder)` for the ten messages of a sample, in channel
+/// order (see [`Sample::each`], which gives them to prost); `bound` is room enough for the
+/// message.
+pub(crate) fn each_encoder(s: &Sample, mut f: impl FnMut(usize, usize, &dyn Fn(&mut Pb))) {
+    f(0, SAMPLE_BOUND + s.pose.frame_id.len(), &|p| {
+        pose_in_frame(p, &s.pose)
+    });
+    for (i, t) in s.transforms.iter().enumerate() {
+        let strings = t.parent_frame_id.len() + t.child_frame_id.len();
+        f(1 + i, SAMPLE_BOUND + strings, &|p| frame_transform(p, t));
+    }
+    f(4, SAMPLE_BOUND, &|p| vehicle_state(p, &s.state));
+    f(5, SAMPLE_BOUND, &|p| controls(p, &s.controls));
+    f(6, SAMPLE_BOUND, &|p| wing_kinematics(p, &s.kinematics[0]));
+    f(7, SAMPLE_BOUND, &|p| wing_kinematics(p, &s.kinematics[1]));
+    f(8, SAMPLE_BOUND, &|p| wing_forces(p, &s.forces[0]));
+    f(9, SAMPLE_BOUND, &|p| wing_forces(p, &s.forces[1]));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sample::{SampleBuilder, WingStatic};
+    use crate::scene::ForceArrows;
+    use flapsim::{Mode, Simulation, Vehicle};
+
+    /// What `encode` writes into a buffer of `bound` bytes.
+    fn enc(bound: usize, encode: impl FnOnce(&mut Pb)) -> Vec<u8> {
+        let mut b = vec![0; bound];
+        let mut p = Pb::new(&mut b);
+        encode(&mut p);
+        let n = p.len();
+        b.truncate(n);
+        b
+    }
+
+    /// The sample's messages and arrows encoded by prost and here: (channel, bytes) each.
+    fn both(s: &Sample, arrows: &SceneUpdate) -> [Vec<(usize, Vec<u8>)>; 2] {
+        let mut by_prost = Vec::new();
+        s.each(|i, m| {
+            let mut b = Vec::new();
+            m.put(&mut b);
+            by_prost.push((i, b));
+        });
+        by_prost.push((99, prost::Message::encode_to_vec(arrows)));
+        let mut here = Vec::new();
+        each_encoder(s, |i, bound, encode| {
+            let b = enc(bound, encode);
+            assert!(b.len() + 64 < bound, "{i}: {} bytes", b.len());
+            here.push((i, b));
+        });
+        let bound = arrow_scene_bound(arrows);
+        let b = enc(bound, |p| arrow_scene(p, arrows));
+        assert!(b.len() + 100 < bound, "arrows: {} bytes", b.len());
+        here.push((99, b));
+        [by_prost, here]
+    }
+
+    #[test]
+    fn one_pass_encoding_gives_prosts_bytes() {
+        let models = [
+            (flapsim::DROSOPHILA_TOML, Mode::Free),
+            (flapsim::DROSOPHILA_TOML, Mode::Tethered),
+            (flapsim::ROBOBEE_TOML, Mode::Free),
+        ];
+        for (toml, mode) in models {
+            let vehicle = Vehicle::from_toml(toml, "model.toml").unwrap();
+            let builder = SampleBuilder::new(WingStatic::of(&vehicle), vehicle.weight_n());
+            let arrows = ForceArrows::of(&vehicle);
+            let mut sim = Simulation::new(vehicle, mode);
+            let (mut s, mut a) = (Sample::default(), SceneUpdate::default());
+            for _ in 0..300 {
+                let out = *sim.step().unwrap();
+                builder.build(&out, &mut s);
+                arrows.build(&s, &mut a);
+                let [p, h] = both(&s, &a);
+                assert_eq!(p, h, "step {}", out.step);
+            }
+            assert!(s.kinematics[0].actuation.is_some() == (toml == flapsim::ROBOBEE_TOML));
+        }
+    }
+
+    #[test]
+    fn one_pass_encoding_of_special_values() {
+        let vehicle = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "d.toml").unwrap();
+        let builder = SampleBuilder::new(WingStatic::of(&vehicle), vehicle.weight_n());
+        let arrows = ForceArrows::of(&vehicle);
+        let mut sim = Simulation::new(vehicle, Mode::Free);
+        let mut out = *sim.step().unwrap();
+        let (mut s, mut a) = (Sample::default(), SceneUpdate::default());
+        let specials = [0.0, -0.0, f64::NAN, f64::INFINITY, -1e300, 5e-324, 1.0];
+        for (k, &x) in specials.iter().enumerate() {
+            out.step = [0, 1, 127, 128, u64::MAX, 1 << 35, 300][k];
+            out.t_s = [0.0, 1e-9, 4.3e9, 1.5, 0.0, 2.0, 7.0][k];
+            out.phase = x;
+            out.state.position_m.x = x;
+            out.state.velocity_m_s.y = -x;
+            out.wings[0].angles.eta = x;
+            out.wings[1].phase.half_stroke = [0, -1, i64::MIN, 1, i64::MAX, 5, -300][k];
+            out.wings[1].phase.downstroke = k % 2 == 0;
+            out.wings[0].total.force_n = nalgebra::Vector3::new(x, -x, 0.5);
+            out.wings[1].total.force_n = nalgebra::Vector3::new(-x, 0.0, 0.0);
+            out.wings[1].terms[2].c_l = x;
+            out.controls.freq_hz = x;
+            builder.build(&out, &mut s);
+            arrows.build(&s, &mut a);
+            let [p, h] = both(&s, &a);
+            assert_eq!(p, h, "value {x}");
+        }
+        // Absent sub-messages and empty strings are left out as prost leaves them out.
+        let mut s = Sample::default();
+        s.forces[1].total = Some(proto::ForceTerm::default());
+        let a = SceneUpdate {
+            deletions: Vec::new(),
+            entities: vec![foxglove::messages::SceneEntity::default(); 2],
+        };
+        let [p, h] = both(&s, &a);
+        assert_eq!(p, h);
+    }
+
+    #[test]
+    fn long_sub_messages_take_longer_lengths() {
+        for n in [0usize, 1, 127, 128, 300, 20_000] {
+            let name = "x".repeat(n);
+            let m = PoseInFrame {
+                frame_id: name.clone(),
+                ..PoseInFrame::default()
+            };
+            let here = enc(n + 64, |p| p.message(3, |p| pose_in_frame(p, &m)));
+            let wrapped = foxglove::messages::SceneEntity {
+                id: name,
+                ..Default::default()
+            };
+            let b = enc(n + 64, |p| p.message(2, |p| p.string(3, &wrapped.id)));
+            let prost_b = prost::Message::encode_to_vec(&SceneUpdate {
+                deletions: Vec::new(),
+                entities: vec![wrapped],
+            });
+            assert_eq!(b, prost_b, "{n}");
+            let mut prost_here = vec![(3 << 3) | 2];
+            prost::encoding::encode_varint(prost::Message::encoded_len(&m) as u64, &mut prost_here);
+            prost::Message::encode_raw(&m, &mut prost_here);
+            assert_eq!(here, prost_here, "{n}");
+        }
+    }
+}
