@@ -62,6 +62,7 @@ pub mod replay;
 mod rerun_sink;
 mod sample;
 pub mod schema;
+mod sensor_msg;
 mod writer;
 
 use std::path::PathBuf;
@@ -124,6 +125,9 @@ pub struct LogOptions {
     /// Serve the run live over the Foxglove WebSocket protocol at this `host:port` (port 0:
     /// any free port, see [`Recorder::foxglove_port`]; needs the `live` feature).
     pub foxglove: Option<String>,
+    /// Declare the sensor channels ([`schema::SENSOR_CHANNELS`]: `/sensors/imu`,
+    /// `/sensors/mocap`) in the MCAP log, for [`Recorder::sensor`].
+    pub sensors: bool,
 }
 
 impl LogOptions {

@@ -15,7 +15,8 @@ use flapsim::{Controls, StepOutput, Vehicle};
 
 use crate::mcap_write::{McapWriter, RawChunk};
 use crate::sample::{SAMPLE_MESSAGES, Sample, SampleBuilder, WingStatic, time_ns, timestamp};
-use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING};
+use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING, SENSOR_CHANNELS};
+use crate::sensor_msg::SensorMessage;
 use crate::writer::Writer;
 use crate::{Error, Level, LogOptions, Result, RunInfo};
 
@@ -90,7 +91,9 @@ struct McapOut {
     /// Log time of the first sample of the open chunk, and its samples.
     chunk_start_ns: u64,
     chunk_samples: u64,
-    sequences: [u32; CHANNELS.len()],
+    sequences: [u32; CHANNELS.len() + SENSOR_CHANNELS.len()],
+    /// The sensor channels are declared.
+    sensors: bool,
     writer: Writer,
 }
 
@@ -204,19 +207,21 @@ impl Recorder {
         #[cfg(feature = "rerun")]
         let rerun = crate::rerun_sink::RerunSink::open(options, vehicle)?;
         let mcap = match &options.mcap {
-            Some(path) => match open_mcap(path, info, vehicle, options.log_rate_hz) {
-                Ok(m) => Some(m),
-                Err(e) => {
-                    #[cfg(feature = "rerun")]
-                    if let Some(r) = rerun {
-                        let _ = r.finish();
-                        if let Some(rrd) = &options.rrd {
-                            let _ = std::fs::remove_file(rrd);
+            Some(path) => {
+                match open_mcap(path, info, vehicle, options.log_rate_hz, options.sensors) {
+                    Ok(m) => Some(m),
+                    Err(e) => {
+                        #[cfg(feature = "rerun")]
+                        if let Some(r) = rerun {
+                            let _ = r.finish();
+                            if let Some(rrd) = &options.rrd {
+                                let _ = std::fs::remove_file(rrd);
+                            }
                         }
+                        return Err(e);
                     }
-                    return Err(e);
                 }
-            },
+            }
             None => None,
         };
         let mut rec = Recorder {
@@ -317,6 +322,26 @@ impl Recorder {
             l.scene(|| crate::sample::wing_scene(vehicle, t_ns), t_ns);
             l.sample(&self.sample);
         }
+        Ok(())
+    }
+
+    /// Logs one delivered sensor reading to `/sensors/imu` or `/sensors/mocap` at the
+    /// simulation time `t_s` of the step it arrived at (every reading, no decimation). The
+    /// log must have been created with [`LogOptions::sensors`]; other outputs (Rerun, the
+    /// live view) do not show sensors.
+    pub fn sensor(&mut self, t_s: f64, reading: &flapsim::sensor_run::Reading) -> Result<()> {
+        let Some(m) = &mut self.mcap else {
+            return Ok(());
+        };
+        if !m.sensors {
+            return Err(Error::Options(
+                "sensor readings need a log created with LogOptions::sensors".into(),
+            ));
+        }
+        let t_ns = time_ns(t_s);
+        let msg = SensorMessage::of(reading, t_ns);
+        m.add(CHANNELS.len() + msg.channel(), t_ns, msg.encoded());
+        self.stats.mcap_messages += 1;
         Ok(())
     }
 
@@ -478,6 +503,7 @@ fn open_mcap(
     info: &RunInfo,
     vehicle: &Vehicle,
     log_rate_hz: Option<f64>,
+    sensors: bool,
 ) -> Result<McapOut> {
     let file = File::create(path).map_err(|e| Error::io("cannot create", path, e))?;
     let start = || -> std::io::Result<McapWriter<std::io::BufWriter<File>>> {
@@ -497,7 +523,8 @@ fn open_mcap(
             "application/toml",
             info.model_toml.as_bytes(),
         )?;
-        for (i, (topic, name)) in CHANNELS.iter().enumerate() {
+        let sensor_channels = if sensors { &SENSOR_CHANNELS[..] } else { &[] };
+        for (i, (topic, name)) in CHANNELS.iter().chain(sensor_channels).enumerate() {
             let data = schema::schema_data(name).unwrap_or_default();
             let schema_id = w.add_schema(name, SCHEMA_ENCODING, &data)?;
             let id = w.add_channel(schema_id, topic, MESSAGE_ENCODING)?;
@@ -520,7 +547,8 @@ fn open_mcap(
         chunk: RawChunk::default(),
         chunk_start_ns: 0,
         chunk_samples: 0,
-        sequences: [0; CHANNELS.len()],
+        sequences: [0; CHANNELS.len() + SENSOR_CHANNELS.len()],
+        sensors,
         writer,
     })
 }

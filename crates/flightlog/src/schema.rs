@@ -32,6 +32,11 @@ pub const TOPIC_EVENTS: &str = "/events";
 /// The wing planforms, `foxglove.SceneUpdate` (once, with the first sample).
 pub const TOPIC_SCENE: &str = "/scene/wings";
 
+/// IMU readings, `flapwing.ImuReading` (logs with sensors only, see [`SENSOR_CHANNELS`]).
+pub const TOPIC_IMU: &str = "/sensors/imu";
+/// Motion-capture frames, `flapwing.MocapReading` (logs with sensors only).
+pub const TOPIC_MOCAP: &str = "/sensors/mocap";
+
 /// The world frame (z up).
 pub const FRAME_WORLD: &str = "world";
 /// The body frame (x forward, y left, z up, origin at the centre of mass).
@@ -74,6 +79,14 @@ pub const CHANNELS: [(&str, &str); 12] = [
     (TOPIC_SCENE, "foxglove.SceneUpdate"),
 ];
 
+/// The sensor channels, declared after [`CHANNELS`] (channel ids 13 and 14) when
+/// [`crate::LogOptions::sensors`] is set; one message per delivered reading
+/// ([`crate::Recorder::sensor`]).
+pub const SENSOR_CHANNELS: [(&str, &str); 2] = [
+    (TOPIC_IMU, "flapwing.ImuReading"),
+    (TOPIC_MOCAP, "flapwing.MocapReading"),
+];
+
 /// The names of the four terms and the total, in the order of the forces message's objects.
 pub const FORCE_PARTS: [&str; 5] = [
     "translational",
@@ -97,7 +110,9 @@ pub fn schema_data(name: &str) -> Option<Vec<u8>> {
         "flapwing.VehicleState"
         | "flapwing.Controls"
         | "flapwing.WingKinematics"
-        | "flapwing.WingForces" => Some(crate::proto::FILE_DESCRIPTOR_SET.to_vec()),
+        | "flapwing.WingForces"
+        | "flapwing.ImuReading"
+        | "flapwing.MocapReading" => Some(crate::proto::FILE_DESCRIPTOR_SET.to_vec()),
         _ => None,
     }
 }
