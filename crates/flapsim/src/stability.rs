@@ -416,9 +416,15 @@ fn normalized(v: &DVector<Complex<f64>>) -> Vec<(f64, f64)> {
         Complex::new(1.0, 0.0)
     };
     v.iter()
-        .map(|c| {
+        .enumerate()
+        .map(|(i, c)| {
             let z = c * phase;
-            (z.re, z.im)
+            // The largest entry exactly real (its rotation leaves round-off in Im).
+            if i == k {
+                (z.norm(), 0.0)
+            } else {
+                (z.re, z.im)
+            }
         })
         .collect()
 }
@@ -440,10 +446,12 @@ mod tests {
         );
         let mu = Complex::from_polar(r, th);
         let v = normalized(&complex_eigenvector(&a, mu));
-        let h = std::f64::consts::FRAC_1_SQRT_2;
-        // Both entries have the same magnitude: the first (largest by the fold's tie rule)
-        // is made real and positive.
-        assert!((v[0].0 - h).abs() < 1e-12 && v[0].1.abs() < 1e-12, "{v:?}");
-        assert!(v[1].0.abs() < 1e-12 && (v[1].1 + h).abs() < 1e-12, "{v:?}");
+        let (v0, v1) = (Complex::new(v[0].0, v[0].1), Complex::new(v[1].0, v[1].1));
+        // The direction: v1 / v0 = -i.
+        assert!((v1 / v0 - Complex::new(0.0, -1.0)).norm() < 1e-12, "{v:?}");
+        // Unit norm, and the largest entry (the two tie up to round-off) real and positive.
+        assert!(((v0.norm_sqr() + v1.norm_sqr()).sqrt() - 1.0).abs() < 1e-12);
+        let big = if v0.norm() >= v1.norm() { v0 } else { v1 };
+        assert!(big.re > 0.0 && big.im.abs() < 1e-15, "{v:?}");
     }
 }

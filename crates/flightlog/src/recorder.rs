@@ -207,21 +207,19 @@ impl Recorder {
         #[cfg(feature = "rerun")]
         let rerun = crate::rerun_sink::RerunSink::open(options, vehicle)?;
         let mcap = match &options.mcap {
-            Some(path) => {
-                match open_mcap(path, info, vehicle, options.log_rate_hz, options.sensors) {
-                    Ok(m) => Some(m),
-                    Err(e) => {
-                        #[cfg(feature = "rerun")]
-                        if let Some(r) = rerun {
-                            let _ = r.finish();
-                            if let Some(rrd) = &options.rrd {
-                                let _ = std::fs::remove_file(rrd);
-                            }
+            Some(path) => match open_mcap(path, info, vehicle, options) {
+                Ok(m) => Some(m),
+                Err(e) => {
+                    #[cfg(feature = "rerun")]
+                    if let Some(r) = rerun {
+                        let _ = r.finish();
+                        if let Some(rrd) = &options.rrd {
+                            let _ = std::fs::remove_file(rrd);
                         }
-                        return Err(e);
                     }
+                    return Err(e);
                 }
-            }
+            },
             None => None,
         };
         let mut rec = Recorder {
@@ -502,9 +500,9 @@ fn open_mcap(
     path: &Path,
     info: &RunInfo,
     vehicle: &Vehicle,
-    log_rate_hz: Option<f64>,
-    sensors: bool,
+    options: &LogOptions,
 ) -> Result<McapOut> {
+    let (log_rate_hz, sensors) = (options.log_rate_hz, options.sensors);
     let file = File::create(path).map_err(|e| Error::io("cannot create", path, e))?;
     let start = || -> std::io::Result<McapWriter<std::io::BufWriter<File>>> {
         let mut w = McapWriter::new(

@@ -229,9 +229,6 @@ fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()
         "at the end: position error {:.3e} m, attitude error {:.3} deg",
         o.final_position_error_m, o.final_attitude_error_deg
     )?;
-    if let Some(x) = report.sensors {
-        writeln!(w, "{}", crate::sensing::describe(x))?;
-    }
     if o.interrupted {
         writeln!(w, "interrupted by Ctrl-C")?;
     }
@@ -242,6 +239,9 @@ fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()
             "recovered (within 1 body length and 2 deg for good) after {t:.4} s"
         )?,
         (None, None) => writeln!(w, "not recovered within the run")?,
+    }
+    if let Some(x) = report.sensors {
+        writeln!(w, "{}", crate::sensing::describe(x))?;
     }
     crate::output::print_stdout(&w)
 }
