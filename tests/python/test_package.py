@@ -194,6 +194,40 @@ def test_floquet_results():
     # exponent = ln(mu) * f (the wingbeat frequency): check the modulus relation.
     np.testing.assert_allclose(np.real(r["floquet_exponents"]),
                                np.log(np.abs(mu)) * 218.0, rtol=1e-6, atol=1e-6)
+    # The monodromy matrix and its eigenvectors (flapsim::stability::floquet_analysis).
+    phi = r["floquet_monodromy"]
+    vecs = r["floquet_eigenvectors"]
+    states = r["floquet_states"]
+    assert states == ["vx_m_s", "vz_m_s", "pitch_err_rad", "q_rad_s"]
+    assert phi.shape == (4, 4) and phi.dtype == np.float64
+    assert vecs.shape == (4, 4) and vecs.dtype == np.complex128
+    T = r["floquet_period_s"]
+    assert T == pytest.approx(1.0 / 218.0, rel=1e-12)
+    # Floquet theory: mu = exp(exponent T), the principal branch of the logarithm
+    # (|Im(exponent) T| <= pi).
+    exps = r["floquet_exponents"]
+    np.testing.assert_allclose(np.exp(exps * T), mu, rtol=1e-12, atol=1e-14)
+    assert np.all(np.abs(np.imag(exps) * T) <= math.pi + 1e-12)
+    # The multipliers are the eigenvalues of Phi (numpy's LAPACK against nalgebra's Schur
+    # form, agreeing to round-off of the matrix's size).
+    scale = np.linalg.norm(phi, 2)
+    for m in np.linalg.eigvals(phi):
+        assert np.min(np.abs(mu - m)) < 1e-9 * scale
+    # Each eigenvector: Phi v = mu v, unit 2-norm, largest entry real and positive. The SVD
+    # null vector leaves a residual at round-off of Phi times its conditioning.
+    for k in range(len(mu)):
+        v = vecs[:, k]
+        assert np.linalg.norm(v) == pytest.approx(1.0, abs=1e-12)
+        big = v[np.argmax(np.abs(v))]
+        assert big.real > 0 and abs(big.imag) < 1e-12
+        assert np.linalg.norm(phi @ v - mu[k] * v) < 1e-8 * scale
+        # The per-mode dicts carry the same vector.
+        mode = r["floquet_longitudinal"][k]
+        np.testing.assert_array_equal([complex(*c) for c in mode["eigenvector"]], v)
+    # Without floquet, the Floquet fields are empty.
+    r0 = flapwing.Vehicle("drosophila").stability(floquet=False)
+    assert r0["floquet_monodromy"].shape == (0, 0) and r0["floquet_eigenvectors"].size == 0
+    assert r0["floquet_period_s"] is None
 
 
 @pytest.mark.parametrize("model", ["robobee", "hummingbird"])

@@ -1,6 +1,8 @@
 """Logs from Python: a Python-driven run writes a flapwing MCAP log (flightlog's Recorder),
 and flapwing.read_log reads every channel back through flightlog's own decoding."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -52,3 +54,25 @@ def test_log_errors(tmp_path):
     sim.close_log()
     with pytest.raises(ValueError, match="/no/such"):
         flapwing.read_channel(str(path), "/no/such")
+
+
+def test_cli_sensor_channels_read_as_arrays(tmp_path, run_flapwing):
+    # `flapwing simulate` logs the drosophila's IMU and motion capture (models/drosophila.toml
+    # [sensors]); read_log decodes them like any channel. Tethered, the body is still: the
+    # gyro's truth is zero and reading - bias - truth is the white noise alone.
+    path = tmp_path / "run.mcap"
+    out = run_flapwing("simulate", "--tethered", "--duration-s", "0.05", "--sensor-seed", "4",
+                       "--mcap", path, "--json")
+    report = json.loads(out.stdout)["sensors"]
+    log = flapwing.read_log(str(path), topics=["/sensors/imu", "/sensors/mocap"], pandas=False)
+    imu, mocap = log["/sensors/imu"], log["/sensors/mocap"]
+    assert len(imu["gyro_rad_s.x"]) == report["imu_samples"]
+    assert len(mocap["position_m.x"]) == report["mocap_frames"]
+    # Delivered 5 ms (IMU) and 6.5 ms (motion capture) after sampling.
+    np.testing.assert_allclose(imu["t_delivered_s"] - imu["t_sample_s"], 5.0e-3, atol=1e-12)
+    np.testing.assert_allclose(mocap["t_delivered_s"] - mocap["t_sample_s"], 6.5e-3, atol=1e-12)
+    assert np.all(imu["true_angular_velocity_rad_s.y"] == 0.0)
+    noise = imu["gyro_rad_s.y"] - imu["gyro_bias_rad_s.y"]
+    sigma = report["gyro_noise_std_rad_s"]
+    # The mean of N samples of white noise: within 5 sigma / sqrt(N).
+    assert abs(noise.mean()) < 5.0 * sigma / np.sqrt(len(noise))

@@ -108,7 +108,8 @@ fn check_target(path: &Path, force: bool) -> anyhow::Result<()> {
 }
 
 /// Opens the recorder for a run (or `None` with `--no-log`). `rrd_by_default` makes the
-/// command write a Rerun recording under `logs/` when `--rrd` is not given.
+/// command write a Rerun recording under `logs/` when `--rrd` is not given; `sensors`
+/// declares the MCAP log's sensor channels.
 pub fn open(
     args: &LogArgs,
     command: &str,
@@ -116,6 +117,7 @@ pub fn open(
     vehicle: &flapsim::Vehicle,
     settings_json: String,
     rrd_by_default: bool,
+    sensors: bool,
 ) -> anyhow::Result<Option<Recorder>> {
     if !(args.log_rate_hz.is_finite() && args.log_rate_hz > 0.0) {
         return Err(input_error(format!(
@@ -159,6 +161,7 @@ pub fn open(
             Some(args.log_rate_hz)
         },
         foxglove: args.foxglove.clone(),
+        sensors,
     };
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     let info = RunInfo::new(

@@ -11,6 +11,7 @@ mod logging;
 mod output;
 mod plot;
 mod progress;
+mod sensing;
 mod slurm;
 mod vehicle;
 

@@ -20,6 +20,7 @@ pub mod linear;
 pub mod model;
 pub mod operating_points;
 pub mod randomize;
+pub mod sensor_run;
 pub mod sensors;
 pub mod sim;
 pub mod stability;

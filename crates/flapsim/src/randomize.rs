@@ -3,7 +3,13 @@
 //! (`body.mass_kg`, `wing.planform.span_m`, `hinge.left_in_body_m`,
 //! `actuation.hinge.stiffness_nm_rad`, `sensors.imu.gyro_noise_density_deg_s_sqrt_hz`, ...)
 //! and a range of scale factors; a draw multiplies the field (every element of an array) by
-//! a factor uniform in the range. The drawn factors are returned so that runs log them.
+//! a factor uniform in the range. The drawn factors are returned so that runs log them
+//! (the tasks' `draws`, the Gymnasium environments' `info["draws"]`).
+//!
+//! Every real-valued field of the model file can be named, scalar or array; integer fields
+//! (such as `sim.steps_per_wingbeat`), strings, booleans and tables are refused, and so are a
+//! path named twice and a range outside 0 < low <= high. Errors name the randomisation
+//! file, the entry's field, its value and what is allowed.
 //!
 //! ```toml
 //! [[param]]
@@ -32,6 +38,9 @@ pub struct Param {
 pub struct Randomization {
     /// The randomised fields.
     pub param: Vec<Param>,
+    /// Where the file came from (named in errors).
+    #[serde(skip)]
+    pub origin: String,
 }
 
 fn find<'a>(t: &'a mut toml::Table, path: &str) -> Option<&'a mut toml::Value> {
@@ -44,27 +53,42 @@ fn find<'a>(t: &'a mut toml::Table, path: &str) -> Option<&'a mut toml::Value> {
     Some(v)
 }
 
-fn scale(v: &mut toml::Value, k: f64) -> bool {
+/// Whether `v` is a real number or a non-empty array of them, and if not, what it is.
+fn real_valued(v: &toml::Value) -> std::result::Result<(), &'static str> {
     match v {
-        toml::Value::Float(x) => {
-            *x *= k;
-            true
-        }
-        toml::Value::Integer(i) => {
-            *v = toml::Value::Float(*i as f64 * k);
-            true
-        }
-        toml::Value::Array(a) => a.iter_mut().all(|x| scale(x, k)),
-        _ => false,
+        toml::Value::Float(_) => Ok(()),
+        toml::Value::Integer(_) => Err("an integer field"),
+        toml::Value::Array(a) if a.is_empty() => Err("an empty array"),
+        toml::Value::Array(a) => a.iter().try_for_each(real_valued),
+        toml::Value::Table(_) => Err("a table"),
+        _ => Err("not a number"),
+    }
+}
+
+fn scale(v: &mut toml::Value, k: f64) {
+    match v {
+        toml::Value::Float(x) => *x *= k,
+        toml::Value::Array(a) => a.iter_mut().for_each(|x| scale(x, k)),
+        _ => {}
     }
 }
 
 impl Randomization {
     /// Parses a randomisation file (`origin` names it in errors) and checks the ranges.
     pub fn from_toml(text: &str, origin: &str) -> Result<Self> {
-        let r: Self = wingforce::model::parse_toml(text, origin)?;
+        let mut r: Self = wingforce::model::parse_toml(text, origin)?;
+        r.origin = origin.to_owned();
         let v = wingforce::Validator::new(origin);
         for (i, p) in r.param.iter().enumerate() {
+            if r.param[..i].iter().any(|q| q.path == p.path) {
+                return Err(v
+                    .invalid(
+                        &format!("param[{i}].path"),
+                        format!("\"{}\"", p.path),
+                        "a field not named by an earlier entry (each field is drawn once)",
+                    )
+                    .into());
+            }
             let [lo, hi] = p.scale;
             v.positive(&format!("param[{i}].scale[0] ({})", p.path), lo)?;
             if !(hi.is_finite() && hi >= lo) {
@@ -80,7 +104,7 @@ impl Randomization {
         Ok(r)
     }
 
-    /// Checks that every path names a numeric field of the model `text`.
+    /// Checks that every path names a real-valued field of the model `text`.
     pub fn check(&self, text: &str, origin: &str) -> Result<()> {
         let mut rng = Noise::new(0);
         self.draw(text, origin, &mut rng).map(|_| ())
@@ -101,15 +125,24 @@ impl Randomization {
             })
         })?;
         let mut draws = Vec::with_capacity(self.param.len());
-        for p in &self.param {
+        let v = wingforce::Validator::new(&self.origin);
+        for (i, p) in self.param.iter().enumerate() {
             let [lo, hi] = p.scale;
             let k = lo + (hi - lo) * rng.uniform();
-            let ok = find(&mut t, &p.path).is_some_and(|v| scale(v, k));
-            if !ok {
-                return Err(Error::Analysis(format!(
-                    "randomisation: `{}` is not a numeric field of the model {origin}",
-                    p.path
-                )));
+            let refused = match find(&mut t, &p.path) {
+                Some(x) => real_valued(x).map(|()| scale(x, k)).err(),
+                None => Some("no such field"),
+            };
+            if let Some(why) = refused {
+                return Err(v
+                    .invalid(
+                        &format!("param[{i}].path"),
+                        format!("\"{}\" ({why} in {origin})", p.path),
+                        &format!(
+                            "the dotted path of a real-valued field (a number or an array of numbers) of the model {origin}, e.g. \"body.mass_kg\""
+                        ),
+                    )
+                    .into());
             }
             draws.push((p.path.clone(), k));
         }

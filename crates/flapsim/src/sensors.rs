@@ -223,6 +223,15 @@ pub struct ImuSample {
     pub gyro_rad_s: Vector3<f64>,
     /// Specific force, body frame, m/s^2 (with bias and noise).
     pub accel_m_s2: Vector3<f64>,
+    /// Truth behind the reading (for estimator evaluation): the body-frame angular
+    /// velocity the gyroscope saw, rad/s.
+    pub true_angular_velocity_rad_s: Vector3<f64>,
+    /// Truth: the specific force the accelerometer saw, body frame, m/s^2.
+    pub true_specific_force_m_s2: Vector3<f64>,
+    /// Truth: the gyroscope bias in the reading, rad/s.
+    pub gyro_bias_rad_s: Vector3<f64>,
+    /// Truth: the accelerometer bias in the reading, m/s^2.
+    pub accel_bias_m_s2: Vector3<f64>,
 }
 
 /// Samples taken at `rate_hz` and delivered `latency_s` later.
@@ -256,6 +265,16 @@ impl<T: Copy> Schedule<T> {
     }
     fn push(&mut self, t_k: f64, x: T) {
         self.queue.push_back((t_k + self.latency_s, x));
+    }
+    /// The oldest sample delivered by `t_s` and not yet taken, with its delivery time
+    /// (it also becomes the newest for [`Schedule::read`]).
+    fn next_delivered(&mut self, t_s: f64) -> Option<(f64, T)> {
+        let (t_avail, x) = self.queue.front().copied()?;
+        (t_avail <= t_s + 1e-6 * self.period_s).then(|| {
+            self.queue.pop_front();
+            self.latest = Some(x);
+            (t_avail, x)
+        })
     }
     /// The newest sample delivered by `t_s`.
     fn read(&mut self, t_s: f64) -> Option<T> {
@@ -323,12 +342,15 @@ impl Imu {
         while let Some(t_k) = self.schedule.due(t_s) {
             let g = Vector3::new(0.0, 0.0, -self.gravity_m_s2);
             let f = state.world_from_body.inverse() * (accel_world_m_s2 - g);
+            let w = state.angular_velocity_body_rad_s;
             let s = ImuSample {
                 t_s: t_k,
-                gyro_rad_s: state.angular_velocity_body_rad_s
-                    + self.gyro_bias
-                    + self.noise.vec3(sg),
+                gyro_rad_s: w + self.gyro_bias + self.noise.vec3(sg),
                 accel_m_s2: f + self.accel_bias + self.noise.vec3(sa),
+                true_angular_velocity_rad_s: w,
+                true_specific_force_m_s2: f,
+                gyro_bias_rad_s: self.gyro_bias,
+                accel_bias_m_s2: self.accel_bias,
             };
             self.schedule.push(t_k, s);
             self.gyro_bias += self.noise.vec3(self.params.gyro_bias_walk * dt);
@@ -339,6 +361,12 @@ impl Imu {
     /// The newest sample delivered by `t_s` (None before the first arrives).
     pub fn read(&mut self, t_s: f64) -> Option<ImuSample> {
         self.schedule.read(t_s)
+    }
+    /// The oldest sample delivered by `t_s` that has not been taken yet, with the time it
+    /// was delivered (sample time plus latency), s; call until `None` to take every sample
+    /// in order (e.g. to log each one).
+    pub fn next_delivered(&mut self, t_s: f64) -> Option<(f64, ImuSample)> {
+        self.schedule.next_delivered(t_s)
     }
 }
 
@@ -386,6 +414,14 @@ impl Mocap {
     /// The newest frame delivered by `t_s`.
     pub fn read(&mut self, t_s: f64) -> Option<MocapSample> {
         self.schedule.read(t_s)
+    }
+    /// The oldest frame delivered by `t_s` not yet taken, with its delivery time, s.
+    pub fn next_delivered(&mut self, t_s: f64) -> Option<(f64, MocapSample)> {
+        self.schedule.next_delivered(t_s)
+    }
+    /// The parameters.
+    pub fn params(&self) -> &MocapParams {
+        &self.params
     }
 }
 

@@ -44,14 +44,45 @@ pub struct ModeInfo {
     pub description: String,
 }
 
-/// A Floquet multiplier and exponent.
+/// A Floquet multiplier, its exponent and its eigenvector.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FloquetMode {
-    /// Multiplier mu (real, imaginary).
+    /// Multiplier mu (real, imaginary): an eigenvalue of the monodromy matrix.
     pub multiplier: (f64, f64),
-    /// Exponent ln(mu) / T: (real 1/s, imaginary rad/s).
+    /// Exponent ln(mu) / T: (real 1/s, imaginary rad/s), so mu = exp(exponent T).
     pub exponent: (f64, f64),
+    /// The eigenvector v of the monodromy matrix (Phi v = mu v), one complex entry (real,
+    /// imaginary) per state of [`FloquetAnalysis::states`], in those states' units; unit
+    /// 2-norm, its largest entry real and positive. The perturbation that comes back
+    /// multiplied by mu after each wingbeat.
+    pub eigenvector: Vec<(f64, f64)>,
 }
+
+/// The Floquet analysis of the longitudinal motion about the trim.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FloquetAnalysis {
+    /// State names of the monodromy matrix's rows and columns: the body's (vx_m_s, vz_m_s,
+    /// pitch_err_rad, q_rad_s) and, for an actuated vehicle, the wings' (symmetric) offsets
+    /// from their periodic motion.
+    pub states: Vec<String>,
+    /// The wingbeat period T, s.
+    pub period_s: f64,
+    /// The monodromy matrix Phi, row-major: a perturbation y at the start of a wingbeat is
+    /// Phi y one wingbeat later (central differences of full simulations).
+    pub monodromy: Vec<Vec<f64>>,
+    /// The multipliers, exponents and eigenvectors, sorted by real exponent, largest first.
+    pub modes: Vec<FloquetMode>,
+}
+
+/// State names of [`FloquetAnalysis::states`]: the body's four.
+pub const FLOQUET_BODY_STATES: [&str; 4] = ["vx_m_s", "vz_m_s", "pitch_err_rad", "q_rad_s"];
+/// The wing states an actuated vehicle adds (offsets from the periodic motion, both wings).
+pub const FLOQUET_WING_STATES: [&str; 4] = [
+    "stroke_rad",
+    "wing_pitch_rad",
+    "stroke_rate_rad_s",
+    "wing_pitch_rate_rad_s",
+];
 
 /// The full stability analysis.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -70,8 +101,15 @@ pub struct StabilityReport {
     pub longitudinal_modes: Vec<ModeInfo>,
     /// Lateral modes of the averaged model.
     pub lateral_modes: Vec<ModeInfo>,
-    /// Longitudinal Floquet multipliers and exponents (when computed).
+    /// Longitudinal Floquet multipliers, exponents and eigenvectors (when computed).
     pub floquet_longitudinal: Vec<FloquetMode>,
+    /// State names of the Floquet eigenvectors and monodromy matrix (empty when not
+    /// computed).
+    pub floquet_states: Vec<String>,
+    /// The longitudinal monodromy matrix, row-major (empty when not computed).
+    pub floquet_monodromy: Vec<Vec<f64>>,
+    /// The wingbeat period of the Floquet analysis, s (when computed).
+    pub floquet_period_s: Option<f64>,
     /// Dimensional derivatives of the averaged longitudinal model, d(accel)/d(state).
     pub derivatives: Vec<(String, f64)>,
     /// The reference quantities of [`StabilityReport::nondimensional`].
@@ -103,8 +141,9 @@ fn rows(a: &DMatrix<f64>) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Eigenvector of `a` for eigenvalue `l` (null vector of a - l I by SVD).
-fn eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> DVector<f64> {
+/// Complex eigenvector of `a` for eigenvalue `l`: the null vector of a - l I by SVD (the
+/// right singular vector of the smallest singular value), unit 2-norm.
+fn complex_eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> DVector<Complex<f64>> {
     let n = a.nrows();
     let m = DMatrix::from_fn(n, n, |i, j| {
         Complex::new(a[(i, j)], 0.0) - if i == j { l } else { Complex::new(0.0, 0.0) }
@@ -124,7 +163,14 @@ fn eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> DVector<f64> {
                 best
             }
         });
-    let v: Vec<f64> = vt.row(k).iter().map(|c| c.norm()).collect();
+    // The rows of V^H are the conjugated right singular vectors.
+    DVector::from_iterator(n, vt.row(k).iter().map(|c| c.conj()))
+}
+
+/// Eigenvector magnitudes of `a` for eigenvalue `l`, normalised to the largest.
+fn eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> DVector<f64> {
+    let n = a.nrows();
+    let v: Vec<f64> = complex_eigenvector(a, l).iter().map(|c| c.norm()).collect();
     let max = v.iter().cloned().fold(0.0, f64::max).max(1e-300);
     DVector::from_iterator(n, v.into_iter().map(|x| x / max))
 }
@@ -209,10 +255,10 @@ pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
     }
     let (nondimensional_reference, nondimensional) =
         crate::derivatives::longitudinal(&v, &a_lon, stroke_amplitude_rad(&v)?);
-    let floquet_longitudinal = if floquet {
-        floquet_longitudinal(&v, &t)?
+    let f = if floquet {
+        Some(floquet_analysis(&v, &t)?)
     } else {
-        Vec::new()
+        None
     };
     Ok(StabilityReport {
         trim: t,
@@ -222,7 +268,10 @@ pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
         a_lateral: rows(&a_lat),
         longitudinal_modes: modes(&a_lon, &lon_names),
         lateral_modes: modes(&a_lat, &lat_names),
-        floquet_longitudinal,
+        floquet_period_s: f.as_ref().map(|f| f.period_s),
+        floquet_states: f.as_ref().map(|f| f.states.clone()).unwrap_or_default(),
+        floquet_monodromy: f.as_ref().map(|f| f.monodromy.clone()).unwrap_or_default(),
+        floquet_longitudinal: f.map(|f| f.modes).unwrap_or_default(),
         derivatives,
         nondimensional_reference,
         nondimensional,
@@ -286,11 +335,18 @@ fn one_wingbeat(
     Ok(out)
 }
 
-/// Floquet multipliers and exponents of the longitudinal motion about the trim. For an
-/// actuated vehicle the monodromy matrix also spans the wings' own states (stroke, pitch and
-/// their rates, symmetric), whose memory from one wingbeat to the next couples into the body
-/// modes: 8 multipliers, the body's 4 and the wings' 4, sorted by real exponent.
+/// Floquet multipliers, exponents and eigenvectors of the longitudinal motion about the
+/// trim (see [`floquet_analysis`]).
 pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
+    floquet_analysis(v, t).map(|f| f.modes)
+}
+
+/// The monodromy matrix of the longitudinal motion about the trim (one wingbeat of full
+/// simulations from perturbed starts, central differences) and its eigen-decomposition. For
+/// an actuated vehicle the matrix also spans the wings' own states (stroke, pitch and their
+/// rates, symmetric), whose memory from one wingbeat to the next couples into the body
+/// modes: 8 multipliers, the body's 4 and the wings' 4, sorted by real exponent.
+pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
     let q = t.attitude();
     let periodic = if v.actuation.is_some() {
         Some(crate::actuated::periodic::settle(
@@ -330,9 +386,72 @@ pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
             FloquetMode {
                 multiplier: (mu.re, mu.im),
                 exponent: (ln.re / period, ln.im / period),
+                eigenvector: normalized(&complex_eigenvector(&phi, *mu)),
             }
         })
         .collect();
     out.sort_by(|a, b| b.exponent.0.total_cmp(&a.exponent.0));
-    Ok(out)
+    let mut states: Vec<String> = FLOQUET_BODY_STATES.iter().map(|s| s.to_string()).collect();
+    if periodic.is_some() {
+        states.extend(FLOQUET_WING_STATES.iter().map(|s| s.to_string()));
+    }
+    Ok(FloquetAnalysis {
+        states,
+        period_s: period,
+        monodromy: rows(&phi),
+        modes: out,
+    })
+}
+
+/// `v` scaled to unit 2-norm with its largest entry real and positive, as (re, im) pairs.
+fn normalized(v: &DVector<Complex<f64>>) -> Vec<(f64, f64)> {
+    let k = v.iter().enumerate().fold(
+        0,
+        |best, (i, c)| if c.norm() > v[best].norm() { i } else { best },
+    );
+    let (norm, big) = (v.norm(), v[k]);
+    let phase = if big.norm() > 0.0 && norm > 0.0 {
+        big.conj() / (big.norm() * norm)
+    } else {
+        Complex::new(1.0, 0.0)
+    };
+    v.iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let z = c * phase;
+            // The largest entry exactly real (its rotation leaves round-off in Im).
+            if i == k {
+                (z.norm(), 0.0)
+            } else {
+                (z.re, z.im)
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eigenvectors_of_a_scaled_rotation_are_the_analytic_ones() {
+        // r R(theta) has eigenvalues r exp(+-i theta) with eigenvectors (1, -+i) / sqrt(2)
+        // (R v = exp(i theta) v for v = (1, -i): cos + i sin = exp(i theta) on the first
+        // entry, sin - i cos = -i exp(i theta) on the second).
+        let (r, th) = (0.9_f64, 0.3_f64);
+        let a = DMatrix::from_row_slice(
+            2,
+            2,
+            &[r * th.cos(), -r * th.sin(), r * th.sin(), r * th.cos()],
+        );
+        let mu = Complex::from_polar(r, th);
+        let v = normalized(&complex_eigenvector(&a, mu));
+        let (v0, v1) = (Complex::new(v[0].0, v[0].1), Complex::new(v[1].0, v[1].1));
+        // The direction: v1 / v0 = -i.
+        assert!((v1 / v0 - Complex::new(0.0, -1.0)).norm() < 1e-12, "{v:?}");
+        // Unit norm, and the largest entry (the two tie up to round-off) real and positive.
+        assert!(((v0.norm_sqr() + v1.norm_sqr()).sqrt() - 1.0).abs() < 1e-12);
+        let big = if v0.norm() >= v1.norm() { v0 } else { v1 };
+        assert!(big.re > 0.0 && big.im.abs() < 1e-15, "{v:?}");
+    }
 }

@@ -14,10 +14,11 @@ use foxglove::messages::{ArrowPrimitive, FrameTransform, PoseInFrame, SceneUpdat
 use crate::chunk::RawChunk;
 use crate::proto;
 use crate::recorder::Decimator;
-use crate::sample::{SAMPLE_MESSAGES, Sample, SampleBuilder, timestamp};
+use crate::sample::{Encoded, SAMPLE_MESSAGES, Sample, SampleBuilder, timestamp};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    CHANNELS, EVENTS, FORCE_ARROWS_MAX_RATE_HZ, SCENE_FORCES, SCENE_WINGS, channel_id,
+    CHANNELS, EVENTS, FORCE_ARROWS_MAX_RATE_HZ, SCENE_FORCES, SCENE_WINGS, SENSOR_CHANNELS,
+    channel_id,
 };
 
 /// Writes each logged step's messages into the open chunk: the ten of the sample and, at
@@ -33,7 +34,8 @@ pub(crate) struct SampleEncoder {
     arrow_decimator: Decimator,
     /// The wing planforms, until they go out with the first sample.
     planforms: Option<SceneUpdate>,
-    sequences: [u32; CHANNELS.len()],
+    /// Per channel: [`CHANNELS`], then [`SENSOR_CHANNELS`].
+    sequences: [u32; CHANNELS.len() + SENSOR_CHANNELS.len()],
 }
 
 impl SampleEncoder {
@@ -45,7 +47,7 @@ impl SampleEncoder {
             arrow_message: SceneUpdate::default(),
             arrow_decimator: Decimator::new(Some(FORCE_ARROWS_MAX_RATE_HZ)),
             planforms: Some(planforms),
-            sequences: [0; CHANNELS.len()],
+            sequences: [0; CHANNELS.len() + SENSOR_CHANNELS.len()],
         }
     }
 
@@ -96,6 +98,14 @@ impl SampleEncoder {
             messages += 1;
         }
         messages
+    }
+
+    /// Appends a sensor reading's record to `raw`, on sensor channel `sensor` (an index of
+    /// [`SENSOR_CHANNELS`], declared after [`CHANNELS`]).
+    pub fn sensor(&mut self, sensor: usize, t_ns: u64, message: &dyn Encoded, raw: &mut RawChunk) {
+        let index = CHANNELS.len() + sensor;
+        let seq = self.next(index);
+        raw.message(channel_id(index), seq, t_ns, message);
     }
 
     /// Appends an event's record to `raw`.

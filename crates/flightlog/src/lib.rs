@@ -65,6 +65,7 @@ mod rerun_sink;
 mod sample;
 mod scene;
 pub mod schema;
+mod sensor_msg;
 mod writer;
 
 use std::path::PathBuf;
@@ -127,6 +128,9 @@ pub struct LogOptions {
     /// Serve the run live over the Foxglove WebSocket protocol at this `host:port` (port 0:
     /// any free port, see [`Recorder::foxglove_port`]; needs the `live` feature).
     pub foxglove: Option<String>,
+    /// Declare the sensor channels ([`schema::SENSOR_CHANNELS`]: `/sensors/imu`,
+    /// `/sensors/mocap`) in the MCAP log, for [`Recorder::sensor`].
+    pub sensors: bool,
 }
 
 impl LogOptions {

@@ -4,7 +4,7 @@
 //! `FrameTransform`, `Log`) are the foxglove crate's own (`foxglove::messages`).
 //!
 //! The structs are written out here rather than generated (prost-build would add a code
-//! generator to the build for ten small messages); the unit test at the end checks them
+//! generator to the build for a dozen small messages); the unit test at the end checks them
 //! against the compiled .proto: every field's name, number and type.
 
 use foxglove::messages::Timestamp;
@@ -213,6 +213,44 @@ pub struct WingForces {
     pub total: Option<ForceTerm>,
 }
 
+#[derive(Clone, Copy, PartialEq, prost::Message)]
+pub struct ImuReading {
+    #[prost(message, optional, tag = "1")]
+    pub timestamp: Option<Timestamp>,
+    #[prost(double, tag = "2")]
+    pub t_sample_s: f64,
+    #[prost(double, tag = "3")]
+    pub t_delivered_s: f64,
+    #[prost(message, optional, tag = "4")]
+    pub gyro_rad_s: Option<Vector3>,
+    #[prost(message, optional, tag = "5")]
+    pub accel_m_s2: Option<Vector3>,
+    #[prost(message, optional, tag = "6")]
+    pub true_angular_velocity_rad_s: Option<Vector3>,
+    #[prost(message, optional, tag = "7")]
+    pub true_specific_force_m_s2: Option<Vector3>,
+    #[prost(message, optional, tag = "8")]
+    pub gyro_bias_rad_s: Option<Vector3>,
+    #[prost(message, optional, tag = "9")]
+    pub accel_bias_m_s2: Option<Vector3>,
+}
+
+#[derive(Clone, Copy, PartialEq, prost::Message)]
+pub struct MocapReading {
+    #[prost(message, optional, tag = "1")]
+    pub timestamp: Option<Timestamp>,
+    #[prost(double, tag = "2")]
+    pub t_sample_s: f64,
+    #[prost(double, tag = "3")]
+    pub t_delivered_s: f64,
+    #[prost(message, optional, tag = "4")]
+    pub position_m: Option<Vector3>,
+    #[prost(message, optional, tag = "5")]
+    pub attitude: Option<Quaternion>,
+    #[prost(message, optional, tag = "6")]
+    pub euler_deg: Option<Euler>,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -351,6 +389,40 @@ mod tests {
                 added_mass: term,
                 wake_capture: term,
                 total: term,
+            },
+        );
+        roundtrip(
+            "flapwing.ImuReading",
+            &ImuReading {
+                timestamp: t,
+                t_sample_s: 1.0,
+                t_delivered_s: 1.0,
+                gyro_rad_s: v,
+                accel_m_s2: v,
+                true_angular_velocity_rad_s: v,
+                true_specific_force_m_s2: v,
+                gyro_bias_rad_s: v,
+                accel_bias_m_s2: v,
+            },
+        );
+        roundtrip(
+            "flapwing.MocapReading",
+            &MocapReading {
+                timestamp: t,
+                t_sample_s: 1.0,
+                t_delivered_s: 1.0,
+                position_m: v,
+                attitude: Some(Quaternion {
+                    x: 1.0,
+                    y: 2.0,
+                    z: 3.0,
+                    w: 4.0,
+                }),
+                euler_deg: Some(Euler {
+                    roll: 1.0,
+                    pitch: 2.0,
+                    yaw: 3.0,
+                }),
             },
         );
     }

@@ -21,7 +21,10 @@ use crate::mcap_write::McapWriter;
 use crate::sample::Sample;
 use crate::sample::{SampleBuilder, WingStatic, time_ns, timestamp};
 use crate::scene::ForceArrows;
-use crate::schema::{self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING, channel_id};
+use crate::schema::{
+    self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING, SENSOR_CHANNELS, channel_id,
+};
+use crate::sensor_msg::SensorMessage;
 use crate::writer::Writer;
 use crate::{Error, Level, LogOptions, Result, RunInfo};
 
@@ -93,6 +96,8 @@ struct McapOut {
     chunk_start_ns: u64,
     chunk_samples: u64,
     encoder: SampleEncoder,
+    /// The sensor channels are declared.
+    sensors: bool,
     writer: Writer,
 }
 
@@ -207,7 +212,7 @@ impl Recorder {
         #[cfg(feature = "rerun")]
         let rerun = crate::rerun_sink::RerunSink::open(options, vehicle)?;
         let mcap = match &options.mcap {
-            Some(path) => match open_mcap(path, info, vehicle, options.log_rate_hz) {
+            Some(path) => match open_mcap(path, info, vehicle, options) {
                 Ok(m) => Some(m),
                 Err(e) => {
                     #[cfg(feature = "rerun")]
@@ -340,6 +345,27 @@ impl Recorder {
                 l.forces(t_ns, &self.arrow_message);
             }
         }
+        Ok(())
+    }
+
+    /// Logs one delivered sensor reading to `/sensors/imu` or `/sensors/mocap` at the
+    /// simulation time `t_s` of the step it arrived at (every reading, no decimation). The
+    /// log must have been created with [`LogOptions::sensors`]; other outputs (Rerun, the
+    /// live view) do not show sensors.
+    pub fn sensor(&mut self, t_s: f64, reading: &flapsim::sensor_run::Reading) -> Result<()> {
+        let Some(m) = &mut self.mcap else {
+            return Ok(());
+        };
+        if !m.sensors {
+            return Err(Error::Options(
+                "sensor readings need a log created with LogOptions::sensors".into(),
+            ));
+        }
+        let t_ns = time_ns(t_s);
+        let msg = SensorMessage::of(reading, t_ns);
+        m.encoder
+            .sensor(msg.channel(), t_ns, msg.encoded(), &mut m.chunk);
+        self.stats.mcap_messages += 1;
         Ok(())
     }
 
@@ -500,8 +526,9 @@ fn open_mcap(
     path: &Path,
     info: &RunInfo,
     vehicle: &Vehicle,
-    log_rate_hz: Option<f64>,
+    options: &LogOptions,
 ) -> Result<McapOut> {
+    let (log_rate_hz, sensors) = (options.log_rate_hz, options.sensors);
     let file = File::create(path).map_err(|e| Error::io("cannot create", path, e))?;
     let start = || -> std::io::Result<McapWriter<std::io::BufWriter<File>>> {
         let mut w = McapWriter::new(
@@ -520,7 +547,8 @@ fn open_mcap(
             "application/toml",
             info.model_toml.as_bytes(),
         )?;
-        for (i, (topic, name)) in CHANNELS.iter().enumerate() {
+        let sensor_channels = if sensors { &SENSOR_CHANNELS[..] } else { &[] };
+        for (i, (topic, name)) in CHANNELS.iter().chain(sensor_channels).enumerate() {
             let data = schema::schema_data(name).unwrap_or_default();
             let schema_id = w.add_schema(name, SCHEMA_ENCODING, &data)?;
             let id = w.add_channel(schema_id, topic, MESSAGE_ENCODING)?;
@@ -548,6 +576,7 @@ fn open_mcap(
             ForceArrows::of(vehicle),
             crate::scene::wing_scene(vehicle, 0),
         ),
+        sensors,
         writer,
     })
 }

@@ -35,6 +35,11 @@ pub const TOPIC_SCENE: &str = "/scene/wings";
 /// Each wing's total aerodynamic force as an arrow, `foxglove.SceneUpdate` (every sample).
 pub const TOPIC_SCENE_FORCES: &str = "/scene/forces";
 
+/// IMU readings, `flapwing.ImuReading` (logs with sensors only, see [`SENSOR_CHANNELS`]).
+pub const TOPIC_IMU: &str = "/sensors/imu";
+/// Motion-capture frames, `flapwing.MocapReading` (logs with sensors only).
+pub const TOPIC_MOCAP: &str = "/sensors/mocap";
+
 /// The world frame (z up).
 pub const FRAME_WORLD: &str = "world";
 /// The body frame (x forward, y left, z up, origin at the centre of mass).
@@ -97,6 +102,14 @@ pub(crate) fn channel_id(index: usize) -> u16 {
     index as u16 + 1
 }
 
+/// The sensor channels, declared after [`CHANNELS`] (channel ids 14 and 15) when
+/// [`crate::LogOptions::sensors`] is set; one message per delivered reading
+/// ([`crate::Recorder::sensor`]).
+pub const SENSOR_CHANNELS: [(&str, &str); 2] = [
+    (TOPIC_IMU, "flapwing.ImuReading"),
+    (TOPIC_MOCAP, "flapwing.MocapReading"),
+];
+
 /// The names of the four terms and the total, in the order of the forces message's objects.
 pub const FORCE_PARTS: [&str; 5] = [
     "translational",
@@ -120,7 +133,9 @@ pub fn schema_data(name: &str) -> Option<Vec<u8>> {
         "flapwing.VehicleState"
         | "flapwing.Controls"
         | "flapwing.WingKinematics"
-        | "flapwing.WingForces" => Some(crate::proto::FILE_DESCRIPTOR_SET.to_vec()),
+        | "flapwing.WingForces"
+        | "flapwing.ImuReading"
+        | "flapwing.MocapReading" => Some(crate::proto::FILE_DESCRIPTOR_SET.to_vec()),
         _ => None,
     }
 }

@@ -2,7 +2,7 @@
 //! `flapwing.HoverController`.
 
 use nalgebra::DMatrix;
-use numpy::{Complex64, PyArray1};
+use numpy::{Complex64, PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -197,8 +197,12 @@ impl Vehicle {
     /// Hover stability (flapsim::stability::analyze): the averaged model's longitudinal and
     /// lateral system matrices `a_longitudinal`, `a_lateral` (numpy, with their state
     /// names), their eigenvalues (complex numpy) and modes with eigenvectors, the
-    /// dimensional and non-dimensional derivatives, and with `floquet` the Floquet
-    /// multipliers and exponents of the time-periodic longitudinal motion.
+    /// dimensional and non-dimensional derivatives, and with `floquet` the Floquet analysis
+    /// of the time-periodic longitudinal motion: `floquet_monodromy` (the monodromy matrix
+    /// Phi over one wingbeat, rows and columns `floquet_states`), `floquet_multipliers` (its
+    /// eigenvalues mu), `floquet_exponents` (ln(mu) / T, so mu = exp(exponent T) with T =
+    /// `floquet_period_s`) and `floquet_eigenvectors` (complex, column k the eigenvector of
+    /// multiplier k: Phi v = mu v, unit norm, largest entry real and positive).
     #[pyo3(signature = (floquet = true))]
     fn stability<'py>(&self, py: Python<'py>, floquet: bool) -> PyResult<Bound<'py, PyAny>> {
         let r = py
@@ -226,6 +230,20 @@ impl Vehicle {
             "floquet_exponents",
             eigenvalues(py, r.floquet_longitudinal.iter().map(|m| m.exponent)),
         )?;
+        dict.set_item(
+            "floquet_monodromy",
+            matrix(py, &square(&r.floquet_monodromy))?,
+        )?;
+        let n = r.floquet_states.len();
+        let columns: Vec<Complex64> = (0..n)
+            .flat_map(|i| {
+                r.floquet_longitudinal
+                    .iter()
+                    .map(move |m| Complex64::new(m.eigenvector[i].0, m.eigenvector[i].1))
+            })
+            .collect();
+        let vectors = PyArray1::from_vec(py, columns).reshape([n, r.floquet_longitudinal.len()])?;
+        dict.set_item("floquet_eigenvectors", vectors)?;
         Ok(d)
     }
 

@@ -37,6 +37,9 @@ pub struct HoverArgs {
     /// Log outputs (hover writes an MCAP log and a Rerun recording under logs/ by default).
     #[command(flatten)]
     pub log: crate::logging::LogArgs,
+    /// Sensors.
+    #[command(flatten)]
+    pub sensors: crate::sensing::SensorArgs,
 }
 
 /// Parses `--disturbance`.
@@ -96,6 +99,8 @@ struct Report<'a> {
     trim_controls: [crate::vehicle::TrimRow; 2],
     delay_wingbeats: usize,
     outcome: &'a HoverOutcome,
+    /// What the model's sensors sampled (`None` without sensors).
+    sensors: Option<&'a flapsim::sensor_run::SensorSummary>,
 }
 
 /// Runs the command.
@@ -127,7 +132,16 @@ pub fn run(args: HoverArgs) -> Result<()> {
         "trim": trim,
     })
     .to_string();
-    let mut rec = crate::logging::open(&args.log, "hover", &src, &trimmed, settings, true)?;
+    let mut sensors = crate::sensing::start(&args.sensors, &trimmed)?;
+    let mut rec = crate::logging::open(
+        &args.log,
+        "hover",
+        &src,
+        &trimmed,
+        settings,
+        true,
+        sensors.is_some(),
+    )?;
     let mut log_error = None;
     let steps =
         (duration_s * vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64).round() as u64;
@@ -142,7 +156,9 @@ pub fn run(args: HoverArgs) -> Result<()> {
             if out.step % 1024 == 0 {
                 bar.set_position(out.step);
             }
-            if let Err(e) = crate::logging::record(&mut rec, out) {
+            if let Err(e) = crate::logging::record(&mut rec, out)
+                .and_then(|()| crate::sensing::observe(&mut sensors, &mut rec, out))
+            {
                 log_error = Some(e);
                 return false;
             }
@@ -165,6 +181,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
         trim_controls: crate::vehicle::trim_rows(&vehicle, &trim),
         delay_wingbeats: usize::from(args.delay_wingbeats),
         outcome: &outcome,
+        sensors: sensors.as_ref().map(|r| r.summary()),
     };
     let interrupted = outcome.interrupted;
     if args.json {
@@ -222,6 +239,9 @@ fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()
             "recovered (within 1 body length and 2 deg for good) after {t:.4} s"
         )?,
         (None, None) => writeln!(w, "not recovered within the run")?,
+    }
+    if let Some(x) = report.sensors {
+        writeln!(w, "{}", crate::sensing::describe(x))?;
     }
     crate::output::print_stdout(&w)
 }

@@ -3,6 +3,7 @@
 use std::fmt::Write;
 
 use anyhow::Result;
+use flapsim::sensor_run::SensorSummary;
 use flapsim::{Mode, RunSummary, Simulation, SummaryBuilder};
 use serde::Serialize;
 use wingforce::Term;
@@ -30,6 +31,9 @@ pub struct SimulateArgs {
     /// Log outputs.
     #[command(flatten)]
     pub log: crate::logging::LogArgs,
+    /// Sensors.
+    #[command(flatten)]
+    pub sensors: crate::sensing::SensorArgs,
 }
 
 #[derive(Serialize)]
@@ -40,6 +44,8 @@ struct Report<'a> {
     steps_per_wingbeat: usize,
     weight_n: f64,
     summary: &'a RunSummary,
+    /// What the model's sensors sampled (`None` without sensors).
+    sensors: Option<&'a SensorSummary>,
     error: Option<String>,
 }
 
@@ -71,7 +77,16 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         Some(args.log.log_rate_hz)
     };
     let settings = flightlog::SimSettings::new(mode, duration_s, rate, [0.0; 3]).to_json();
-    let mut rec = crate::logging::open(&args.log, "simulate", &src, &vehicle, settings, false)?;
+    let mut sensors = crate::sensing::start(&args.sensors, &vehicle)?;
+    let mut rec = crate::logging::open(
+        &args.log,
+        "simulate",
+        &src,
+        &vehicle,
+        settings,
+        false,
+        sensors.is_some(),
+    )?;
     let mut log_error = None;
     let mut sim = Simulation::new(vehicle, mode);
     let dt = sim.dt_s();
@@ -80,7 +95,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let mut summary = SummaryBuilder::new(weight);
     let result = sim.run_while(duration_s, |out| {
         summary.observe(out, dt);
-        if let Err(e) = crate::logging::record(&mut rec, out) {
+        if let Err(e) = crate::logging::record(&mut rec, out)
+            .and_then(|()| crate::sensing::observe(&mut sensors, &mut rec, out))
+        {
             log_error = Some(e);
             return false;
         }
@@ -106,6 +123,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         steps_per_wingbeat,
         weight_n: weight,
         summary: &s,
+        sensors: sensors.as_ref().map(|r| r.summary()),
         error: error.clone(),
     };
     if args.json {
@@ -168,6 +186,9 @@ fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
         "drift: {:.4e} m; largest excursion: {:.4e} m",
         s.drift_m, s.max_excursion_m
     )?;
+    if let Some(x) = r.sensors {
+        writeln!(o, "{}", crate::sensing::describe(x))?;
+    }
     if let Some(e) = &r.error {
         writeln!(o, "stopped: {e}")?;
     }

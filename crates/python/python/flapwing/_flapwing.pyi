@@ -100,7 +100,12 @@ class Vehicle:
     def stability(self, floquet: bool = True) -> dict[str, Any]:
         """a_longitudinal, a_lateral (arrays) with their state names, eigenvalues_* (complex
         arrays), *_modes (eigenvalue, eigenvector, description), derivatives, and with
-        `floquet` floquet_multipliers and floquet_exponents (complex arrays)."""
+        `floquet` the Floquet analysis of the longitudinal motion: floquet_monodromy (the
+        monodromy matrix Phi over one wingbeat, rows and columns floquet_states),
+        floquet_multipliers (its eigenvalues mu, complex), floquet_exponents (ln(mu) / T,
+        so mu = exp(exponent * T) with T = floquet_period_s), floquet_eigenvectors (complex,
+        column k the eigenvector of multiplier k: Phi v = mu v, unit norm, largest entry
+        real and positive) and floquet_longitudinal (the same per mode, as dicts)."""
     def lqr(self, delay_wingbeats: int = 0, **weights: float) -> "HoverController":
         """The per-wingbeat hover LQR at the trim (weights: flapsim's LqrWeights fields)."""
 
