@@ -4,7 +4,7 @@
 //! prost writes a nested message's length before its fields, so it computes the length of
 //! every sub-message (and of theirs) before writing it: for the sample's three levels of
 //! nesting that is most of the encoding work. Every sub-message here is shorter than 128
-//! bytes, so its length is one byte, written as a placeholder and patched once the fields are
+//! bytes, so its length is one byte, written first as a zero and patched once the fields are
 //! in. The bytes are exactly prost's (fields in tag order, proto3 defaults left out, a set
 //! optional sub-message written even when empty); the tests check it on whole runs.
 
