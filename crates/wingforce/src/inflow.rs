@@ -10,7 +10,7 @@
 //! ```
 //!
 //! for a thrust T (the weight in hover). Blade-element models of hovering insects that
-//! account for it (blade-element momentum theory; e.g. Sane 2006, J Exp Biol 209:32-42 for
+//! account for it (blade-element momentum theory; e.g. Sane 2006, J Exp Biol 209:32, for
 //! the rotor-theory induced flow of flapping wings) feed it to each strip as a flow through
 //! the stroke plane: the strip sees the air coming down at w_i, which lowers its effective
 //! angle of attack and tilts its lift backwards. Without it a quasi-steady model treats every
