@@ -44,6 +44,11 @@ pub struct LogArgs {
     /// Replace existing log files.
     #[arg(long)]
     pub force: bool,
+    /// Print `flushed: N samples to t = T s` on stderr each time logged samples reach the
+    /// MCAP file, for a supervisor of a run that may be killed: a kill after such a line
+    /// leaves a log that `flapwing replay` reads to at least those N samples.
+    #[arg(long = "report-flushed")]
+    pub report_flushed: bool,
 }
 
 /// The current UTC date and time (year, month, day, hour, minute, second), by civil-from-days
@@ -215,6 +220,20 @@ pub fn record(rec: &mut Option<Recorder>, out: &flapsim::StepOutput) -> anyhow::
         r.record(out)?;
     }
     Ok(())
+}
+
+/// With `--report-flushed`: says on stderr how much of the run newly reached the MCAP file
+/// since the last report (`reported` holds the samples last said).
+pub fn report_flushed(rec: &Option<Recorder>, reported: &mut u64) {
+    if let Some(f) = rec.as_ref().and_then(Recorder::flushed)
+        && f.samples > *reported
+    {
+        *reported = f.samples;
+        crate::output::note(&format!(
+            "flushed: {} samples to t = {:.6} s",
+            f.samples, f.t_s
+        ));
+    }
 }
 
 /// Ends a run's logs: records why it ended early (divergence as an error event, Ctrl-C as

@@ -74,6 +74,7 @@ use serde::{Deserialize, Serialize};
 
 pub use error::{Error, Result};
 pub use recorder::{Decimator, LogStats, Recorder};
+pub use writer::Flushed;
 
 /// What produced a log: written into the MCAP `flapwing` metadata record.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]

@@ -25,7 +25,7 @@ use crate::schema::{
     self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING, SENSOR_CHANNELS, channel_id,
 };
 use crate::sensor_msg::SensorMessage;
-use crate::writer::Writer;
+use crate::writer::{Flushed, Writer};
 use crate::{Error, Level, LogOptions, Result, RunInfo};
 
 /// Close the current chunk (so a killed run keeps it) at least this often, simulated time.
@@ -95,6 +95,8 @@ struct McapOut {
     /// Log time of the first sample of the open chunk, and its samples.
     chunk_start_ns: u64,
     chunk_samples: u64,
+    /// The run's samples so far and the newest one's time (what a closed chunk ends with).
+    upto: Flushed,
     encoder: SampleEncoder,
     /// The sensor channels are declared.
     sensors: bool,
@@ -110,7 +112,7 @@ impl McapOut {
         let next = self.writer.spare_chunk();
         let full = std::mem::replace(&mut self.chunk, next);
         self.chunk_samples = 0;
-        self.writer.chunk(full)
+        self.writer.chunk(full, self.upto)
     }
 
     /// Adds a sample; the number of messages written.
@@ -124,6 +126,10 @@ impl McapOut {
         }
         let messages = self.encoder.sample(out, &mut self.chunk);
         self.chunk_samples += 1;
+        self.upto = Flushed {
+            samples: self.upto.samples + 1,
+            t_s: out.t_s,
+        };
         if self.chunk_samples >= CHUNK_SAMPLES {
             self.close_chunk()?;
         }
@@ -397,6 +403,14 @@ impl Recorder {
         Ok(())
     }
 
+    /// How much of the run is in the MCAP file at this moment (`None` without one): a kill
+    /// now keeps at least these samples. The writer thread advances it each time a closed
+    /// chunk is written and flushed; it trails the run by at most the chunk being filled and
+    /// the two newest closed chunks.
+    pub fn flushed(&self) -> Option<Flushed> {
+        self.mcap.as_ref().map(|m| m.writer.flushed())
+    }
+
     /// What has been recorded so far (the file size is known after [`Recorder::finish`]).
     pub fn stats(&self) -> &LogStats {
         &self.stats
@@ -571,6 +585,7 @@ fn open_mcap(
         chunk: RawChunk::default(),
         chunk_start_ns: 0,
         chunk_samples: 0,
+        upto: Flushed::default(),
         encoder: SampleEncoder::new(
             SampleBuilder::new(WingStatic::of(vehicle), vehicle.weight_n()),
             ForceArrows::of(vehicle),

@@ -7,8 +7,12 @@
 //! Jobs travel on a bounded queue of [`QUEUE`] chunk besides the one the thread is writing, so
 //! `record` blocks only while the thread is two closed chunks behind (a slow disk slows the
 //! run instead of filling memory), and a killed run loses at most those two chunks and the one
-//! being filled: when a close returns, every chunk closed before the two newest is in the
-//! file. Emptied chunk
+//! being filled. Why: the thread takes chunk k-1 off the queue only after chunk k-2 is written
+//! and flushed, and queuing chunk k returns only once the queue has room, that is once chunk
+//! k-1 was taken; so when the close of chunk k returns, every chunk before k-1 is in the file,
+//! whatever the two threads' speeds. The thread also publishes, after each flush, how many
+//! samples are in the file ([`Flushed`], `Recorder::flushed`), which a supervisor can report
+//! and a kill can never undo. Emptied chunk
 //! buffers come back for reuse. The first error of the thread ends it; the next call here
 //! returns it, and later calls say that the writer stopped because of it.
 
@@ -16,8 +20,9 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender, SyncSender};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
 use crate::chunk::{ChunkBuilder, RawChunk};
@@ -30,7 +35,8 @@ use crate::{Error, Result};
 const QUEUE: usize = 1;
 
 enum Job {
-    Chunk(RawChunk),
+    /// A closed chunk, and the run's samples up to its end (what is safe once it is written).
+    Chunk(RawChunk, Flushed),
     /// Answer once everything before is in the file.
     Sync(Sender<()>),
     /// Write the end metadata, the summary and the footer; answer with the file size.
@@ -38,6 +44,37 @@ enum Job {
 }
 
 type File64 = McapWriter<BufWriter<File>>;
+
+/// How much of a run is in the MCAP file: a kill at this moment keeps at least this much.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Flushed {
+    /// Samples (logged steps) whose chunks are written whole and flushed to the file.
+    pub samples: u64,
+    /// Time of the newest of them, s (0 before the first).
+    pub t_s: f64,
+}
+
+/// The newest [`Flushed`], written by the writer thread after each chunk reaches the file and
+/// read by the simulation thread (two atomics: the samples are never newer than the time's
+/// sample, since the thread stores the time first and the reader loads the samples first).
+#[derive(Debug, Default)]
+struct FlushedCell {
+    samples: AtomicU64,
+    t_bits: AtomicU64,
+}
+
+impl FlushedCell {
+    fn store(&self, f: Flushed) {
+        self.t_bits.store(f.t_s.to_bits(), Ordering::Release);
+        self.samples.store(f.samples, Ordering::Release);
+    }
+
+    fn load(&self) -> Flushed {
+        let samples = self.samples.load(Ordering::Acquire);
+        let t_s = f64::from_bits(self.t_bits.load(Ordering::Acquire));
+        Flushed { samples, t_s }
+    }
+}
 
 /// The simulation thread's handle on the writer thread.
 pub(crate) struct Writer {
@@ -48,18 +85,26 @@ pub(crate) struct Writer {
     /// The writer thread's error, once it stopped.
     failed: Option<String>,
     path: PathBuf,
+    flushed: Arc<FlushedCell>,
 }
 
-fn run(mut w: File64, path: &Path, jobs: Receiver<Job>, spare: Sender<RawChunk>) -> Result<u64> {
+fn run(
+    mut w: File64,
+    path: &Path,
+    jobs: Receiver<Job>,
+    spare: Sender<RawChunk>,
+    flushed: &FlushedCell,
+) -> Result<u64> {
     let io = |e| Error::io("cannot write", path, e);
     let mut zstd = ChunkBuilder::new().map_err(io)?;
     for job in jobs {
         match job {
-            Job::Chunk(mut raw) => {
+            Job::Chunk(mut raw, upto) => {
                 let chunk = zstd.compress(&raw).map_err(io)?;
                 w.write_chunk(&chunk).map_err(io)?;
                 // Each chunk reaches the file whole before the next one starts.
                 w.flush().map_err(io)?;
+                flushed.store(upto);
                 raw.clear();
                 let _ = spare.send(raw);
             }
@@ -84,9 +129,11 @@ impl Writer {
         let (jobs, jobs_rx) = mpsc::sync_channel(QUEUE);
         let (spare_tx, spare) = mpsc::channel();
         let thread_path = path.to_owned();
+        let flushed = Arc::new(FlushedCell::default());
+        let cell = Arc::clone(&flushed);
         let thread = std::thread::Builder::new()
             .name("flightlog-writer".into())
-            .spawn(move || run(w, &thread_path, jobs_rx, spare_tx))
+            .spawn(move || run(w, &thread_path, jobs_rx, spare_tx, &cell))
             .map_err(|e| Error::io("cannot start the writer thread for", path, e))?;
         Ok(Self {
             jobs: Some(jobs),
@@ -94,7 +141,13 @@ impl Writer {
             thread: Some(thread),
             failed: None,
             path: path.to_owned(),
+            flushed,
         })
+    }
+
+    /// What is in the file now (see [`Flushed`]).
+    pub fn flushed(&self) -> Flushed {
+        self.flushed.load()
     }
 
     /// The error of a writer that stopped: the thread's own error the first time, then a
@@ -136,9 +189,9 @@ impl Writer {
         spare.unwrap_or_default()
     }
 
-    /// Queues a closed chunk.
-    pub fn chunk(&mut self, raw: RawChunk) -> Result<()> {
-        self.send(Job::Chunk(raw))
+    /// Queues a closed chunk that ends the run's samples at `upto`.
+    pub fn chunk(&mut self, raw: RawChunk, upto: Flushed) -> Result<()> {
+        self.send(Job::Chunk(raw, upto))
     }
 
     /// Returns once every chunk queued so far is in the file.

@@ -155,13 +155,20 @@ fn a_killed_run_keeps_its_flushed_chunks() {
     );
     let mut rec = flightlog::Recorder::create(&mcap_opts(&path, None), &info, &vehicle).unwrap();
     let mut sim = flapsim::Simulation::new(vehicle, flapsim::Mode::Free);
-    // 0.06 s: one periodic flush at 0.05 s, then a chunk in progress.
+    // At full rate a chunk closes after every 200 samples (200 drosophila steps are 9.2 ms,
+    // so the 50 ms time limit on a chunk never comes first): 0.06 s = 1308 steps close six
+    // chunks and leave 108 samples in the seventh.
     let n = (0.06 / sim.dt_s()).round() as u64;
     for _ in 0..n {
         rec.record(&sim.step().unwrap()).unwrap();
     }
-    // Simulate a kill: no finish, no Drop. The writer thread may still be writing the newest
-    // closed chunk, so take the file as it is at this moment, as a kill would leave it.
+    let closed = n / 200;
+    assert_eq!(closed, 6);
+    // What the writer thread had reported in the file before the "kill".
+    let reported = rec.flushed().unwrap();
+    // Simulate a kill: no finish, no Drop. The writer thread may still be writing either of
+    // the two newest closed chunks, so take the file as it is at this moment, as a kill would
+    // leave it.
     std::mem::forget(rec);
     let killed = dir.path().join("killed-copy.mcap");
     std::fs::copy(&path, &killed).unwrap();
@@ -171,22 +178,25 @@ fn a_killed_run_keeps_its_flushed_chunks() {
     assert!(s.end_metadata.is_none());
     let d = s.damage.unwrap();
     assert!(d.contains("truncated"), "{d}");
-    // Chunks close every 200 samples and at 0.05 s (sample 1090), then 200 samples later
-    // (1290). `record` returned after that last close, and a close waits until every chunk
-    // but the two newest is in the file: at least the samples before the last 200-sample
-    // close ahead of 0.05 s are in it.
-    let periodic = (0.05 / sim.dt_s()).ceil();
-    let at_least = (periodic / 200.0).floor() * 200.0;
+    // The bound, whatever the writer thread's speed (see flightlog's writer module): when the
+    // close of chunk k returned, every chunk before the two newest was in the file. So the
+    // samples of the first `closed - 2` chunks survive; the chunk being filled never does.
+    let at_least = (closed - 2) * 200;
     assert!(
-        n as f64 > periodic + 200.0,
-        "the run ends before the second close"
-    );
-    assert!(
-        s.samples as f64 >= at_least,
+        s.samples >= at_least,
         "{} samples, {at_least} expected at least: {d}",
         s.samples
     );
-    assert!(s.samples < n);
+    assert!(s.samples <= closed * 200, "{} samples: {d}", s.samples);
+    assert_eq!(s.samples % 200, 0, "whole chunks only: {d}");
+    // And at least what the writer had reported in the file.
+    assert!(
+        s.samples >= reported.samples,
+        "{} samples, {} reported flushed: {d}",
+        s.samples,
+        reported.samples
+    );
+    assert!(reported.samples <= closed * 200 && reported.samples % 200 == 0);
     // What was recovered re-runs bit for bit.
     match flightlog::check::check_log(&path).unwrap() {
         flightlog::check::CheckOutcome::Match { samples, note } => {

@@ -143,6 +143,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
         sensors.is_some(),
     )?;
     let mut log_error = None;
+    let mut flushed_reported = 0;
     let steps =
         (duration_s * vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64).round() as u64;
     let bar = crate::progress::progress_bar(steps, "hovering", "steps");
@@ -161,6 +162,9 @@ pub fn run(args: HoverArgs) -> Result<()> {
             {
                 log_error = Some(e);
                 return false;
+            }
+            if args.log.report_flushed {
+                crate::logging::report_flushed(&rec, &mut flushed_reported);
             }
             !crate::interrupt::requested()
         },

@@ -88,6 +88,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         sensors.is_some(),
     )?;
     let mut log_error = None;
+    let mut flushed_reported = 0;
     let mut sim = Simulation::new(vehicle, mode);
     let dt = sim.dt_s();
     let n = (duration_s / dt).round() as u64;
@@ -100,6 +101,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         {
             log_error = Some(e);
             return false;
+        }
+        if args.log.report_flushed {
+            crate::logging::report_flushed(&rec, &mut flushed_reported);
         }
         if out.step % 1024 == 0 {
             bar.set_position(out.step);
