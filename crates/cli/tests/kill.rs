@@ -1,6 +1,7 @@
 //! A run killed with SIGKILL keeps what it reported in its log: the real `flapwing` binary is
-//! killed at many points of a logged run, once while its writer thread is blocked in the
-//! middle of writing a chunk, and `flapwing replay` reads each log back.
+//! killed at eleven points of a logged run chosen by its reports, and at seven points while
+//! its writer thread is in the middle of a chunk (the log a named pipe the test stops
+//! draining), and `flapwing replay` reads each log back.
 //!
 //! The property (flightlog's writer module): chunks reach the file whole and in order, and
 //! the writer thread says how many samples are in the file only after flushing them; so a
@@ -21,11 +22,14 @@ use common::flapwing_in;
 /// the fly are 9.2 ms, under its 50 ms time limit per chunk).
 const CHUNK_SAMPLES: u64 = 200;
 
-/// Steps of a 2 s fly run (dt = 1 / (218 Hz x 100)): 218 chunks. Between two reports (the
-/// simulation thread looks once a step) the writer can flush at most the chunks then queued
-/// or being written and the one just closed, three, so the run makes at least 70 reports
-/// before it ends, whatever the threads' speeds.
-const STEPS: u64 = 43_600;
+/// Simulated seconds of a run: 20 s are 436,000 steps and 2180 chunks, tens of seconds of
+/// wall time, so the kills below (after at most 55 reports, or with the log a pipe the test
+/// stops draining) come long before the run could end by itself. Between two reports (the
+/// simulation thread looks once a step) the writer can flush at most three chunks (the one
+/// queued, the one being written and the one just closed), so 55 reports come after at most
+/// 165 chunks, whatever the threads' speeds.
+const DURATION_S: &str = "20";
+const STEPS: u64 = 436_000;
 
 fn spawn_run(dir: &Path, mcap: &str, force: bool) -> Child {
     let mut args = vec![
@@ -33,7 +37,7 @@ fn spawn_run(dir: &Path, mcap: &str, force: bool) -> Child {
         "--model",
         "drosophila",
         "--duration-s",
-        "2",
+        DURATION_S,
         "--full-rate",
         "--report-flushed",
         "--mcap",
@@ -58,16 +62,16 @@ fn flushed_samples(line: &str) -> Option<u64> {
     rest.split_whitespace().next()?.parse().ok()
 }
 
-/// Reads stderr until `k` flushed lines were seen (or the run ended); the samples of the
-/// last one (0 before any) and whether `k` were seen.
-fn wait_flushed(stderr: &mut BufReader<ChildStderr>, k: usize) -> (u64, bool) {
+/// Reads stderr until `k` flushed lines were seen; the samples of the last one.
+fn wait_flushed(stderr: &mut BufReader<ChildStderr>, k: usize) -> u64 {
     let (mut seen, mut last) = (0, 0);
     let mut line = String::new();
     while seen < k {
         line.clear();
-        if stderr.read_line(&mut line).unwrap() == 0 {
-            return (last, false);
-        }
+        assert!(
+            stderr.read_line(&mut line).unwrap() > 0,
+            "the run ended before its {k}th flushed report"
+        );
         if let Some(n) = flushed_samples(line.trim_end()) {
             assert!(n > last, "flushed went back: {last} then {n}");
             assert_eq!(n % CHUNK_SAMPLES, 0, "{line}");
@@ -75,7 +79,18 @@ fn wait_flushed(stderr: &mut BufReader<ChildStderr>, k: usize) -> (u64, bool) {
             seen += 1;
         }
     }
-    (last, true)
+    last
+}
+
+/// Kills the run; the most samples it ever reported flushed (`before`, or a later line).
+fn kill(mut child: Child, mut stderr: BufReader<ChildStderr>, before: u64) -> u64 {
+    child.kill().unwrap();
+    assert!(!child.wait().unwrap().success(), "the run was not killed");
+    let mut rest = String::new();
+    stderr.read_to_string(&mut rest).unwrap();
+    assert!(!rest.contains("panicked"), "{rest}");
+    let after = rest.lines().filter_map(flushed_samples).max().unwrap_or(0);
+    before.max(after)
 }
 
 /// `flapwing replay --json` of a killed run's log: (samples, the damage note).
@@ -92,25 +107,14 @@ fn replay(dir: &Path, mcap: &str) -> (u64, String) {
 #[test]
 fn a_killed_run_replays_to_at_least_what_it_reported_flushed() {
     let dir = tempfile::tempdir().unwrap();
-    let mut killed = 0;
-    // Kill after the k-th report: early, in the middle, late.
+    // Kill after the k-th report: early, in the middle, late. The process is wherever its
+    // threads happen to be: stepping, encoding, compressing, writing.
     for k in [1usize, 2, 3, 4, 6, 9, 13, 19, 28, 42, 55] {
         let mcap = format!("k{k}.mcap");
         let mut child = spawn_run(dir.path(), &mcap, false);
         let mut stderr = BufReader::new(child.stderr.take().unwrap());
-        let (reported, seen) = wait_flushed(&mut stderr, k);
-        assert!(seen, "the run ended before its {k}th flushed report");
-        child.kill().unwrap();
-        let status = child.wait().unwrap();
-        assert!(
-            !status.success(),
-            "k = {k}: the run finished before the kill"
-        );
-        // Whatever else it printed after the kill point.
-        let mut rest = String::new();
-        let _ = stderr.read_to_string(&mut rest);
-        let after = rest.lines().filter_map(flushed_samples).max().unwrap_or(0);
-        let reported = reported.max(after);
+        let before = wait_flushed(&mut stderr, k);
+        let reported = kill(child, stderr, before);
         let (samples, damage) = replay(dir.path(), &mcap);
         assert!(
             samples >= reported,
@@ -118,23 +122,20 @@ fn a_killed_run_replays_to_at_least_what_it_reported_flushed() {
         );
         assert!(samples <= STEPS, "k = {k}: {samples} samples");
         assert_eq!(samples % CHUNK_SAMPLES, 0, "k = {k}: whole chunks only");
-        killed += 1;
     }
-    assert_eq!(killed, 11);
 }
 
-#[test]
-fn a_run_killed_while_writing_a_chunk_keeps_the_chunks_before() {
-    let dir = tempfile::tempdir().unwrap();
-    // The log is a named pipe that this test drains: it reads two whole chunks of samples and
-    // the start of the third, then stops reading, so the writer thread cannot finish that
-    // chunk (it is larger than a pipe's 64 KiB buffer) and is blocked inside its write when
-    // the kill comes. What the test read is what a disk would hold.
-    let fifo = dir.path().join("pipe.mcap");
+/// Runs with the log a named pipe that the test drains record by record: it reads `whole`
+/// chunks of samples, then `tenths` tenths of the next chunk record (0: its 9-byte header
+/// only), stops reading and kills the run. What the test read is what a disk would hold.
+/// Returns (the chunk's length, samples replayed, samples reported flushed).
+fn kill_while_writing(dir: &Path, whole: u64, tenths: u64) -> (u64, u64, u64) {
+    let name = format!("pipe-{whole}-{tenths}.mcap");
+    let fifo = dir.join(&name);
     let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
     assert!(made.success());
-    let mut child = spawn_run(dir.path(), "pipe.mcap", true);
-    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut child = spawn_run(dir, &name, true);
+    let stderr = BufReader::new(child.stderr.take().unwrap());
     let mut pipe = std::fs::File::open(&fifo).unwrap();
     let mut bytes = vec![0u8; 8];
     pipe.read_exact(&mut bytes).unwrap();
@@ -148,9 +149,8 @@ fn a_run_killed_while_writing_a_chunk_keeps_the_chunks_before() {
         pipe.read_exact(&mut head).unwrap();
         bytes.extend_from_slice(&head);
         let len = u64::from_le_bytes(head[1..9].try_into().unwrap());
-        if is_samples(head[0], len) && chunks == 2 {
-            // The third chunk of samples: take a tenth of it and stop.
-            let mut part = vec![0u8; (len / 10) as usize];
+        if is_samples(head[0], len) && chunks == whole {
+            let mut part = vec![0u8; (len * tenths / 10) as usize];
             pipe.read_exact(&mut part).unwrap();
             bytes.extend_from_slice(&part);
             break len;
@@ -162,24 +162,34 @@ fn a_run_killed_while_writing_a_chunk_keeps_the_chunks_before() {
             chunks += 1;
         }
     };
-    assert!(
-        partial_len * 9 / 10 > 64 * 1024,
-        "the third chunk ({partial_len} bytes) could pass whole into the pipe's buffer"
-    );
-    child.kill().unwrap();
-    assert!(!child.wait().unwrap().success());
+    let reported = kill(child, stderr, 0);
     drop(pipe);
-    let mut err = String::new();
-    stderr.read_to_string(&mut err).unwrap();
-    let reported = err.lines().filter_map(flushed_samples).max().unwrap_or(0);
-    std::fs::write(dir.path().join("disk.mcap"), &bytes).unwrap();
-    let (samples, damage) = replay(dir.path(), "disk.mcap");
+    let disk = format!("disk-{whole}-{tenths}.mcap");
+    std::fs::write(dir.join(&disk), &bytes).unwrap();
+    let (samples, damage) = replay(dir, &disk);
     assert!(
         samples >= reported,
-        "replay recovered {samples} samples, the run had reported {reported} flushed ({damage})\n{err}"
+        "{whole} chunks + {tenths}/10: replay recovered {samples} samples, the run had reported {reported} flushed ({damage})"
     );
-    // The two chunks of samples read whole are recovered, and nothing of the third.
-    assert_eq!(samples, 2 * CHUNK_SAMPLES, "{damage}");
-    // The run could not report the chunk it was blocked in.
-    assert!(reported <= samples, "{err}");
+    // The chunks read whole are recovered, and nothing of the one cut.
+    assert_eq!(samples, whole * CHUNK_SAMPLES, "{damage}");
+    (partial_len, samples, reported)
+}
+
+#[test]
+fn a_run_killed_while_writing_a_chunk_keeps_the_chunks_before() {
+    let dir = tempfile::tempdir().unwrap();
+    for (whole, tenths) in [(0, 0), (0, 5), (1, 1), (2, 1), (3, 0), (5, 5), (8, 9)] {
+        let (len, samples, reported) = kill_while_writing(dir.path(), whole, tenths);
+        // The run could not report the chunk it was cut in.
+        assert!(reported <= samples);
+        if tenths < 5 {
+            // More of the chunk is left than a pipe's 64 KiB buffer holds: the writer thread
+            // was blocked inside its write of this chunk when the kill came.
+            assert!(
+                len * (10 - tenths) / 10 > 64 * 1024,
+                "the chunk ({len} bytes) could pass whole into the pipe's buffer"
+            );
+        }
+    }
 }
