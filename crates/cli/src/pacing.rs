@@ -66,8 +66,8 @@ impl Pacer {
         let due_s = (t_s - t0) / self.factor;
         loop {
             let ahead_s = due_s - start.elapsed().as_secs_f64();
-            // `!(>)`: a NaN schedule (it cannot happen with a checked factor) never sleeps.
-            if !(ahead_s >= MIN_SLEEP_S) || cancelled() {
+            // A NaN schedule (it cannot happen with a checked factor) never sleeps.
+            if ahead_s.is_nan() || ahead_s < MIN_SLEEP_S || cancelled() {
                 return;
             }
             std::thread::sleep(Duration::from_secs_f64(ahead_s.min(MAX_SLEEP_S)));

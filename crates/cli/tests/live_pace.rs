@@ -215,7 +215,7 @@ fn paced_hover_is_watched_from_its_first_message() {
     }
     eprintln!(
         "{n} messages of {topic}; wall: run {run_wall_s:.3} s, messages over {span_s:.3} s \
-         (expected {expected_wall_s} s); per wall second since the subscription: {per_second:?}"
+         (expected {expected_wall_s:.1} s); per wall second since the subscription: {per_second:?}"
     );
     assert!(run_wall_s >= 0.9 * expected_wall_s, "{run_wall_s} s");
     assert!(span_s >= 0.9 * expected_wall_s, "{span_s} s");
