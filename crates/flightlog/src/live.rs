@@ -270,7 +270,31 @@ impl std::fmt::Debug for LiveSink {
 
 #[cfg(test)]
 mod tests {
-    use super::host_port;
+    use super::{LiveSink, LiveWait, host_port, wait_for_live_client};
+    use std::time::{Duration, Instant};
+
+    #[test]
+    fn waiting_for_a_client_ends() {
+        let sink = LiveSink::start("127.0.0.1:0").unwrap();
+        let port = sink.port();
+        let short = Some(Duration::from_millis(50));
+        assert_eq!(
+            wait_for_live_client(port, short, || false),
+            LiveWait::TimedOut { connected: false }
+        );
+        let start = Instant::now();
+        assert_eq!(
+            wait_for_live_client(port, None, || true),
+            LiveWait::Cancelled
+        );
+        assert!(start.elapsed() < Duration::from_secs(5));
+        sink.stop();
+        // The stopped server's entry is gone.
+        assert_eq!(
+            wait_for_live_client(port, short, || false),
+            LiveWait::NoServer
+        );
+    }
 
     #[test]
     fn addresses() {
