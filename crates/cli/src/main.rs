@@ -9,6 +9,7 @@ mod input;
 mod interrupt;
 mod logging;
 mod output;
+mod pacing;
 mod plot;
 mod progress;
 mod sensing;

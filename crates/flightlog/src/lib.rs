@@ -73,6 +73,8 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 pub use error::{Error, Result};
+#[cfg(feature = "live")]
+pub use live::{LiveWait, wait_for_live_client};
 pub use recorder::{Decimator, LogStats, Recorder};
 pub use writer::Flushed;
 

@@ -5,9 +5,16 @@
 //! The channels live in a context of their own (nothing else logs to them). A channel has a
 //! sink only while a client subscribes to it, and a sample's message is encoded only for
 //! such channels, so without a client the view costs a check per message.
+//!
+//! [`wait_for_live_client`] blocks until a client has subscribed to one of a server's
+//! channels (`flapwing hover --foxglove --wait-for-client`): each server's listener counts
+//! its clients' connections and subscriptions in a [`ClientWatch`], found by port.
 
-use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
 
+use foxglove::websocket::{ChannelView, Client, ServerListener};
 use foxglove::{
     Context, PartialMetadata, RawChannel, Schema, WebSocketServer, WebSocketServerHandle,
 };
@@ -27,6 +34,112 @@ pub(crate) struct LiveSink {
     scene_sent: bool,
     /// Keeps the channels' context alive.
     _context: Arc<Context>,
+    /// The server's entry in [`WATCHES`] (removed when the sink goes).
+    _watch: Registered,
+}
+
+/// A server's [`ClientWatch`] registered in [`WATCHES`] under its port; dropping it removes
+/// the entry (also when [`crate::Recorder::create`] fails after the server started).
+struct Registered(Arc<ClientWatch>);
+
+impl Registered {
+    fn new(port: u16, watch: Arc<ClientWatch>) -> Self {
+        watches().push((port, Arc::clone(&watch)));
+        Self(watch)
+    }
+}
+
+impl Drop for Registered {
+    fn drop(&mut self) {
+        watches().retain(|(_, w)| !Arc::ptr_eq(w, &self.0));
+    }
+}
+
+/// Counts a server's client connections and current subscriptions (its listener).
+#[derive(Debug, Default)]
+struct ClientWatch {
+    /// Clients that ever connected.
+    connected: AtomicUsize,
+    /// Channel subscriptions currently held, over all clients.
+    subscriptions: AtomicUsize,
+}
+
+impl ServerListener for ClientWatch {
+    fn on_client_connect(&self) {
+        self.connected.fetch_add(1, Ordering::SeqCst);
+    }
+
+    // Called after the channel has its sink, so a message logged from now on reaches it.
+    fn on_subscribe(&self, _client: Client, _channel: ChannelView) {
+        self.subscriptions.fetch_add(1, Ordering::SeqCst);
+    }
+
+    fn on_unsubscribe(&self, _client: Client, _channel: ChannelView) {
+        let _ = self
+            .subscriptions
+            .fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| n.checked_sub(1));
+    }
+}
+
+/// The running servers' client counts, by port (a [`crate::Recorder`] owns its server; the
+/// port is what it tells its caller).
+static WATCHES: Mutex<Vec<(u16, Arc<ClientWatch>)>> = Mutex::new(Vec::new());
+
+fn watches() -> std::sync::MutexGuard<'static, Vec<(u16, Arc<ClientWatch>)>> {
+    // The list stays consistent even if a holder panicked: take it back.
+    WATCHES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// How [`wait_for_live_client`] ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LiveWait {
+    /// A client has subscribed to at least one channel: messages logged now reach it.
+    Subscribed,
+    /// The timeout passed first; `connected` tells whether a client connected without
+    /// subscribing.
+    TimedOut {
+        /// A client connected (but subscribed to nothing).
+        connected: bool,
+    },
+    /// `cancel` returned true first (Ctrl-C).
+    Cancelled,
+    /// No live server of this process listens on the port.
+    NoServer,
+}
+
+/// Blocks until a client of the live server on `port` (from
+/// [`crate::Recorder::foxglove_port`]) subscribes to one of its channels, `timeout` passes
+/// (`None`: no limit) or `cancel` returns true (checked every 20 ms). Returns at once when
+/// a client already subscribes.
+pub fn wait_for_live_client(
+    port: u16,
+    timeout: Option<Duration>,
+    cancel: impl Fn() -> bool,
+) -> LiveWait {
+    let watch = watches()
+        .iter()
+        .find(|(p, _)| *p == port)
+        .map(|(_, w)| Arc::clone(w));
+    let Some(watch) = watch else {
+        return LiveWait::NoServer;
+    };
+    let start = Instant::now();
+    loop {
+        if watch.subscriptions.load(Ordering::SeqCst) > 0 {
+            return LiveWait::Subscribed;
+        }
+        if cancel() {
+            return LiveWait::Cancelled;
+        }
+        if timeout.is_some_and(|t| start.elapsed() >= t) {
+            return LiveWait::TimedOut {
+                connected: watch.connected.load(Ordering::SeqCst) > 0,
+            };
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
 
 /// `host:port` split (an IPv6 host in brackets: `[::1]:8765`).
@@ -63,22 +176,26 @@ impl LiveSink {
                 .map_err(|e| Error::Options(format!("Foxglove channel {topic}: {e}")))?;
             channels.push(channel);
         }
+        let watch = Arc::new(ClientWatch::default());
         let server = WebSocketServer::new()
             .name("flapwing")
             .bind(host, port)
             .context(&context)
+            .listener(Arc::clone(&watch) as Arc<dyn ServerListener>)
             .start_blocking()
             .map_err(|e| {
                 Error::Options(format!(
                     "cannot serve the live Foxglove view at `{addr}`: {e}"
                 ))
             })?;
+        let registered = Registered::new(server.port(), watch);
         Ok(Self {
             server,
             channels,
             buf: Vec::new(),
             scene_sent: false,
             _context: context,
+            _watch: registered,
         })
     }
 
@@ -153,7 +270,31 @@ impl std::fmt::Debug for LiveSink {
 
 #[cfg(test)]
 mod tests {
-    use super::host_port;
+    use super::{LiveSink, LiveWait, host_port, wait_for_live_client};
+    use std::time::{Duration, Instant};
+
+    #[test]
+    fn waiting_for_a_client_ends() {
+        let sink = LiveSink::start("127.0.0.1:0").unwrap();
+        let port = sink.port();
+        let short = Some(Duration::from_millis(50));
+        assert_eq!(
+            wait_for_live_client(port, short, || false),
+            LiveWait::TimedOut { connected: false }
+        );
+        let start = Instant::now();
+        assert_eq!(
+            wait_for_live_client(port, None, || true),
+            LiveWait::Cancelled
+        );
+        assert!(start.elapsed() < Duration::from_secs(5));
+        sink.stop();
+        // The stopped server's entry is gone.
+        assert_eq!(
+            wait_for_live_client(port, short, || false),
+            LiveWait::NoServer
+        );
+    }
 
     #[test]
     fn addresses() {

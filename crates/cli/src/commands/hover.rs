@@ -37,6 +37,9 @@ pub struct HoverArgs {
     /// Log outputs (hover writes an MCAP log and a Rerun recording under logs/ by default).
     #[command(flatten)]
     pub log: crate::logging::LogArgs,
+    /// Pacing and the live view's start.
+    #[command(flatten)]
+    pub pace: crate::pacing::PaceArgs,
     /// Sensors.
     #[command(flatten)]
     pub sensors: crate::sensing::SensorArgs,
@@ -108,6 +111,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
     let vehicle = build_vehicle(&src)?;
     let duration_s = check_duration(args.duration_s)?;
+    let mut pacer = crate::pacing::check(&args.pace)?;
     let disturbance = parse_disturbance(&args.disturbance)?;
     let trim = flapsim::trim::trim(&vehicle).map_err(sim_error)?;
     let trimmed = flapsim::trim::trimmed_vehicle(&vehicle, &trim).map_err(sim_error)?;
@@ -142,6 +146,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
         true,
         sensors.is_some(),
     )?;
+    crate::pacing::wait_for_client(&args.pace, args.log.foxglove.as_deref(), rec.as_ref())?;
     let mut log_error = None;
     let mut flushed_reported = 0;
     let steps =
@@ -154,6 +159,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
         &disturbance,
         duration_s,
         |out| {
+            crate::pacing::pace(&mut pacer, out.t_s);
             if out.step % 1024 == 0 {
                 bar.set_position(out.step);
             }

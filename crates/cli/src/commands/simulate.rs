@@ -31,6 +31,9 @@ pub struct SimulateArgs {
     /// Log outputs.
     #[command(flatten)]
     pub log: crate::logging::LogArgs,
+    /// Pacing and the live view's start.
+    #[command(flatten)]
+    pub pace: crate::pacing::PaceArgs,
     /// Sensors.
     #[command(flatten)]
     pub sensors: crate::sensing::SensorArgs,
@@ -54,6 +57,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
     let vehicle = build_vehicle(&src)?;
     let duration_s = check_duration(args.duration_s)?;
+    let mut pacer = crate::pacing::check(&args.pace)?;
     let mode = if args.tethered {
         Mode::Tethered
     } else if args.longitudinal {
@@ -87,6 +91,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         false,
         sensors.is_some(),
     )?;
+    crate::pacing::wait_for_client(&args.pace, args.log.foxglove.as_deref(), rec.as_ref())?;
     let mut log_error = None;
     let mut flushed_reported = 0;
     let mut sim = Simulation::new(vehicle, mode);
@@ -95,6 +100,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let bar = crate::progress::progress_bar(n, "simulating", "steps");
     let mut summary = SummaryBuilder::new(weight);
     let result = sim.run_while(duration_s, |out| {
+        crate::pacing::pace(&mut pacer, out.t_s);
         summary.observe(out, dt);
         if let Err(e) = crate::logging::record(&mut rec, out)
             .and_then(|()| crate::sensing::observe(&mut sensors, &mut rec, out))
