@@ -124,7 +124,10 @@ pub fn wait_for_client(
          the Foxglove app; Ctrl-C to stop)"
     ));
     let timeout = args.wait_timeout_s.map(Duration::from_secs_f64);
-    match flightlog::wait_for_live_client(port, timeout, crate::interrupt::requested) {
+    let Some(rec) = rec else {
+        return Ok(());
+    };
+    match rec.wait_for_live_client(timeout, crate::interrupt::requested) {
         LiveWait::Subscribed => crate::output::note("a Foxglove client subscribed; running"),
         LiveWait::TimedOut { connected } => crate::output::note(&format!(
             "no Foxglove client subscribed within {} s{}; running anyway",

@@ -74,7 +74,7 @@ use serde::{Deserialize, Serialize};
 
 pub use error::{Error, Result};
 #[cfg(feature = "live")]
-pub use live::{LiveWait, wait_for_live_client};
+pub use live::LiveWait;
 pub use recorder::{Decimator, LogStats, Recorder};
 pub use writer::Flushed;
 

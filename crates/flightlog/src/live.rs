@@ -6,12 +6,12 @@
 //! sink only while a client subscribes to it, and a sample's message is encoded only for
 //! such channels, so without a client the view costs a check per message.
 //!
-//! [`wait_for_live_client`] blocks until a client has subscribed to one of a server's
-//! channels (`flapwing hover --foxglove --wait-for-client`): each server's listener counts
-//! its clients' connections and subscriptions in a [`ClientWatch`], found by port.
+//! [`crate::Recorder::wait_for_live_client`] blocks until a client has subscribed to one of
+//! the server's channels (`flapwing hover --foxglove --wait-for-client`): the server's
+//! listener counts its clients' connections and subscriptions in a [`ClientWatch`].
 
+use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use foxglove::websocket::{ChannelView, Client, ServerListener};
@@ -34,25 +34,8 @@ pub(crate) struct LiveSink {
     scene_sent: bool,
     /// Keeps the channels' context alive.
     _context: Arc<Context>,
-    /// The server's entry in [`WATCHES`] (removed when the sink goes).
-    _watch: Registered,
-}
-
-/// A server's [`ClientWatch`] registered in [`WATCHES`] under its port; dropping it removes
-/// the entry (also when [`crate::Recorder::create`] fails after the server started).
-struct Registered(Arc<ClientWatch>);
-
-impl Registered {
-    fn new(port: u16, watch: Arc<ClientWatch>) -> Self {
-        watches().push((port, Arc::clone(&watch)));
-        Self(watch)
-    }
-}
-
-impl Drop for Registered {
-    fn drop(&mut self) {
-        watches().retain(|(_, w)| !Arc::ptr_eq(w, &self.0));
-    }
+    /// The server's clients, as its listener counts them.
+    watch: Arc<ClientWatch>,
 }
 
 /// Counts a server's client connections and current subscriptions (its listener).
@@ -81,18 +64,7 @@ impl ServerListener for ClientWatch {
     }
 }
 
-/// The running servers' client counts, by port (a [`crate::Recorder`] owns its server; the
-/// port is what it tells its caller).
-static WATCHES: Mutex<Vec<(u16, Arc<ClientWatch>)>> = Mutex::new(Vec::new());
-
-fn watches() -> std::sync::MutexGuard<'static, Vec<(u16, Arc<ClientWatch>)>> {
-    // The list stays consistent even if a holder panicked: take it back.
-    WATCHES
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
-}
-
-/// How [`wait_for_live_client`] ended.
+/// How [`crate::Recorder::wait_for_live_client`] ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LiveWait {
     /// A client has subscribed to at least one channel: messages logged now reach it.
@@ -105,26 +77,18 @@ pub enum LiveWait {
     },
     /// `cancel` returned true first (Ctrl-C).
     Cancelled,
-    /// No live server of this process listens on the port.
+    /// The recorder serves no live view.
     NoServer,
 }
 
-/// Blocks until a client of the live server on `port` (from
-/// [`crate::Recorder::foxglove_port`]) subscribes to one of its channels, `timeout` passes
-/// (`None`: no limit) or `cancel` returns true (checked every 20 ms). Returns at once when
-/// a client already subscribes.
-pub fn wait_for_live_client(
-    port: u16,
+/// Blocks until a client of the server counted by `watch` subscribes to one of its
+/// channels, `timeout` passes (`None`: no limit) or `cancel` returns true (checked every
+/// 20 ms). Returns at once when a client already subscribes.
+fn wait_for_client(
+    watch: &ClientWatch,
     timeout: Option<Duration>,
     cancel: impl Fn() -> bool,
 ) -> LiveWait {
-    let watch = watches()
-        .iter()
-        .find(|(p, _)| *p == port)
-        .map(|(_, w)| Arc::clone(w));
-    let Some(watch) = watch else {
-        return LiveWait::NoServer;
-    };
     let start = Instant::now();
     loop {
         if watch.subscriptions.load(Ordering::SeqCst) > 0 {
@@ -188,15 +152,23 @@ impl LiveSink {
                     "cannot serve the live Foxglove view at `{addr}`: {e}"
                 ))
             })?;
-        let registered = Registered::new(server.port(), watch);
         Ok(Self {
             server,
             channels,
             buf: Vec::new(),
             scene_sent: false,
             _context: context,
-            _watch: registered,
+            watch,
         })
+    }
+
+    /// Blocks until a client subscribes (see [`crate::Recorder::wait_for_live_client`]).
+    pub fn wait_for_client(
+        &self,
+        timeout: Option<Duration>,
+        cancel: impl Fn() -> bool,
+    ) -> LiveWait {
+        wait_for_client(&self.watch, timeout, cancel)
     }
 
     /// The port the server listens on.
@@ -270,30 +242,21 @@ impl std::fmt::Debug for LiveSink {
 
 #[cfg(test)]
 mod tests {
-    use super::{LiveSink, LiveWait, host_port, wait_for_live_client};
+    use super::{LiveSink, LiveWait, host_port};
     use std::time::{Duration, Instant};
 
     #[test]
     fn waiting_for_a_client_ends() {
         let sink = LiveSink::start("127.0.0.1:0").unwrap();
-        let port = sink.port();
         let short = Some(Duration::from_millis(50));
         assert_eq!(
-            wait_for_live_client(port, short, || false),
+            sink.wait_for_client(short, || false),
             LiveWait::TimedOut { connected: false }
         );
         let start = Instant::now();
-        assert_eq!(
-            wait_for_live_client(port, None, || true),
-            LiveWait::Cancelled
-        );
+        assert_eq!(sink.wait_for_client(None, || true), LiveWait::Cancelled);
         assert!(start.elapsed() < Duration::from_secs(5));
         sink.stop();
-        // The stopped server's entry is gone.
-        assert_eq!(
-            wait_for_live_client(port, short, || false),
-            LiveWait::NoServer
-        );
     }
 
     #[test]

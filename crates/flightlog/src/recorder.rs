@@ -403,6 +403,22 @@ impl Recorder {
         Ok(())
     }
 
+    /// Blocks until a client of the live Foxglove server has subscribed to one of its
+    /// channels (so what is recorded from now on reaches it), `timeout` passes (`None`: no
+    /// limit) or `cancel` returns true (checked every 20 ms; e.g. Ctrl-C). Without a live
+    /// server: [`LiveWait::NoServer`] at once.
+    #[cfg(feature = "live")]
+    pub fn wait_for_live_client(
+        &self,
+        timeout: Option<std::time::Duration>,
+        cancel: impl Fn() -> bool,
+    ) -> crate::LiveWait {
+        match &self.live {
+            Some(l) => l.wait_for_client(timeout, cancel),
+            None => crate::LiveWait::NoServer,
+        }
+    }
+
     /// How much of the run is in the MCAP file at this moment (`None` without one): a kill
     /// now keeps at least these samples. The writer thread advances it each time a closed
     /// chunk is written and flushed; it trails the run by at most the chunk being filled and
