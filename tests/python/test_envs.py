@@ -155,8 +155,14 @@ def test_randomising_an_actuated_vehicle_and_bad_files(tmp_path):
     bad.write_text('[[param]]\npath = "body.mass_kg"\nscale = [1.1, 0.9]\n')
     with pytest.raises(ValueError, match="scale"):
         flapwing.HoverTask("drosophila", "hover", str(bad))
-    with pytest.raises(flapwing.AnalysisError, match=r"\[sensors\]"):
-        flapwing.HoverTask("bumblebee")
+    # A model without a [sensors] table (every built-in vehicle has one): the drosophila's
+    # file without it. AnalysisError naming the file and the table.
+    fly = (ROOT / "models" / "drosophila.toml").read_text()
+    head, tail = fly.split("# Sensors (flapsim::sensors)", 1)
+    bare = tmp_path / "bare.toml"
+    bare.write_text(head + tail[tail.index("[sim]"):])
+    with pytest.raises(flapwing.AnalysisError, match=r"bare\.toml.*\[sensors\]"):
+        flapwing.HoverTask(str(bare))
 
 
 @pytest.mark.parametrize("model", flapwing.builtin_models())
