@@ -33,16 +33,24 @@ def test_version_is_the_installed_distributions():
     assert all(p.isdigit() for p in flapwing.__version__.split(".")[:3])
 
 
-def test_import_flapwing_alone_registers_the_gymnasium_environments():
-    # A fresh interpreter: the README's first lines, without importing flapwing.envs.
+@pytest.mark.parametrize("first", ["flapwing", "gymnasium"])
+def test_import_flapwing_alone_registers_the_gymnasium_environments(first):
+    # A fresh interpreter: the README's first lines, without importing flapwing.envs, with
+    # Gymnasium imported after flapwing (registered lazily, on Gymnasium's import) or before.
     import subprocess
     import sys
 
-    code = (
-        "import flapwing, sys\n"
+    imports = {
+        "flapwing": (
+            "import flapwing, sys\n"
+            "assert 'gymnasium' not in sys.modules and 'numpy' not in sys.modules  # cheap\n"
+            "import gymnasium as gym\n"
+        ),
+        "gymnasium": "import gymnasium as gym\nimport flapwing, sys\n",
+    }[first]
+    code = imports + (
         "assert 'flapwing.envs' not in sys.modules  # registered, not loaded\n"
-        "import gymnasium as gym\n"
-        "env = gym.make('flapwing/Hover-v0')\n"
+        "env = gym.make('flapwing/Recover-v0')\n"
         "obs, _ = env.reset(seed=0)\n"
         "print(obs.shape, type(env.unwrapped).__name__)\n"
     )

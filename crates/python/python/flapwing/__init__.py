@@ -12,8 +12,9 @@ body x forward, y left, z up, origin at the centre of mass).
 - `read_log`, `read_channel`: a flapwing MCAP log, each channel as a dict of numpy arrays
   (or a pandas DataFrame when pandas is installed); `Simulation(..., mcap=PATH)` writes one.
 - `flapwing.envs`: Gymnasium environments (`flapwing/Hover-v0`, `flapwing/Recover-v0`),
-  registered by `import flapwing` itself when Gymnasium is installed (`pip install
-  'flapwing[gym]'`), so `gymnasium.make("flapwing/Hover-v0")` works after it.
+  registered by `import flapwing` itself (lazily: right after Gymnasium is imported, with
+  `pip install 'flapwing[gym]'`), so `gymnasium.make("flapwing/Hover-v0")` works after
+  `import flapwing, gymnasium` in either order.
 - `builtin_models()`: the built-in vehicles (what `Vehicle`, `Simulation`, `HoverTask` and
   the environments take); `builtin_wings()`: the built-in wing-only models, which `Wing`
   takes besides every vehicle.
@@ -40,23 +41,11 @@ from ._flapwing import (
 from ._flapwing import __version__, builtin_wings
 from .logs import read_log
 
+from ._gym import register_when_imported as _register_when_imported
 
-def _register_gym_envs() -> None:
-    """Registers `flapwing/Hover-v0` and `flapwing/Recover-v0` when Gymnasium is installed
-    (importing it, about 60 ms; the environments themselves load at `gymnasium.make`)."""
-    import importlib.util
-
-    if importlib.util.find_spec("gymnasium") is None:
-        return
-    try:
-        from . import _gym
-
-        _gym.register()
-    except ImportError:  # a broken Gymnasium install must not break flapwing itself
-        pass
-
-
-_register_gym_envs()
+# Gymnasium environments: registered right after Gymnasium is imported (at once if it
+# already is); `import flapwing` itself imports neither Gymnasium nor numpy.
+_register_when_imported()
 
 __all__ = [
     "__version__",

@@ -135,4 +135,4 @@ class VecHoverEnv(gym.vector.VectorEnv):
         return dict(self._vec.draws(i))
 
 
-_gym.register()  # already done by `import flapwing` when Gymnasium is installed
+_gym.register()  # usually done already: `import flapwing` registers once Gymnasium is imported
