@@ -13,9 +13,50 @@ import flapwing
 TERMS = ("translational", "rotational", "added_mass", "wake_capture")
 
 
-def test_builtin_models_listed():
+def test_builtin_models_are_the_vehicles_and_builtin_wings_the_wings():
     assert set(flapwing.builtin_models()) == {
-        "robofly", "drosophila", "bumblebee", "robobee_kinematic", "robobee", "hummingbird"}
+        "drosophila", "bumblebee", "robobee_kinematic", "robobee", "hummingbird"}
+    assert flapwing.builtin_wings() == ["robofly"]
+    for name in flapwing.builtin_models():  # every name listed loads as what it is listed as
+        assert flapwing.Vehicle(name).name == name
+        flapwing.Wing(name)  # a vehicle's wing
+    for name in flapwing.builtin_wings():
+        flapwing.Wing(name)
+        with pytest.raises(ValueError):
+            flapwing.Vehicle(name)
+
+
+def test_version_is_the_installed_distributions():
+    import importlib.metadata
+
+    assert flapwing.__version__ == importlib.metadata.version("flapwing")
+    assert all(p.isdigit() for p in flapwing.__version__.split(".")[:3])
+
+
+@pytest.mark.parametrize("first", ["flapwing", "gymnasium"])
+def test_import_flapwing_alone_registers_the_gymnasium_environments(first):
+    # A fresh interpreter: the README's first lines, without importing flapwing.envs, with
+    # Gymnasium imported after flapwing (registered lazily, on Gymnasium's import) or before.
+    import subprocess
+    import sys
+
+    imports = {
+        "flapwing": (
+            "import flapwing, sys\n"
+            "assert 'gymnasium' not in sys.modules and 'numpy' not in sys.modules  # cheap\n"
+            "import gymnasium as gym\n"
+        ),
+        "gymnasium": "import gymnasium as gym\nimport flapwing, sys\n",
+    }[first]
+    code = imports + (
+        "assert 'flapwing.envs' not in sys.modules  # registered, not loaded\n"
+        "env = gym.make('flapwing/Recover-v0')\n"
+        "obs, _ = env.reset(seed=0)\n"
+        "print(obs.shape, type(env.unwrapped).__name__)\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "(12,) FlapwingEnv"
 
 
 def test_wing_terms_sum_to_total_and_match_model_md():

@@ -302,13 +302,20 @@ fn hover_logs_sensor_readings_whose_residuals_are_the_white_noise() {
 fn sensor_flags_without_sensors_are_refused_or_skipped() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    // The bumblebee has no [sensors] table: asking for a seed is bad input naming it.
+    // A model without a [sensors] table (every built-in vehicle has one; this is
+    // models/drosophila.toml without it): asking for a seed is bad input naming it.
+    let fly = include_str!("../../../models/drosophila.toml");
+    let (head, tail) = fly.split_at(fly.find("# Sensors (flapsim::sensors)").unwrap());
+    let bare = format!("{head}{}", &tail[tail.find("[sim]").unwrap()..])
+        .replace("name = \"drosophila\"", "name = \"no_sensors\"");
+    assert!(!bare.contains("[sensors"));
+    std::fs::write(d.join("no_sensors.toml"), bare).unwrap();
     let r = flapwing_in(
         d,
         &[
             "simulate",
             "--model",
-            "bumblebee",
+            "no_sensors.toml",
             "--duration-s",
             "0.001",
             "--sensor-seed",
@@ -319,7 +326,7 @@ fn sensor_flags_without_sensors_are_refused_or_skipped() {
     r.assert_bad_input();
     assert!(
         r.stderr.contains("--sensor-seed")
-            && r.stderr.contains("bumblebee")
+            && r.stderr.contains("no_sensors")
             && r.stderr.contains("[sensors]"),
         "{}",
         r.stderr
@@ -329,7 +336,7 @@ fn sensor_flags_without_sensors_are_refused_or_skipped() {
         &[
             "simulate",
             "--model",
-            "bumblebee",
+            "no_sensors.toml",
             "--duration-s",
             "0.001",
             "--mcap",

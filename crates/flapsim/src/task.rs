@@ -11,7 +11,11 @@
 //! - Observation (12 numbers; 6 without motion capture): the IMU's newest delivered sample,
 //!   gyro (rad/s) and specific force minus the trim's (m/s^2), body frame; then the newest
 //!   motion-capture frame's position error from the hover point (m) and attitude error from
-//!   the trim attitude as a rotation vector (rad).
+//!   the trim attitude as a rotation vector (rad). The sensors are switched on
+//!   [`preroll_s`] (their longest latency) before the release, with the body held at its
+//!   initial state, so the first observation already carries a reading of that state (the
+//!   disturbance of a recovery task: the tilt of gravity in the accelerometer, the attitude
+//!   error in motion capture) instead of zeros.
 //! - Reward per action (from the true state after it): 1 - (e_p / L)^2 - (e_a / 10 deg)^2,
 //!   with e_p the position error, L the body length and e_a the attitude error.
 //! - Termination: position error beyond `max_position_body_lengths` body lengths, attitude
@@ -23,7 +27,7 @@ use serde::{Deserialize, Serialize};
 use crate::control::LqrWeights;
 use crate::error::{Error, Result};
 use crate::randomize::Randomization;
-use crate::sensors::{Noise, Sensors};
+use crate::sensors::{Noise, SensorParams, Sensors};
 use crate::sim::{Mode, Simulation};
 use crate::trim::{Trim, trim, trimmed_vehicle};
 use crate::{Vehicle, VehicleSpec};
@@ -68,6 +72,14 @@ impl TaskSpec {
     }
 }
 
+/// How long a task's sensors run before an episode starts: their longest latency (IMU or
+/// motion capture), so that each has delivered the sample it took at the start of the
+/// pre-roll by the episode's first observation.
+pub fn preroll_s(p: &SensorParams) -> f64 {
+    p.mocap
+        .map_or(p.imu.latency_s, |m| m.latency_s.max(p.imu.latency_s))
+}
+
 /// The result of one action.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TaskStep {
@@ -94,6 +106,9 @@ pub struct Task {
     trim: Trim,
     sim: Simulation,
     sensors: Option<Sensors>,
+    /// How long the sensors ran before the episode started (their clock leads the
+    /// simulation's by this), s.
+    preroll_s: f64,
     accel_trim: Vector3<f64>,
     reference_m: Vector3<f64>,
     limit: [f64; 4],
@@ -147,6 +162,7 @@ impl Task {
             trim: t,
             sim,
             sensors: None,
+            preroll_s: 0.0,
             accel_trim: Vector3::zeros(),
             limit,
             draws: Vec::new(),
@@ -233,8 +249,16 @@ impl Task {
         if let Some(p) = &periodic {
             self.sim.start_wings_from(p);
         }
+        // Pre-roll: the sensors run for their longest latency before the release, seeing
+        // the body held at its initial (disturbed) state, so that the first observation is
+        // a delivered reading of that state rather than zeros (an IMU latency of 5 ms is
+        // longer than a 4.6 ms wingbeat). Held, the body has no acceleration: the
+        // accelerometer reads gravity in the tilted body frame, motion capture the pose.
+        self.preroll_s = preroll_s(&params);
         let mut sensors = Sensors::new(&params, g, rng.next_seed());
-        sensors.observe(0.0, &self.sim.state());
+        let s0 = self.sim.state();
+        sensors.observe(0.0, &s0);
+        sensors.observe(self.preroll_s, &s0);
         self.sensors = Some(sensors);
         // The specific force at hover is +g along the world vertical: subtracted so that
         // the observation is zero at the trim.
@@ -245,7 +269,7 @@ impl Task {
     }
 
     fn observe(&mut self) -> Vec<f64> {
-        let t = self.sim.time_s();
+        let t = self.sim.time_s() + self.preroll_s;
         let mut o = Vec::with_capacity(12);
         let Some(sensors) = &mut self.sensors else {
             return vec![0.0; self.observation_len()];
@@ -304,7 +328,7 @@ impl Task {
                 break;
             }
             if let Some(s) = &mut self.sensors {
-                s.observe(self.sim.time_s(), &self.sim.state());
+                s.observe(self.sim.time_s() + self.preroll_s, &self.sim.state());
             }
         }
         let s = self.sim.state();

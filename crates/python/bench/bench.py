@@ -6,7 +6,10 @@ in one run (this VM's speed drifts by up to 2x from minute to minute):
    (`cargo run --release -p flapsim --example step_timing`, timed in-process): the ratio of
    each pair, median and quartiles over the rounds.
 2. `flapwing/Hover-v0` with a per-wingbeat action (a zero offset from the trim, through
-   `env.step`): simulated wingbeats per wall-second, one core.
+   `env.step`; resets included): simulated wingbeats per wall-second, one core, each round
+   interleaved with the Rust free-flight run of 1 (alternating which goes first), whose
+   wingbeat rate gives a per-round ratio that the machine's load cancels out of; and the
+   episode length the zero action reaches.
 
 Run from the repository root: `python3 crates/python/bench/bench.py` (after
 `pip install ./crates/python`; set CARGO_TARGET_DIR as for the build).
@@ -18,8 +21,7 @@ import time
 
 import numpy as np
 
-import flapwing
-import flapwing.envs  # noqa: F401
+import flapwing  # registers the Gymnasium environments
 import gymnasium as gym
 
 STEPS = 21_800  # 1 s of simulated fruit-fly flight, 100 steps per wingbeat
@@ -39,15 +41,19 @@ def python_seconds(v) -> float:
     return time.perf_counter() - t
 
 
-def hover_wingbeats_per_s(env, wingbeats: int = 2000) -> float:
+def hover_wingbeats_per_s(env, wingbeats: int = 2000, lengths: list | None = None) -> float:
     env.reset(seed=0)
     a = np.zeros(4)
-    n = 0
+    n = ep = 0
     t = time.perf_counter()
     while n < wingbeats:
         _, _, term, trunc, _ = env.step(a)
         n += 1
+        ep += 1
         if term or trunc:
+            if lengths is not None:
+                lengths.append(ep)
+            ep = 0
             env.reset()
     return n / (time.perf_counter() - t)
 
@@ -67,10 +73,27 @@ def main() -> None:
     q = np.percentile(ratios, [25, 50, 75])
     print(f"Python run(N) / Rust, {STEPS} steps: median {q[1]:.3f}x [quartiles {q[0]:.3f} {q[2]:.3f}]")
     env = gym.make("flapwing/Hover-v0")
-    rates = [hover_wingbeats_per_s(env) for _ in range(5)]
+    hover_wingbeats_per_s(env, 200)  # warm up
+    wingbeats = STEPS / 100  # the Rust run's wingbeats (100 steps per wingbeat)
+    rates, rust, lengths = [], [], []
+    for k in range(ROUNDS):
+        if k % 2 == 0:
+            r = wingbeats / rust_seconds(exe)
+            h = hover_wingbeats_per_s(env, lengths=lengths)
+        else:
+            h = hover_wingbeats_per_s(env, lengths=lengths)
+            r = wingbeats / rust_seconds(exe)
+        rates.append(h)
+        rust.append(r)
     q = np.percentile(rates, [25, 50, 75])
     print(f"Hover-v0, per-wingbeat action: median {q[1]:.0f} wingbeats/s "
           f"[quartiles {q[0]:.0f} {q[2]:.0f}]")
+    q = np.percentile(rust, [25, 50, 75])
+    print(f"  Rust free flight in the same rounds: median {q[1]:.0f} wingbeats/s "
+          f"[quartiles {q[0]:.0f} {q[2]:.0f}]")
+    q = np.percentile(np.array(rates) / np.array(rust), [25, 50, 75])
+    print(f"  Hover-v0 / Rust per round: median {q[1]:.3f} [quartiles {q[0]:.3f} {q[2]:.3f}]; "
+          f"zero-action episodes: median {np.median(lengths):.0f} wingbeats")
 
 
 if __name__ == "__main__":

@@ -54,12 +54,18 @@ pub(crate) fn log_err(e: flightlog::Error) -> PyErr {
     }
 }
 
-/// The names of the built-in models: the wing `robofly` and the vehicles.
+/// The names of the built-in vehicles: what `Vehicle`, `Simulation`, `HoverTask` and the
+/// Gymnasium environments take (each has a `[sensors]` table).
 #[pyfunction]
 fn builtin_models() -> Vec<&'static str> {
-    let mut v = vec!["robofly"];
-    v.extend(vehicle::BUILTIN_VEHICLES);
-    v
+    vehicle::BUILTIN_VEHICLES.to_vec()
+}
+
+/// The names of the built-in wing-only models (`robofly`): `Wing` takes these and every
+/// vehicle of `builtin_models()`.
+#[pyfunction]
+fn builtin_wings() -> Vec<&'static str> {
+    vec!["robofly"]
 }
 
 #[pymodule]
@@ -67,7 +73,9 @@ fn _flapwing(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add("DivergedError", py.get_type::<DivergedError>())?;
     m.add("AnalysisError", py.get_type::<AnalysisError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(builtin_models, m)?)?;
+    m.add_function(wrap_pyfunction!(builtin_wings, m)?)?;
     m.add_class::<wing::Wing>()?;
     m.add_class::<vehicle::Vehicle>()?;
     m.add_class::<vehicle::HoverController>()?;

@@ -11,7 +11,14 @@ body x forward, y left, z up, origin at the centre of mass).
 - `HoverTask`, `VecHoverTask`: flapsim's control tasks (sensors, reward, termination).
 - `read_log`, `read_channel`: a flapwing MCAP log, each channel as a dict of numpy arrays
   (or a pandas DataFrame when pandas is installed); `Simulation(..., mcap=PATH)` writes one.
-- `flapwing.envs`: Gymnasium environments (`flapwing/Hover-v0`, `flapwing/Recover-v0`).
+- `flapwing.envs`: Gymnasium environments (`flapwing/Hover-v0`, `flapwing/Recover-v0`),
+  registered by `import flapwing` itself (lazily: right after Gymnasium is imported, with
+  `pip install 'flapwing[gym]'`), so `gymnasium.make("flapwing/Hover-v0")` works after
+  `import flapwing, gymnasium` in either order.
+- `builtin_models()`: the built-in vehicles (what `Vehicle`, `Simulation`, `HoverTask` and
+  the environments take); `builtin_wings()`: the built-in wing-only models, which `Wing`
+  takes besides every vehicle.
+- `__version__`: the package version (the Rust crates' version).
 
 Errors: a bad model or argument raises `ValueError` with flapwing's message (file, field,
 value, what is allowed); a run that diverges raises `DivergedError`; a failed trim or
@@ -31,9 +38,17 @@ from ._flapwing import (
     log_topics,
     read_channel,
 )
+from ._flapwing import __version__, builtin_wings
 from .logs import read_log
 
+from ._gym import register_when_imported as _register_when_imported
+
+# Gymnasium environments: registered right after Gymnasium is imported (at once if it
+# already is); `import flapwing` itself imports neither Gymnasium nor numpy.
+_register_when_imported()
+
 __all__ = [
+    "__version__",
     "AnalysisError",
     "DivergedError",
     "HoverController",
@@ -43,6 +58,7 @@ __all__ = [
     "Vehicle",
     "Wing",
     "builtin_models",
+    "builtin_wings",
     "log_topics",
     "read_channel",
     "read_log",

@@ -16,8 +16,16 @@ class DivergedError(RuntimeError):
 class AnalysisError(RuntimeError):
     """Trim, a stability analysis or a task could not do what it was asked."""
 
+__version__: str
+"""The package version (the Rust crates' version, CARGO_PKG_VERSION)."""
+
 def builtin_models() -> list[str]:
-    """Names of the built-in models: the wing `robofly` and the vehicles."""
+    """Names of the built-in vehicles (what `Vehicle`, `Simulation`, `HoverTask` and the
+    Gymnasium environments take; each has a `[sensors]` table)."""
+
+def builtin_wings() -> list[str]:
+    """Names of the built-in wing-only models (`robofly`); `Wing` takes these and every
+    vehicle of `builtin_models()`."""
 
 def log_topics(path: str) -> list[str]:
     """The topics of a flapwing MCAP log."""

@@ -1,13 +1,13 @@
 """Gymnasium environments on flapsim's control tasks (flapsim::task).
 
-Importing this module registers:
+`import flapwing` registers (when Gymnasium is installed; so does importing this module):
 
 - ``flapwing/Hover-v0``: hold the hover point for 0.2 s from the trim (sensor noise only).
 - ``flapwing/Recover-v0``: the same from a random roll and pitch error of up to 10 deg and a
   random velocity of up to 1 body length per second.
 
-Both take keyword arguments: ``model`` (built-in name or model file with a ``[sensors]``
-table; default ``drosophila``), ``randomize`` (a domain-randomisation file, see
+Both take keyword arguments: ``model`` (any of ``flapwing.builtin_models()``, every one
+with a ``[sensors]`` table, or a model file with one; default ``drosophila``), ``randomize`` (a domain-randomisation file, see
 flapsim::randomize; the draws are in ``info["draws"]``) and any TaskSpec field:
 ``duration_s``, ``action_wingbeats`` (wingbeats per action, default 1), ``disturbance_deg``,
 ``disturbance_body_lengths_s``, ``max_position_body_lengths``, ``max_attitude_deg``.
@@ -16,7 +16,10 @@ Action: offsets from the hover trim on the vehicle's four control channels (radi
 volts for actuated vehicles), each within +-``action_limit`` (3x the LQR design excursion).
 Observation: the IMU's newest delivered sample (gyro, rad/s; specific force minus the hover
 value, m/s^2; body frame), then the motion-capture frame's position error (m) and attitude
-error as a rotation vector (rad); every sensor with its noise, bias and latency.
+error as a rotation vector (rad); every sensor with its noise, bias and latency. The sensors
+run for their longest latency before the release, the body held at its initial state, so
+the reset observation is already a delivered reading of that state (Recover-v0's tilt shows
+in the specific force and the attitude error) rather than zeros.
 Reward per action: 1 - (position error / body length)^2 - (attitude error / 10 deg)^2.
 Terminated: position error beyond 2 body lengths, attitude error beyond 60 deg, or a
 diverged simulation. Truncated: at ``duration_s``.
@@ -34,6 +37,7 @@ import numpy as np
 import gymnasium as gym
 from gymnasium import spaces
 
+from . import _gym
 from ._flapwing import HoverTask, VecHoverTask
 
 __all__ = ["FlapwingEnv", "VecHoverEnv"]
@@ -131,11 +135,4 @@ class VecHoverEnv(gym.vector.VectorEnv):
         return dict(self._vec.draws(i))
 
 
-def _register() -> None:
-    for env_id, task in (("flapwing/Hover-v0", "hover"), ("flapwing/Recover-v0", "recover")):
-        if env_id not in gym.registry:
-            gym.register(id=env_id, entry_point="flapwing.envs:FlapwingEnv",
-                         kwargs={"task": task})
-
-
-_register()
+_gym.register()  # usually done already: `import flapwing` registers once Gymnasium is imported

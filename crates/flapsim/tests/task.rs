@@ -1,0 +1,101 @@
+//! flapsim::task on every built-in vehicle: each has a `[sensors]` table, so each runs in
+//! both tasks; and the first observation of an episode is a delivered sensor reading of the
+//! initial state (the sensors' pre-roll), which shows a recovery task's disturbance.
+
+use flapsim::task::{Task, TaskSpec, preroll_s};
+use flapsim::{Vehicle, builtin_model};
+
+const BUILTIN_VEHICLES: [&str; 5] = [
+    "drosophila",
+    "bumblebee",
+    "robobee_kinematic",
+    "robobee",
+    "hummingbird",
+];
+
+fn text(name: &str) -> &'static str {
+    builtin_model(name).unwrap()
+}
+
+#[test]
+fn every_builtin_vehicle_has_sensors_and_runs_in_every_task() {
+    for name in BUILTIN_VEHICLES {
+        let v = Vehicle::from_toml(text(name), name).unwrap();
+        let p = v.sensors.unwrap_or_else(|| panic!("{name}: no [sensors]"));
+        assert!(p.mocap.is_some(), "{name}: no [sensors.mocap]");
+        for (kind, spec) in [
+            ("hover", TaskSpec::hover()),
+            ("recover", TaskSpec::recover()),
+        ] {
+            let mut t = Task::new(text(name), name, spec, None)
+                .unwrap_or_else(|e| panic!("{name} {kind}: {e}"));
+            assert_eq!(t.observation_len(), 12);
+            let o = t.reset(3).unwrap();
+            assert_eq!(o.len(), 12);
+            assert!(o.iter().all(|x| x.is_finite()), "{name} {kind}: {o:?}");
+            // Delivered readings at reset: the IMU's noise and motion capture's noise at
+            // least (every built-in model has non-zero noise on both).
+            assert!(o[..6].iter().any(|x| *x != 0.0), "{name} {kind}: IMU {o:?}");
+            assert!(
+                o[6..].iter().any(|x| *x != 0.0),
+                "{name} {kind}: mocap {o:?}"
+            );
+            for _ in 0..3 {
+                let s = t.step(&[0.0; 4]).unwrap();
+                assert!(s.observation.iter().all(|x| x.is_finite()));
+                assert!(s.reward.is_finite());
+                if s.terminated || s.truncated {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_preroll_is_the_longest_sensor_latency() {
+    let v = Vehicle::from_toml(text("drosophila"), "drosophila").unwrap();
+    let p = v.sensors.unwrap();
+    // models/drosophila.toml: IMU 5 ms, motion capture 6.5 ms.
+    assert_eq!(preroll_s(&p), 6.5e-3);
+    let v = Vehicle::from_toml(text("hummingbird"), "hummingbird").unwrap();
+    assert_eq!(preroll_s(&v.sensors.unwrap()), 0.030);
+}
+
+/// Pearson correlation.
+fn corr(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len() as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
+    let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
+    cov / (va * vb).sqrt()
+}
+
+#[test]
+fn the_first_recover_observation_shows_the_disturbance() {
+    let mut t = Task::new(text("drosophila"), "drosophila", TaskSpec::recover(), None).unwrap();
+    let (mut obs_att, mut true_att) = ([Vec::new(), Vec::new()], [Vec::new(), Vec::new()]);
+    let (mut obs_acc, mut true_tilt) = (Vec::new(), Vec::new());
+    for seed in 0..60 {
+        let o = t.reset(seed).unwrap();
+        assert_eq!(t.simulation().time_s(), 0.0);
+        let s = t.simulation().state();
+        let e = (t.trim().attitude().inverse() * s.world_from_body).scaled_axis();
+        for k in 0..2 {
+            obs_att[k].push(o[9 + k]);
+            true_att[k].push(e[k]);
+        }
+        obs_acc.push((o[3] * o[3] + o[4] * o[4] + o[5] * o[5]).sqrt());
+        true_tilt.push(9.81 * (e[0] * e[0] + e[1] * e[1]).sqrt());
+    }
+    // Motion capture: the disturbance (uniform +-10 deg, std 5.8 deg) plus 3.4 deg of noise.
+    for k in 0..2 {
+        let c = corr(&obs_att[k], &true_att[k]);
+        assert!(c > 0.7, "attitude axis {k}: correlation {c}");
+    }
+    // The held accelerometer reads gravity in the tilted frame: g times the tilt, against a
+    // 25 mg turn-on bias and 3 mg of noise.
+    let c = corr(&obs_acc, &true_tilt);
+    assert!(c > 0.7, "specific force: correlation {c}");
+}
