@@ -203,7 +203,7 @@ CASES = [
     C("sim-state-inf", "s.set_state(angular_velocity_body_rad_s=[0, np.inf, 0])", "ValueError",
       "angular_velocity_body_rad_s", setup=SIM),
     C("sim-state-huge-velocity", "s.set_state(velocity_m_s=[1e200, 0, 0]); s.run(5)",
-      "DivergedError", "max_speed_m_s", setup=SIM),
+      "DivergedError", "not finite", setup=SIM),
     C("sim-huge-wind", "s.set_wind([1e200, 0, 0]); s.run(5)", "RuntimeError", "", setup=SIM),
     C("sim-controls-unknown", "s.set_controls(no_such=1.0)", "ValueError", "no_such", setup=SIM),
     C("sim-controls-nan", "s.set_controls(amplitude_rad=np.nan)", "ValueError", "amplitude_rad",
@@ -295,6 +295,10 @@ CASES = [
       "action_wingbeats", setup=ENV),
 ]
 
+# pyo3 names these (a str, bool or dict parameter given another type) in a note only.
+NAMED_IN_A_NOTE = {"wing-model-int", "vehicle-model-none-type", "init-state-not-dict",
+                   "stability-floquet-str"}
+
 PRELUDE = """\
 import json, sys
 import numpy as np
@@ -311,8 +315,11 @@ except BaseException as e:
 try:
     exec(compile({call!r}, "call", "exec"))
 except BaseException as e:
+    # pyo3 names a typed argument it cannot convert in a note ("while processing 'x'"),
+    # which the traceback shows after the message (Python 3.11+).
+    msg = "\\n".join([str(e), *getattr(e, "__notes__", [])])
     print(json.dumps({{"stage": "call", "type": type(e).__name__,
-                       "mro": [c.__name__ for c in type(e).__mro__], "msg": str(e)}}))
+                       "mro": [c.__name__ for c in type(e).__mro__], "msg": msg}}))
 else:
     print(json.dumps({{"stage": "call", "type": None}}))
 """
@@ -355,6 +362,8 @@ def test_bad_input_raises_a_named_error(case: Case, results: dict):
     assert r["stage"] == "call", f"setup `{case.setup}` failed: {r['type']}: {r['msg']}"
     assert r["type"] is not None, f"{case.call}: accepted silently (expected {case.exc})"
     assert case.exc in r["mro"], f"{case.call}: raised {r['type']}: {r['msg']} (expected {case.exc})"
+    if case.id in NAMED_IN_A_NOTE and sys.version_info < (3, 11):
+        return  # no exception notes before 3.11
     for name in case.names:
         assert name in r["msg"], f"{case.call}: the message does not name {name!r}: {r['msg']}"
 

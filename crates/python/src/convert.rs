@@ -187,9 +187,11 @@ pub fn float_array<'py>(
 /// A real numpy array as a C-contiguous float64 one.
 pub fn contiguous<'py>(a: &Bound<'py, PyUntypedArray>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let np = a.py().import("numpy")?;
+    // Not ascontiguousarray: it turns a 0-d array (a scalar) into shape (1,).
     let kw = PyDict::new(a.py());
     kw.set_item("dtype", "float64")?;
-    let f = np.call_method("ascontiguousarray", (a,), Some(&kw))?;
+    kw.set_item("order", "C")?;
+    let f = np.call_method("asarray", (a,), Some(&kw))?;
     Ok(f.cast_into::<PyArrayDyn<f64>>()?)
 }
 
