@@ -205,6 +205,12 @@ CASES = [
     C("sim-state-huge-velocity", "s.set_state(velocity_m_s=[1e200, 0, 0]); s.run(5)",
       "DivergedError", "not finite", setup=SIM),
     C("sim-huge-wind", "s.set_wind([1e200, 0, 0]); s.run(5)", "RuntimeError", "", setup=SIM),
+    C("sim-controls-neg-freq", "s.set_controls(freq_hz=-1e300)", "RuntimeError", "frequency",
+      setup=SIM),
+    C("controls-huge-amplitude", "Vehicle().with_controls(amplitude_rad=1e300)", "RuntimeError",
+      "amplitude"),
+    C("trim-huge-freq", "Vehicle().with_controls(freq_hz=1e300).trim()", "AnalysisError",
+      "frequency"),
     C("sim-controls-unknown", "s.set_controls(no_such=1.0)", "ValueError", "no_such", setup=SIM),
     C("sim-controls-nan", "s.set_controls(amplitude_rad=np.nan)", "ValueError", "amplitude_rad",
       setup=SIM),
@@ -381,6 +387,7 @@ INTERRUPTS = {
     "env-step-long-action": (
         "from flapwing.envs import FlapwingEnv; e = FlapwingEnv(action_wingbeats=10**6); "
         "e.reset(seed=1)", "e.step(np.zeros(4))"),
+    "vec-build-4096": ("", "VecHoverTask(4096)"),
     "wing-evaluate-cycle": ("w = Wing()",
                             "for _ in range(1000): w.evaluate_cycle(2_900_000)"),
 }
