@@ -379,7 +379,8 @@ def test_bad_input_raises_a_named_error(case: Case, results: dict):
 INTERRUPTS = {
     "sim-run-record-false": ("s = Simulation()", "s.run(10**9, record=False)"),
     "sim-run-wingbeats": ("s = Simulation()", "s.run_wingbeats(10**8, record=False)"),
-    "sim-run-recorded": ("s = Simulation()", "s.run(2_900_000)"),
+    # Recorded: room for 1e6 steps is reserved (360 MB, touched only as the run goes).
+    "sim-run-recorded": ("s = Simulation()", "s.run(1_000_000)"),
     "task-step-long-action": ("t = HoverTask(action_wingbeats=10**6); t.reset(1)",
                               "t.step(np.zeros(4))"),
     "vec-step-long-action": ("v = VecHoverTask(2, action_wingbeats=10**6); v.reset([1, 2])",
@@ -388,8 +389,10 @@ INTERRUPTS = {
         "from flapwing.envs import FlapwingEnv; e = FlapwingEnv(action_wingbeats=10**6); "
         "e.reset(seed=1)", "e.step(np.zeros(4))"),
     "vec-build-4096": ("", "VecHoverTask(4096)"),
-    "wing-evaluate-cycle": ("w = Wing()",
-                            "for _ in range(1000): w.evaluate_cycle(2_900_000)"),
+    # ~3 s of phases on a fast machine; interrupted after ~1 s, little memory touched.
+    "wing-evaluate-cycle": ("w = Wing()", "w.evaluate_cycle(2_900_000)"),
+    "wing-evaluate-many": ("w = Wing(); p = np.linspace(0, 1, 2_900_000)",
+                           "w.evaluate_many(p, velocity_m_s=[0.1, 0, 0])"),
 }
 
 INTERRUPT_SCRIPT = PRELUDE + """
