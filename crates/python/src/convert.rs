@@ -177,10 +177,10 @@ pub fn float_array<'py>(
     name: &str,
     obj: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    if let Ok(a) = obj.cast::<PyArrayDyn<f64>>() {
-        if a.is_c_contiguous() {
-            return Ok(a.clone());
-        }
+    if let Ok(a) = obj.cast::<PyArrayDyn<f64>>()
+        && a.is_c_contiguous()
+    {
+        return Ok(a.clone());
     }
     contiguous(&real_array(name, obj)?)
 }

@@ -50,7 +50,7 @@ impl Signals {
             return false;
         }
         self.count = self.count.wrapping_add(1);
-        if self.count % 16 != 0 || Instant::now() < self.next {
+        if !self.count.is_multiple_of(16) || Instant::now() < self.next {
             return true;
         }
         match Python::attach(|py| py.check_signals()) {
@@ -96,11 +96,11 @@ pub fn watch<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send
                 Ok(()) | Err(mpsc::RecvTimeoutError::Disconnected) => break,
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
             }
-            if raised.is_none() {
-                if let Err(e) = py.check_signals() {
-                    stop.store(true, Ordering::Relaxed);
-                    raised = Some(e);
-                }
+            if raised.is_none()
+                && let Err(e) = py.check_signals()
+            {
+                stop.store(true, Ordering::Relaxed);
+                raised = Some(e);
             }
         }
         let out = py.detach(move || handle.join());
