@@ -141,6 +141,19 @@ impl Task {
         v.positive("max_position_body_lengths", spec.max_position_body_lengths)?;
         v.positive("max_attitude_deg", spec.max_attitude_deg)?;
         let vehicle = VehicleSpec::from_toml(text, origin)?.build(origin)?;
+        let steps = vehicle.sim.steps_per_wingbeat;
+        if steps.checked_mul(spec.action_wingbeats).is_none() {
+            return Err(v
+                .invalid(
+                    "action_wingbeats",
+                    spec.action_wingbeats,
+                    &format!(
+                        "at most {} ({steps} steps per wingbeat)",
+                        usize::MAX / steps.max(1)
+                    ),
+                )
+                .into());
+        }
         if vehicle.sensors.is_none() {
             return Err(Error::Analysis(format!(
                 "{origin}: a task observes through the model's sensors, and it has no [sensors] table (see models/drosophila.toml)"
@@ -207,7 +220,8 @@ impl Task {
     }
     /// Simulation steps per action.
     pub fn steps_per_action(&self) -> u64 {
-        (self.vehicle.sim.steps_per_wingbeat * self.spec.action_wingbeats) as u64
+        (self.vehicle.sim.steps_per_wingbeat as u64)
+            .saturating_mul(self.spec.action_wingbeats as u64)
     }
 
     /// The reward at the edge of the envelope, given when the state is no longer finite.
@@ -298,6 +312,21 @@ impl Task {
     /// `action_wingbeats` wingbeats. An action outside +-`action_limit` or not finite is an
     /// error (never clamped); stepping a finished episode is an error.
     pub fn step(&mut self, action: &[f64]) -> Result<TaskStep> {
+        match self.step_interruptible(action, &mut || true)? {
+            Some(s) => Ok(s),
+            None => Err(Error::Analysis("the action was interrupted".into())),
+        }
+    }
+
+    /// [`Task::step`], asking `keep_going` before every simulation step whether to go on:
+    /// when it says no, the action stops there, the episode ends (reset before stepping
+    /// again) and the result is `Ok(None)`. The Python bindings use it to honour Ctrl-C
+    /// during long actions.
+    pub fn step_interruptible(
+        &mut self,
+        action: &[f64],
+        keep_going: &mut dyn FnMut() -> bool,
+    ) -> Result<Option<TaskStep>> {
         if self.done {
             return Err(Error::Analysis(
                 "the episode has ended: call reset before stepping again".into(),
@@ -323,6 +352,10 @@ impl Task {
             .set_controls(self.trim.controls.with_channels(drive, action));
         let mut reason = None;
         for _ in 0..self.steps_per_action() {
+            if !keep_going() {
+                self.done = true;
+                return Ok(None);
+            }
             if let Err(e) = self.sim.step() {
                 reason = Some(e.to_string());
                 break;
@@ -353,7 +386,7 @@ impl Task {
         let terminated = reason.is_some();
         let truncated = !terminated && self.sim.time_s() >= self.t_end_s - 0.5 * self.sim.dt_s();
         self.done = terminated || truncated;
-        Ok(TaskStep {
+        Ok(Some(TaskStep {
             observation: self.observe(),
             reward: if reward.is_finite() {
                 reward
@@ -363,6 +396,6 @@ impl Task {
             terminated,
             truncated,
             reason,
-        })
+        }))
     }
 }

@@ -1,11 +1,258 @@
 //! Conversions between flapwing's Rust values and Python objects: numpy arrays for vectors
 //! and matrices, dicts for records (through their serde form), and the model loader.
+//!
+//! Every argument check of the bindings lives here, so that every method refuses bad input
+//! the same way, with a message naming the argument, the value and what is allowed:
+//! integers ([`arg_int`], [`int_list`]: `TypeError` for a non-integer, `ValueError` out of
+//! range, never an `OverflowError`), real numbers and arrays ([`scalar`], [`float_array`],
+//! [`vector`]: any array-like numpy converts, `TypeError` for complex, boolean, text or
+//! object values, `ValueError` for a wrong shape or a NaN/infinity) and the size of what a
+//! call would allocate ([`MAX_OUTPUT_BYTES`], [`output_cap`], [`try_vec`]).
 
 use nalgebra::{DMatrix, UnitQuaternion, Vector3};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::{PyOSError, PyValueError};
+use numpy::{
+    PyArray1, PyArray2, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyUntypedArray,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString};
+
+/// The largest output one call builds, in bytes (1 GiB): `Simulation.run` with
+/// `record=True`, `Wing.evaluate_many` and `Wing.evaluate_cycle` refuse, before allocating,
+/// a request whose output arrays would exceed it (`ValueError` naming the argument and its
+/// largest allowed value); run longer simulations in chunks or with `record=False`.
+pub const MAX_OUTPUT_BYTES: u64 = 1 << 30;
+
+/// `ValueError` unless `n` items of `bytes_each` bytes of output fit [`MAX_OUTPUT_BYTES`];
+/// `hint` ends the message (what to do instead).
+pub fn output_cap(name: &str, n: u64, bytes_each: u64, hint: &str) -> PyResult<()> {
+    let need = n.checked_mul(bytes_each);
+    if need.is_some_and(|b| b <= MAX_OUTPUT_BYTES) {
+        return Ok(());
+    }
+    let need = need.map_or_else(|| "more than 2^64".to_owned(), |b| b.to_string());
+    Err(PyValueError::new_err(format!(
+        "`{name}` = {n} would need {need} bytes of output arrays ({bytes_each} bytes each); \
+         the limit is {MAX_OUTPUT_BYTES} bytes (1 GiB), so `{name}` must be at most {}{hint}",
+        MAX_OUTPUT_BYTES / bytes_each.max(1)
+    )))
+}
+
+/// An empty vector with room for `n` items, or `MemoryError` naming `name` when the system
+/// cannot provide it (instead of Rust's abort).
+pub fn try_vec<T>(name: &str, n: usize) -> PyResult<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| {
+        PyMemoryError::new_err(format!(
+            "cannot allocate {} bytes for `{name}` ({n} items)",
+            n.saturating_mul(std::mem::size_of::<T>())
+        ))
+    })?;
+    Ok(v)
+}
+
+/// A short description of a Python value for messages: its type and repr (cut at 60 chars).
+pub fn describe(obj: &Bound<'_, PyAny>) -> String {
+    let ty = obj
+        .get_type()
+        .name()
+        .map(|n| n.to_string())
+        .unwrap_or_else(|_| "?".to_owned());
+    let mut r = obj
+        .repr()
+        .map(|r| r.to_string())
+        .unwrap_or_else(|_| "?".to_owned());
+    if r.chars().count() > 60 {
+        r = r.chars().take(57).collect::<String>() + "...";
+    }
+    format!("{ty} {r}")
+}
+
+/// An integer argument in `min..=max` (`max` None: no upper bound but 2^64 - 1). Anything
+/// with `__index__` (int, numpy integers) is accepted; bool, float, str and the rest are a
+/// `TypeError`, an integer out of range a `ValueError`, both naming `name`.
+pub fn arg_int(name: &str, obj: &Bound<'_, PyAny>, min: u64, max: Option<u64>) -> PyResult<u64> {
+    let range = match max {
+        Some(m) => format!("from {min} to {m}"),
+        None => format!("at least {min}"),
+    };
+    if obj.is_instance_of::<PyBool>() {
+        return Err(PyTypeError::new_err(format!(
+            "`{name}` must be an integer {range}, got {}",
+            describe(obj)
+        )));
+    }
+    let index = if obj.is_instance_of::<PyInt>() {
+        obj.clone()
+    } else {
+        obj.py()
+            .import("operator")?
+            .call_method1("index", (obj,))
+            .map_err(|_| {
+                PyTypeError::new_err(format!(
+                    "`{name}` must be an integer {range}, got {}",
+                    describe(obj)
+                ))
+            })?
+    };
+    match index.extract::<u64>() {
+        Ok(v) if v >= min && max.is_none_or(|m| v <= m) => Ok(v),
+        _ => Err(PyValueError::new_err(format!(
+            "`{name}` must be an integer {range}, got {index}"
+        ))),
+    }
+}
+
+/// A sequence of integers (list, tuple, numpy integer array), each checked by [`arg_int`]
+/// as `name[i]`; `None` items are kept as `None` when `allow_none`.
+pub fn int_list(
+    name: &str,
+    obj: &Bound<'_, PyAny>,
+    min: u64,
+    max: Option<u64>,
+    allow_none: bool,
+) -> PyResult<Vec<Option<u64>>> {
+    let not_seq = || {
+        PyTypeError::new_err(format!(
+            "`{name}` must be a sequence of integers, got {}",
+            describe(obj)
+        ))
+    };
+    if obj.is_instance_of::<PyString>() || obj.is_instance_of::<PyBytes>() {
+        return Err(not_seq());
+    }
+    let mut out = Vec::new();
+    for (i, item) in obj.try_iter().map_err(|_| not_seq())?.enumerate() {
+        let item = item?;
+        if allow_none && item.is_none() {
+            out.push(None);
+        } else {
+            out.push(Some(arg_int(&format!("{name}[{i}]"), &item, min, max)?));
+        }
+    }
+    Ok(out)
+}
+
+/// Any array-like of real numbers (list, tuple, scalar, numpy array of a float or integer
+/// dtype) as a numpy array, not yet converted nor copied (see [`float_array`]); complex,
+/// boolean, text, object and ragged input is refused naming `name` (`TypeError`; a ragged
+/// list `ValueError`).
+pub fn real_array<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyUntypedArray>> {
+    let np = obj.py().import("numpy")?;
+    let a = np.call_method1("asarray", (obj,)).map_err(|e| {
+        PyValueError::new_err(format!(
+            "`{name}` must be an array of real numbers, got {}: {e}",
+            describe(obj)
+        ))
+    })?;
+    let a = a.cast_into::<PyUntypedArray>().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "`{name}` must be an array of real numbers, got {}",
+            describe(obj)
+        ))
+    })?;
+    let dtype = a.dtype();
+    let kind = dtype.kind();
+    if !matches!(kind, b'f' | b'i' | b'u') {
+        let what = match kind {
+            b'c' => "a complex value",
+            b'b' => "a boolean value",
+            _ => "a non-numeric value",
+        };
+        return Err(PyTypeError::new_err(format!(
+            "`{name}` must be real numbers (float or int), got {what} (dtype {dtype}): {}",
+            describe(obj)
+        )));
+    }
+    Ok(a)
+}
+
+/// [`real_array`] as a C-contiguous float64 numpy array (no copy when it already is one).
+/// The values are not checked (see [`vector`] and [`finite`]).
+pub fn float_array<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    if let Ok(a) = obj.cast::<PyArrayDyn<f64>>()
+        && a.is_c_contiguous()
+    {
+        return Ok(a.clone());
+    }
+    contiguous(&real_array(name, obj)?)
+}
+
+/// A real numpy array as a C-contiguous float64 one.
+pub fn contiguous<'py>(a: &Bound<'py, PyUntypedArray>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let np = a.py().import("numpy")?;
+    // Not ascontiguousarray: it turns a 0-d array (a scalar) into shape (1,).
+    let kw = PyDict::new(a.py());
+    kw.set_item("dtype", "float64")?;
+    kw.set_item("order", "C")?;
+    let f = np.call_method("asarray", (a,), Some(&kw))?;
+    Ok(f.cast_into::<PyArrayDyn<f64>>()?)
+}
+
+/// The shape of an array as "(a, b)" (Python's spelling).
+pub fn shape_str(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        s => format!(
+            "({})",
+            s.iter()
+                .map(|x| x.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// A real scalar argument (int, float, numpy scalar or 0-d array), finite.
+pub fn scalar(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let x = if (obj.is_instance_of::<PyFloat>() || obj.is_instance_of::<PyInt>())
+        && !obj.is_instance_of::<PyBool>()
+    {
+        obj.extract::<f64>().map_err(|_| {
+            PyValueError::new_err(format!(
+                "`{name}` must be a finite real number, got {}",
+                describe(obj)
+            ))
+        })?
+    } else {
+        let a = float_array(name, obj)?;
+        if a.ndim() != 0 {
+            return Err(PyValueError::new_err(format!(
+                "`{name}` must be a number, got an array of shape {}",
+                shape_str(a.shape())
+            )));
+        }
+        a.readonly().as_slice()?[0]
+    };
+    finite(name, &[x])?;
+    Ok(x)
+}
+
+/// A 1-D array-like of finite reals with `len` items (None: any length).
+pub fn vector(name: &str, obj: &Bound<'_, PyAny>, len: Option<usize>) -> PyResult<Vec<f64>> {
+    let a = float_array(name, obj)?;
+    let ok = a.ndim() == 1 && len.is_none_or(|n| a.len() == n);
+    if !ok {
+        let want = len.map_or_else(
+            || "(n,)".to_owned(),
+            |n| format!("{} ({n} components)", shape_str(&[n])),
+        );
+        return Err(PyValueError::new_err(format!(
+            "`{name}` must have shape {want}, got shape {}",
+            shape_str(a.shape())
+        )));
+    }
+    let v = a.readonly().as_slice()?.to_vec();
+    finite(name, &v)?;
+    Ok(v)
+}
 
 /// A 3-vector as a numpy array of shape (3,).
 pub fn vec3<'py>(py: Python<'py>, v: &Vector3<f64>) -> Bound<'py, PyArray1<f64>> {
@@ -82,28 +329,25 @@ pub fn record<'py, T: serde::Serialize>(py: Python<'py>, v: &T) -> PyResult<Boun
     json_to_py(py, &j)
 }
 
-/// A 3-vector argument: any sequence or array of 3 floats.
-pub fn arg_vec3(name: &str, v: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<Vector3<f64>> {
+/// A 3-vector argument: any array-like of 3 finite reals; None is zero.
+pub fn arg_vec3(name: &str, v: Option<&Bound<'_, PyAny>>) -> PyResult<Vector3<f64>> {
     let Some(v) = v else {
         return Ok(Vector3::zeros());
     };
-    let s = v.as_slice()?;
-    if s.len() != 3 {
-        return Err(PyValueError::new_err(format!(
-            "`{name}` must have 3 components (x, y, z), got {}",
-            s.len()
-        )));
-    }
-    let out = Vector3::new(s[0], s[1], s[2]);
-    finite(name, out.as_slice())?;
-    Ok(out)
+    let s = vector(name, v, Some(3))?;
+    Ok(Vector3::new(s[0], s[1], s[2]))
 }
 
-/// Rejects NaN and infinities, naming the argument.
+/// Rejects NaN and infinities, naming the argument (and the index in an array).
 pub fn finite(name: &str, v: &[f64]) -> PyResult<()> {
-    if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+    if let Some((i, x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        let at = if v.len() > 1 {
+            format!("{name}[{i}]")
+        } else {
+            name.to_owned()
+        };
         return Err(PyValueError::new_err(format!(
-            "`{name}` must be finite, got {x}"
+            "`{at}` must be finite, got {x}"
         )));
     }
     Ok(())
@@ -150,10 +394,7 @@ where
                 allowed.join(", ")
             )));
         }
-        let x: f64 = v
-            .extract()
-            .map_err(|_| bad(format!("{what} field `{k}` must be a number, got {v}")))?;
-        finite(&format!("{what}.{k}"), &[x])?;
+        let x = scalar(&format!("{what}.{k}"), &v)?;
         obj.insert(k, serde_json::json!(x));
     }
     serde_json::from_value(j).map_err(|e| bad(format!("{what}: {e}")))

@@ -2,7 +2,9 @@
 //! (flapsim::task), one or many stepped in Rust threads per call; the Gymnasium
 //! environments in `python/flapwing/envs.py` wrap them.
 
-use numpy::{PyArray1, PyReadonlyArray1, PyReadonlyArray2};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -11,8 +13,18 @@ use rayon::prelude::*;
 use flapsim::randomize::Randomization;
 use flapsim::task::{Task, TaskSpec, TaskStep};
 
-use crate::convert::{merge_record, model_text, record, shaped};
+use crate::convert::{
+    arg_int, finite, float_array, int_list, merge_record, model_text, record, shape_str, shaped,
+};
+use crate::interrupt::{Signals, watch};
 use crate::sim_err;
+
+/// The most tasks a `VecHoverTask` holds (each is a trimmed simulation with sensors, built in
+/// parallel at construction): more is a `ValueError` naming `num`.
+pub const MAX_TASKS: u64 = 4096;
+
+/// The most wingbeats one action may last (`action_wingbeats`).
+pub const MAX_ACTION_WINGBEATS: u64 = 1_000_000;
 
 /// "hover" or "recover", with fields overridden by `overrides`.
 fn task_spec(kind: &str, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<TaskSpec> {
@@ -33,12 +45,7 @@ fn task_spec(kind: &str, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<Task
     let rest = PyDict::new(o.py());
     for (k, v) in o.iter() {
         if k.extract::<String>()? == "action_wingbeats" {
-            let n: i64 = v.extract()?;
-            if n < 1 {
-                return Err(PyValueError::new_err(format!(
-                    "action_wingbeats must be at least 1, got {n}"
-                )));
-            }
+            let n = arg_int("action_wingbeats", &v, 1, Some(MAX_ACTION_WINGBEATS))?;
             spec.action_wingbeats = n as usize;
         } else {
             rest.set_item(k, v)?;
@@ -52,7 +59,9 @@ fn task_spec(kind: &str, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<Task
 fn load_randomization(path: Option<&str>) -> PyResult<Option<Randomization>> {
     let Some(p) = path else { return Ok(None) };
     let text = std::fs::read_to_string(p).map_err(|e| {
-        pyo3::exceptions::PyOSError::new_err(format!("cannot read randomisation file {p}: {e}"))
+        pyo3::exceptions::PyOSError::new_err(format!(
+            "`randomize`: cannot read the randomisation file {p}: {e}"
+        ))
     })?;
     Ok(Some(Randomization::from_toml(&text, p).map_err(sim_err)?))
 }
@@ -147,21 +156,34 @@ impl HoverTask {
     fn draws<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         draws_dict(py, &self.task)
     }
-    /// Starts an episode from `seed`; returns the first observation.
-    fn reset<'py>(&mut self, py: Python<'py>, seed: u64) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    /// Starts an episode from `seed` (an integer from 0 to 2^64 - 1); returns the first
+    /// observation.
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        seed: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let seed = arg_int("seed", seed, 0, None)?;
         let task = &mut self.task;
         let o = py.detach(|| task.reset(seed)).map_err(sim_err)?;
         Ok(PyArray1::from_vec(py, o))
     }
-    /// Applies an action; returns (observation, reward, terminated, truncated, reason).
+    /// Applies an action (array-like of shape (4,), finite, within +-action_limit); returns
+    /// (observation, reward, terminated, truncated, reason). Ctrl-C raises KeyboardInterrupt
+    /// and ends the episode.
     fn step<'py>(
         &mut self,
         py: Python<'py>,
-        action: PyReadonlyArray1<'py, f64>,
+        action: &Bound<'py, PyAny>,
     ) -> PyResult<(Bound<'py, PyArray1<f64>>, f64, bool, bool, Option<String>)> {
-        let a = action.as_slice()?.to_vec();
+        let a = actions_array("action", action, 1, &self.task)?;
         let task = &mut self.task;
-        let s: TaskStep = py.detach(|| task.step(&a)).map_err(value_err)?;
+        let mut sig = Signals::new();
+        let s = py
+            .detach(|| task.step_interruptible(&a, &mut || sig.keep_going()))
+            .map_err(value_err)?;
+        sig.result()?;
+        let s = s.ok_or_else(|| PyValueError::new_err("the action was interrupted"))?;
         Ok((
             PyArray1::from_vec(py, s.observation),
             s.reward,
@@ -170,6 +192,44 @@ impl HoverTask {
             s.reason,
         ))
     }
+}
+
+/// Actions for `n` tasks as a flat vector: `obj` must be an array-like of shape (4,) (`n` 1,
+/// a single task) or exactly (n, 4), finite and within +-action_limit, refused naming
+/// `name`, the index and the value otherwise (never reshaped).
+fn actions_array(name: &str, obj: &Bound<'_, PyAny>, n: usize, task: &Task) -> PyResult<Vec<f64>> {
+    let a = float_array(name, obj)?;
+    let channels = task.vehicle().control_channels().join(", ");
+    let (want, ok) = if name == "action" {
+        ("(4,)".to_owned(), a.shape() == [4])
+    } else {
+        (format!("({n}, 4)"), a.shape() == [n, 4])
+    };
+    if !ok {
+        return Err(PyValueError::new_err(format!(
+            "`{name}` must have shape {want} (channels {channels}), got shape {}",
+            shape_str(a.shape())
+        )));
+    }
+    let v = a.readonly().as_slice()?.to_vec();
+    finite(name, &v)?;
+    let lim = task.action_limit();
+    for (k, x) in v.iter().enumerate() {
+        let (i, j) = (k / 4, k % 4);
+        if x.abs() > lim[j] {
+            let at = if name == "action" {
+                format!("{name}[{j}]")
+            } else {
+                format!("{name}[{i}, {j}]")
+            };
+            return Err(PyValueError::new_err(format!(
+                "`{at}` ({}) = {x} is outside the allowed +-{}",
+                task.vehicle().control_channels()[j],
+                lim[j]
+            )));
+        }
+    }
+    Ok(v)
 }
 
 /// A bad action is the caller's argument: ValueError.
@@ -188,26 +248,40 @@ pub struct VecHoverTask {
 
 #[pymethods]
 impl VecHoverTask {
-    /// `num` copies of the task of `HoverTask(model, task, randomize, **spec)`.
+    /// `num` copies (1 to 4096, `MAX_TASKS`) of the task of `HoverTask(model, task,
+    /// randomize, **spec)`, built in parallel Rust threads with the GIL released (Ctrl-C
+    /// honoured).
     #[new]
     #[pyo3(signature = (num, model = "drosophila", task = "hover", randomize = None, **spec))]
     fn new(
-        num: usize,
+        py: Python<'_>,
+        num: &Bound<'_, PyAny>,
         model: &str,
         task: &str,
         randomize: Option<&str>,
         spec: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        if num == 0 {
-            return Err(PyValueError::new_err("num must be at least 1, got 0"));
-        }
+        let num = arg_int("num", num, 1, Some(MAX_TASKS))? as usize;
         let first = new_task(model, task, randomize, spec)?;
         let (text, origin) = model_text(model, &crate::vehicle::builtin_pairs())?;
         let spec_v = *first.spec();
         let r = load_randomization(randomize)?;
+        let rest = watch(py, |stop: &AtomicBool| {
+            (1..num)
+                .into_par_iter()
+                .map(|_| {
+                    if stop.load(Ordering::Relaxed) {
+                        return Ok(None);
+                    }
+                    Task::new(&text, &origin, spec_v, r.clone()).map(Some)
+                })
+                .collect::<flapsim::Result<Vec<Option<Task>>>>()
+        })?
+        .map_err(sim_err)?;
         let mut tasks = vec![first];
-        for _ in 1..num {
-            tasks.push(Task::new(&text, &origin, spec_v, r.clone()).map_err(sim_err)?);
+        tasks.extend(rest.into_iter().flatten());
+        if tasks.len() != num {
+            return Err(PyValueError::new_err("building the tasks was interrupted"));
         }
         Ok(Self { tasks })
     }
@@ -225,80 +299,92 @@ impl VecHoverTask {
     fn action_limit<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, &self.tasks[0].action_limit())
     }
-    /// Resets every task, task i from seeds[i]; returns observations (num, obs_len).
-    fn reset<'py>(&mut self, py: Python<'py>, seeds: Vec<u64>) -> PyResult<Bound<'py, PyAny>> {
+    /// Resets every task, task i from seeds[i] (integers from 0 to 2^64 - 1); returns
+    /// observations (num, obs_len).
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        seeds: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let seeds: Vec<u64> = int_list("seeds", seeds, 0, None, false)?
+            .into_iter()
+            .flatten()
+            .collect();
         if seeds.len() != self.tasks.len() {
             return Err(PyValueError::new_err(format!(
-                "{} seeds for {} tasks",
-                seeds.len(),
-                self.tasks.len()
+                "`seeds` must have one seed per task ({}), got {}",
+                self.tasks.len(),
+                seeds.len()
             )));
         }
         let tasks = &mut self.tasks;
-        let obs: Vec<Vec<f64>> = py
-            .detach(|| {
-                tasks
-                    .par_iter_mut()
-                    .zip(seeds.par_iter())
-                    .map(|(t, s)| t.reset(*s))
-                    .collect::<flapsim::Result<Vec<_>>>()
-            })
-            .map_err(sim_err)?;
+        let obs: Vec<Vec<f64>> = watch(py, |_stop: &AtomicBool| {
+            tasks
+                .par_iter_mut()
+                .zip(seeds.par_iter())
+                .map(|(t, s)| t.reset(*s))
+                .collect::<flapsim::Result<Vec<_>>>()
+        })?
+        .map_err(sim_err)?;
         let n = obs.len();
         let m = obs.first().map_or(0, Vec::len);
         shaped(py, obs.concat(), &[n, m])
     }
-    /// Steps task i with actions[i] (shape (num, 4)), in parallel; returns observations
-    /// (num, obs_len), rewards, terminated and truncated (num,). With `reset_seeds`, task i
-    /// is instead reset from reset_seeds[i] when that is not None (Gymnasium's next-step
-    /// autoreset: its first observation, reward 0, not terminated, not truncated).
+    /// Steps task i with actions[i] (an array-like of shape exactly (num, 4), finite, within
+    /// +-action_limit; never reshaped), in parallel; returns observations (num, obs_len),
+    /// rewards, terminated and truncated (num,). With `reset_seeds` (num integers or None),
+    /// task i is instead reset from reset_seeds[i] when that is not None (Gymnasium's
+    /// next-step autoreset: its first observation, reward 0, not terminated, not
+    /// truncated). Ctrl-C raises KeyboardInterrupt and ends the interrupted episodes.
     #[pyo3(signature = (actions, reset_seeds = None))]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
-        actions: PyReadonlyArray2<'py, f64>,
-        reset_seeds: Option<Vec<Option<u64>>>,
+        actions: &Bound<'py, PyAny>,
+        reset_seeds: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<(
         Bound<'py, PyAny>,
         Bound<'py, PyAny>,
         Bound<'py, PyAny>,
         Bound<'py, PyAny>,
     )> {
-        let a = actions.as_array();
         let n = self.tasks.len();
-        if a.shape() != [n, 4] {
-            return Err(PyValueError::new_err(format!(
-                "actions must have shape ({n}, 4), got {:?}",
-                a.shape()
-            )));
-        }
-        let resets = reset_seeds.unwrap_or_else(|| vec![None; n]);
+        let resets = match reset_seeds {
+            None => vec![None; n],
+            Some(r) => int_list("reset_seeds", r, 0, None, true)?,
+        };
         if resets.len() != n {
             return Err(PyValueError::new_err(format!(
-                "{} reset seeds for {n} tasks",
+                "`reset_seeds` must have one entry per task ({n}), got {}",
                 resets.len()
             )));
         }
-        let rows: Vec<Vec<f64>> = a.outer_iter().map(|r| r.to_vec()).collect();
+        let flat = actions_array("actions", actions, n, &self.tasks[0])?;
+        let rows: Vec<&[f64]> = flat.chunks(4).collect();
         let tasks = &mut self.tasks;
-        let out: Vec<TaskStep> = py
-            .detach(|| {
-                tasks
-                    .par_iter_mut()
-                    .zip(rows.par_iter().zip(resets.par_iter()))
-                    .map(|(t, (a, r))| match r {
-                        Some(seed) => t.reset(*seed).map(|observation| TaskStep {
+        let out: Vec<Option<TaskStep>> = watch(py, |stop: &AtomicBool| {
+            tasks
+                .par_iter_mut()
+                .zip(rows.par_iter().zip(resets.par_iter()))
+                .map(|(t, (a, r))| match r {
+                    Some(seed) => t.reset(*seed).map(|observation| {
+                        Some(TaskStep {
                             observation,
                             reward: 0.0,
                             terminated: false,
                             truncated: false,
                             reason: None,
-                        }),
-                        None => t.step(a),
-                    })
-                    .collect::<flapsim::Result<Vec<_>>>()
-            })
-            .map_err(value_err)?;
+                        })
+                    }),
+                    None => t.step_interruptible(a, &mut || !stop.load(Ordering::Relaxed)),
+                })
+                .collect::<flapsim::Result<Vec<_>>>()
+        })?
+        .map_err(value_err)?;
+        let out: Vec<TaskStep> = out
+            .into_iter()
+            .collect::<Option<Vec<_>>>()
+            .ok_or_else(|| PyValueError::new_err("the step was interrupted"))?;
         let m = out.first().map_or(0, |s| s.observation.len());
         let obs: Vec<f64> = out.iter().flat_map(|s| s.observation.clone()).collect();
         let rew: Vec<f64> = out.iter().map(|s| s.reward).collect();
@@ -311,14 +397,16 @@ impl VecHoverTask {
             PyArray1::from_vec(py, trunc).into_any(),
         ))
     }
-    /// Resets task `i` from `seed`; returns its observation.
+    /// Resets task `i` (0 to num - 1) from `seed`; returns its observation.
     fn reset_one<'py>(
         &mut self,
         py: Python<'py>,
-        i: usize,
-        seed: u64,
+        i: &Bound<'py, PyAny>,
+        seed: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let n = self.tasks.len();
+        let i = arg_int("i", i, 0, Some(n as u64 - 1))? as usize;
+        let seed = arg_int("seed", seed, 0, None)?;
         let t = self
             .tasks
             .get_mut(i)
@@ -327,7 +415,8 @@ impl VecHoverTask {
         Ok(PyArray1::from_vec(py, o))
     }
     /// Task `i`'s randomised parameters this episode.
-    fn draws<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyDict>> {
+    fn draws<'py>(&self, py: Python<'py>, i: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+        let i = arg_int("i", i, 0, Some(self.tasks.len() as u64 - 1))? as usize;
         let t = self
             .tasks
             .get(i)

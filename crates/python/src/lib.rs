@@ -9,6 +9,7 @@
 
 mod convert;
 mod env;
+mod interrupt;
 mod logs;
 mod sim;
 mod vehicle;

@@ -3,14 +3,18 @@
 //! and an optional MCAP log.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use numpy::{PyArray1, PyReadonlyArray1};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use numpy::{PyArray1, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use flapsim::{Mode, State, StepOutput};
 
-use crate::convert::{arg_vec3, finite, merge_record, quat_wxyz, record, shaped, vec3};
+use crate::convert::{
+    arg_int, arg_vec3, merge_record, output_cap, quat_wxyz, record, scalar, shaped, try_vec, vec3,
+    vector,
+};
+use crate::interrupt::Signals;
 use crate::vehicle::Vehicle;
 use crate::{log_err, sim_err};
 
@@ -57,23 +61,14 @@ pub fn state_from_dict(d: &Bound<'_, PyDict>, base: State) -> PyResult<State> {
         if k == "euler_rad" {
             continue;
         }
-        let a: Vec<f64> = v
-            .extract()
-            .map_err(|_| PyValueError::new_err(format!("state `{k}` must be a float array")))?;
-        finite(&k, &a)?;
-        let need = if k == "world_from_body_wxyz" { 4 } else { 3 };
         if !STATE_KEYS.contains(&k.as_str()) {
             return Err(PyValueError::new_err(format!(
                 "state has no field `{k}` (allowed: {})",
                 STATE_KEYS.join(", ")
             )));
         }
-        if a.len() != need {
-            return Err(PyValueError::new_err(format!(
-                "state `{k}` must have {need} components, got {}",
-                a.len()
-            )));
-        }
+        let need = if k == "world_from_body_wxyz" { 4 } else { 3 };
+        let a = vector(&k, &v, Some(need))?;
         match k.as_str() {
             "position_m" => s.position_m = Vector3::new(a[0], a[1], a[2]),
             "velocity_m_s" => s.velocity_m_s = Vector3::new(a[0], a[1], a[2]),
@@ -82,10 +77,12 @@ pub fn state_from_dict(d: &Bound<'_, PyDict>, base: State) -> PyResult<State> {
             }
             _ => {
                 let q = Quaternion::new(a[0], a[1], a[2], a[3]);
-                if q.norm() < 1e-9 {
-                    return Err(PyValueError::new_err(
-                        "state `world_from_body_wxyz` must be a non-zero quaternion",
-                    ));
+                let n = q.norm();
+                if !(n.is_finite() && n > 1e-9) {
+                    return Err(PyValueError::new_err(format!(
+                        "state `world_from_body_wxyz` must be a non-zero quaternion of finite \
+                         norm, got norm {n}"
+                    )));
                 }
                 s.world_from_body = UnitQuaternion::from_quaternion(q);
             }
@@ -138,20 +135,21 @@ pub struct Trace {
 }
 
 impl Trace {
-    fn with_capacity(n: usize) -> Self {
-        let v = |k: usize| Vec::with_capacity(k * n);
-        Self {
-            t_s: v(1),
-            phase: v(1),
-            position_m: v(3),
-            quat_wxyz: v(4),
-            velocity_m_s: v(3),
-            omega: v(3),
-            force_n: v(3),
-            moment_nm: v(3),
-            term_force_n: v(12),
-            term_moment_nm: v(12),
-        }
+    /// Room for `n` steps, or `MemoryError` (`name`: the argument asking for them).
+    fn with_capacity(name: &str, n: usize) -> PyResult<Self> {
+        let v = |k: usize| try_vec::<f64>(name, k.saturating_mul(n));
+        Ok(Self {
+            t_s: v(1)?,
+            phase: v(1)?,
+            position_m: v(3)?,
+            quat_wxyz: v(4)?,
+            velocity_m_s: v(3)?,
+            omega: v(3)?,
+            force_n: v(3)?,
+            moment_nm: v(3)?,
+            term_force_n: v(12)?,
+            term_moment_nm: v(12)?,
+        })
     }
 
     fn push(&mut self, o: &StepOutput) {
@@ -199,16 +197,24 @@ impl Trace {
     }
 }
 
-/// Steps `sim` `n` times, feeding the summary (and the log and the trace when given).
+/// Bytes of a [`Trace`] per step: 45 float64.
+const BYTES_PER_STEP: u64 = 8 * (1 + 1 + 3 + 4 + 3 + 3 + 3 + 3 + 12 + 12);
+
+/// Steps `sim` `n` times, feeding the summary (and the log and the trace when given), while
+/// `keep_going` says so.
 pub fn run_steps(
     sim: &mut flapsim::Simulation,
     summary: &mut flapsim::SummaryBuilder,
     mut log: Option<&mut flightlog::Recorder>,
     mut trace: Option<&mut Trace>,
     n: u64,
+    keep_going: &mut dyn FnMut() -> bool,
 ) -> PyResult<()> {
     let dt = sim.dt_s();
     for _ in 0..n {
+        if !keep_going() {
+            return Ok(());
+        }
         let out = match sim.step() {
             Ok(o) => o,
             Err(e) => {
@@ -243,24 +249,45 @@ impl Simulation {
     /// A simulation of `vehicle` (a `Vehicle`, or a built-in name or model path) in `mode`
     /// ("free", "tethered" or "longitudinal"), from the vehicle's initial state at t = 0.
     /// With `mcap`, every step is logged to that MCAP file at `log_rate_hz` (None: every
-    /// step) until `close_log()`; the file reads back with `flapwing.read_log`.
+    /// step; else finite and > 0) until `close_log()`; the file reads back with
+    /// `flapwing.read_log`. An existing `mcap` file is refused (`FileExistsError`) unless
+    /// `force=True` (the CLI's `--force`).
     #[new]
-    #[pyo3(signature = (vehicle = None, mode = "free", mcap = None, log_rate_hz = Some(2000.0)))]
+    #[pyo3(signature = (vehicle = None, mode = "free", mcap = None, log_rate_hz = Some(2000.0), *, force = false))]
     fn new(
         vehicle: Option<&Bound<'_, PyAny>>,
         mode: &str,
         mcap: Option<std::path::PathBuf>,
-        log_rate_hz: Option<f64>,
+        #[pyo3(from_py_with = log_rate)] log_rate_hz: Option<f64>,
+        force: bool,
     ) -> PyResult<Self> {
         let v = match vehicle {
             None => Vehicle::load("drosophila")?,
             Some(obj) => match obj.cast::<Vehicle>() {
                 Ok(v) => v.get().clone(),
                 Err(_) => Vehicle::load(&obj.extract::<String>().map_err(|_| {
-                    PyValueError::new_err("vehicle must be a flapwing.Vehicle or a model name/path")
+                    PyValueError::new_err(format!(
+                        "`vehicle` must be a flapwing.Vehicle or a model name/path, got {}",
+                        crate::convert::describe(obj)
+                    ))
                 })?)?,
             },
         };
+        if let Some(path) = &mcap {
+            if path.is_dir() {
+                return Err(PyValueError::new_err(format!(
+                    "`mcap` {} is a directory; give a file name",
+                    path.display()
+                )));
+            }
+            if path.exists() && !force {
+                return Err(PyFileExistsError::new_err(format!(
+                    "`mcap`: refusing to overwrite the existing log `{}` (pass force=True to \
+                     replace it)",
+                    path.display()
+                )));
+            }
+        }
         let mode_v = parse_mode(mode)?;
         let log = match mcap {
             None => None,
@@ -355,16 +382,16 @@ impl Simulation {
     }
     /// Sets the four control channels (`Vehicle.control_channels`) to `values`, from the
     /// next wingbeat on.
-    fn set_control_channels(&mut self, values: PyReadonlyArray1<'_, f64>) -> PyResult<()> {
-        let u = values.as_slice()?;
-        if u.len() != 4 {
+    fn set_control_channels(&mut self, values: &Bound<'_, PyAny>) -> PyResult<()> {
+        let u = crate::convert::real_array("values", values)?;
+        if u.shape() != [4] {
             return Err(PyValueError::new_err(format!(
-                "control channels: 4 values expected ({}), got {}",
+                "`values` must have shape (4,) (the channels {}), got shape {}",
                 self.sim.vehicle().control_channels().join(", "),
-                u.len()
+                crate::convert::shape_str(u.shape())
             )));
         }
-        finite("values", u)?;
+        let u = vector("values", values, Some(4))?;
         let v = self.sim.vehicle();
         let drive = v.drive_controlled();
         let now = v.controls.channels(drive);
@@ -375,7 +402,7 @@ impl Simulation {
         Ok(())
     }
     /// Uniform wind, world frame, m/s.
-    fn set_wind(&mut self, wind_world_m_s: PyReadonlyArray1<'_, f64>) -> PyResult<()> {
+    fn set_wind(&mut self, wind_world_m_s: &Bound<'_, PyAny>) -> PyResult<()> {
         let w = arg_vec3("wind_world_m_s", Some(wind_world_m_s))?;
         self.sim.set_wind(w);
         Ok(())
@@ -398,35 +425,34 @@ impl Simulation {
         }
         step_dict(py, &out)
     }
-    /// Advances `steps` steps in one call with the GIL released. With `record`, returns the
-    /// per-step arrays (t_s, phase, position_m (n,3), world_from_body_wxyz (n,4),
-    /// velocity_m_s, angular_velocity_body_rad_s, force_n, moment_nm, term_force_n (n,4,3),
-    /// term_moment_nm); else None.
+    /// Advances `steps` steps in one call with the GIL released (Ctrl-C raises
+    /// KeyboardInterrupt within about 50 ms, the steps taken so far kept). With `record`,
+    /// returns the per-step arrays (t_s, phase, position_m (n,3), world_from_body_wxyz
+    /// (n,4), velocity_m_s, angular_velocity_body_rad_s, force_n, moment_nm, term_force_n
+    /// (n,4,3), term_moment_nm), 360 bytes a step, at most 1 GiB a call (2982616 steps:
+    /// run longer in chunks or with `record=False`); else None.
     #[pyo3(signature = (steps, record = true))]
     fn run<'py>(
         &mut self,
         py: Python<'py>,
-        steps: u64,
+        steps: &Bound<'py, PyAny>,
         record: bool,
     ) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let (sim, summary, log) = (&mut self.sim, &mut self.summary, self.log.as_mut());
-        let trace = py.detach(|| -> PyResult<Option<Trace>> {
-            let mut trace = record.then(|| Trace::with_capacity(steps as usize));
-            run_steps(sim, summary, log, trace.as_mut(), steps)?;
-            Ok(trace)
-        })?;
-        trace.map(|t| t.into_dict(py)).transpose()
+        let n = arg_int("steps", steps, 0, None)?;
+        self.run_n(py, n, record, "steps", 1)
     }
     /// Advances whole wingbeats (`wingbeats` x steps_per_wingbeat steps); see `run`.
     #[pyo3(signature = (wingbeats, record = true))]
     fn run_wingbeats<'py>(
         &mut self,
         py: Python<'py>,
-        wingbeats: u64,
+        wingbeats: &Bound<'py, PyAny>,
         record: bool,
     ) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let n = wingbeats * self.sim.vehicle().sim.steps_per_wingbeat as u64;
-        self.run(py, n, record)
+        let per = self.sim.vehicle().sim.steps_per_wingbeat as u64;
+        let max = u64::MAX / per.max(1);
+        let w = arg_int("wingbeats", wingbeats, 0, Some(max))?;
+        self.run_n(py, w.saturating_mul(per), record, "wingbeats", per)
     }
     /// The run summary so far: cycle-mean loads per term over complete wingbeats, lift over
     /// weight, final pose, drift and largest excursion.
@@ -459,6 +485,52 @@ impl Simulation {
             self.sim.steps()
         )
     }
+}
+
+impl Simulation {
+    /// `n` steps (`name` counts them in units of `per` steps, for messages).
+    fn run_n<'py>(
+        &mut self,
+        py: Python<'py>,
+        n: u64,
+        record: bool,
+        name: &str,
+        per: u64,
+    ) -> PyResult<Option<Bound<'py, PyDict>>> {
+        if record {
+            output_cap(
+                name,
+                n / per.max(1),
+                BYTES_PER_STEP.saturating_mul(per),
+                ": run in chunks, or pass record=False",
+            )?;
+        }
+        let mut trace = if record {
+            Some(Trace::with_capacity(name, n as usize)?)
+        } else {
+            None
+        };
+        let (sim, summary, log) = (&mut self.sim, &mut self.summary, self.log.as_mut());
+        let mut sig = Signals::new();
+        let t = trace.as_mut();
+        py.detach(|| run_steps(sim, summary, log, t, n, &mut || sig.keep_going()))?;
+        sig.result()?;
+        trace.map(|t| t.into_dict(py)).transpose()
+    }
+}
+
+/// `log_rate_hz`: None (every step) or a finite rate > 0.
+fn log_rate(obj: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    let r = scalar("log_rate_hz", obj)?;
+    if r <= 0.0 {
+        return Err(PyValueError::new_err(format!(
+            "`log_rate_hz` must be > 0 (or None: every step), got {r}"
+        )));
+    }
+    Ok(Some(r))
 }
 
 /// Controls the model would reject raise now, not at the next wingbeat's step.

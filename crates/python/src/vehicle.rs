@@ -3,10 +3,11 @@
 
 use nalgebra::DMatrix;
 use numpy::{Complex64, PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{matrix, merge_record, model_text, record};
+use crate::convert::{arg_int, matrix, merge_record, model_text, record};
 use crate::sim::state_from_dict;
 use crate::sim_err;
 
@@ -248,27 +249,51 @@ impl Vehicle {
     }
 
     /// Designs the per-wingbeat hover LQR (flapsim::control::HoverController) at the trim.
-    /// `weights` overrides fields of flapsim's default LqrWeights (Bryson's rule maxima);
-    /// `delay_wingbeats` is the sensing delay the controller compensates.
-    #[pyo3(signature = (delay_wingbeats = 0, **weights))]
+    /// `weights` overrides fields of flapsim's default LqrWeights (Bryson's rule maxima:
+    /// each finite and > 0); `delay_wingbeats` (an integer >= 0, default 0) is the sensing
+    /// delay the controller compensates.
+    #[pyo3(signature = (delay_wingbeats = None, **weights))]
     fn lqr(
         &self,
         py: Python<'_>,
-        delay_wingbeats: usize,
+        delay_wingbeats: Option<&Bound<'_, PyAny>>,
         weights: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<HoverController> {
+        let delay = match delay_wingbeats {
+            None => 0,
+            Some(d) => arg_int("delay_wingbeats", d, 0, Some(u32::MAX as u64))? as usize,
+        };
         let w = merge_record(
             &flapsim::control::LqrWeights::default(),
             weights,
             "LqrWeights",
         )?;
+        let j = serde_json::to_value(w).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        if let Some(o) = j.as_object() {
+            for (k, v) in o {
+                let x = v.as_f64().unwrap_or(f64::NAN);
+                // 1/x^2 is each weight: it must be finite and positive too.
+                if !(x > 0.0 && (1.0 / (x * x)).is_finite()) {
+                    return Err(PyValueError::new_err(format!(
+                        "LqrWeights `{k}` is a largest allowed excursion (Bryson's rule): it \
+                         must be finite and > 0 (and at least 1e-150), got {x}"
+                    )));
+                }
+            }
+        }
         let (t, c) = py.detach(|| -> PyResult<_> {
             let t = self.trim_value()?;
             let v = flapsim::trim::trimmed_vehicle(&self.vehicle, &t).map_err(sim_err)?;
-            let c = flapsim::control::HoverController::design(&v, &t, &w, delay_wingbeats)
-                .map_err(sim_err)?;
+            let c =
+                flapsim::control::HoverController::design(&v, &t, &w, delay).map_err(sim_err)?;
             Ok((t, c))
         })?;
+        if c.gain().iter().any(|x| !x.is_finite()) {
+            return Err(PyValueError::new_err(
+                "the LQR gain is not finite for these weights: make the LqrWeights fields \
+                 less extreme",
+            ));
+        }
         Ok(HoverController {
             controller: c,
             trim: t,

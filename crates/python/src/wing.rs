@@ -1,13 +1,21 @@
 //! `flapwing.Wing`: one wing's four force terms at a phase, or over many phases in one call.
 
-use numpy::{PyArray1, PyReadonlyArray1};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wingforce::{BodyMotion, Term, WingForces, WingModelSpec};
 
-use crate::convert::{arg_vec3, finite, model_text, shaped, vec3};
+use crate::convert::{
+    arg_int, arg_vec3, contiguous, finite, model_text, output_cap, real_array, scalar, shape_str,
+    shaped, try_vec, vec3,
+};
+use crate::interrupt::Signals;
 use crate::{sim_err, wing_err};
+
+/// Bytes of output arrays per phase of `evaluate_many` / `evaluate_cycle`: five terms of
+/// force (3), moment (3), c_l and c_d, four angles and the phase, as float64.
+const BYTES_PER_PHASE: u64 = 8 * (5 * 8 + 4 + 1);
 
 /// The built-in wing model (the seed paper's robotic fruit-fly wing, run V3).
 const ROBOFLY_TOML: &str = include_str!("../../../models/robofly.toml");
@@ -30,13 +38,71 @@ fn side_index(side: &str) -> PyResult<usize> {
 }
 
 fn motion(
-    velocity_m_s: Option<PyReadonlyArray1<'_, f64>>,
-    angular_velocity_rad_s: Option<PyReadonlyArray1<'_, f64>>,
+    velocity_m_s: Option<&Bound<'_, PyAny>>,
+    angular_velocity_rad_s: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<BodyMotion> {
     Ok(BodyMotion {
         velocity_m_s: arg_vec3("velocity_m_s", velocity_m_s)?,
         angular_velocity_rad_s: arg_vec3("angular_velocity_rad_s", angular_velocity_rad_s)?,
     })
+}
+
+/// Every number of `f` is finite.
+fn all_finite(f: &WingForces) -> bool {
+    let term_ok = |t: &wingforce::TermForce| {
+        t.force_n.iter().all(|x| x.is_finite())
+            && t.moment_hinge_nm.iter().all(|x| x.is_finite())
+            && t.c_l.is_finite()
+            && t.c_d.is_finite()
+    };
+    f.terms.iter().all(term_ok)
+        && term_ok(&f.total)
+        && [f.angles.phi, f.angles.theta, f.angles.eta, f.phase.t_star]
+            .iter()
+            .all(|x| x.is_finite())
+}
+
+/// The `ValueError` of forces that overflowed.
+fn not_finite(phase: f64, m: &BodyMotion) -> PyErr {
+    let v = &m.velocity_m_s;
+    let w = &m.angular_velocity_rad_s;
+    PyValueError::new_err(format!(
+        "the forces at phase {phase} are not finite for velocity_m_s = [{}, {}, {}] and \
+         angular_velocity_rad_s = [{}, {}, {}]: `velocity_m_s` and `angular_velocity_rad_s` \
+         must be small enough for the forces (which grow with their square) to stay finite",
+        v.x, v.y, v.z, w.x, w.y, w.z
+    ))
+}
+
+/// The forces at every phase, the GIL released, Ctrl-C honoured; an overflow is a
+/// `ValueError` ([`not_finite`]).
+fn evaluate_all(
+    py: Python<'_>,
+    wing: &wingforce::Wing,
+    phases: &[f64],
+    m: &BodyMotion,
+    name: &str,
+) -> PyResult<Vec<WingForces>> {
+    let mut out = try_vec::<WingForces>(name, phases.len())?;
+    let mut sig = Signals::new();
+    let bad = py.detach(|| {
+        for &x in phases {
+            if !sig.keep_going() {
+                return None;
+            }
+            let f = wing.evaluate(x, m);
+            if !all_finite(&f) {
+                return Some(x);
+            }
+            out.push(f);
+        }
+        None
+    });
+    sig.result()?;
+    match bad {
+        Some(x) => Err(not_finite(x, m)),
+        None => Ok(out),
+    }
 }
 
 const KEYS: [&str; 5] = [
@@ -180,52 +246,77 @@ impl Wing {
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
-        phase: f64,
-        velocity_m_s: Option<PyReadonlyArray1<'py, f64>>,
-        angular_velocity_rad_s: Option<PyReadonlyArray1<'py, f64>>,
+        phase: &Bound<'py, PyAny>,
+        velocity_m_s: Option<&Bound<'py, PyAny>>,
+        angular_velocity_rad_s: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        finite("phase", &[phase])?;
+        let phase = scalar("phase", phase)?;
         let m = motion(velocity_m_s, angular_velocity_rad_s)?;
-        forces_dict(py, &[self.wing.evaluate(phase, &m)], true)
+        let f = self.wing.evaluate(phase, &m);
+        if !all_finite(&f) {
+            return Err(not_finite(phase, &m));
+        }
+        forces_dict(py, &[f], true)
     }
 
-    /// Forces at every phase of `phases` in one call (the GIL released meanwhile), with the
-    /// same body motion: the arrays of [`evaluate`] with a leading axis of len(phases).
+    /// Forces at every phase of `phases` (any 1-D array-like of finite reals) in one call
+    /// (the GIL released meanwhile, Ctrl-C honoured), with the same body motion: the arrays
+    /// of [`evaluate`] with a leading axis of len(phases). At most
+    /// `MAX_OUTPUT_BYTES / 360` (2982616) phases per call.
     #[pyo3(signature = (phases, velocity_m_s = None, angular_velocity_rad_s = None))]
     fn evaluate_many<'py>(
         &self,
         py: Python<'py>,
-        phases: PyReadonlyArray1<'py, f64>,
-        velocity_m_s: Option<PyReadonlyArray1<'py, f64>>,
-        angular_velocity_rad_s: Option<PyReadonlyArray1<'py, f64>>,
+        phases: &Bound<'py, PyAny>,
+        velocity_m_s: Option<&Bound<'py, PyAny>>,
+        angular_velocity_rad_s: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let p = phases.as_slice()?.to_vec();
-        finite("phases", &p)?;
+        let a = real_array("phases", phases)?;
+        if a.ndim() != 1 {
+            return Err(PyValueError::new_err(format!(
+                "`phases` must be 1-D (shape (n,)), got shape {}",
+                shape_str(a.shape())
+            )));
+        }
+        output_cap(
+            "len(phases)",
+            a.len() as u64,
+            BYTES_PER_PHASE,
+            ": evaluate in chunks",
+        )?;
+        let a = contiguous(&a)?;
+        let ro = a.readonly();
+        let p = ro.as_slice()?;
+        finite("phases", p)?;
         let m = motion(velocity_m_s, angular_velocity_rad_s)?;
-        let wing = &self.wing;
-        let forces: Vec<WingForces> =
-            py.detach(|| p.iter().map(|&x| wing.evaluate(x, &m)).collect());
+        let forces = evaluate_all(py, &self.wing, p, &m, "phases")?;
         forces_dict(py, &forces, false)
     }
 
     /// One whole wingbeat sampled at `samples` equally spaced phases (0, 1/n, ...): the
-    /// `phase` array and the arrays of [`evaluate_many`].
-    #[pyo3(signature = (samples = 1000, velocity_m_s = None, angular_velocity_rad_s = None))]
+    /// `phase` array and the arrays of [`evaluate_many`]. `samples` is from 1 to 2982616
+    /// (the 1 GiB output cap).
+    #[pyo3(signature = (samples = None, velocity_m_s = None, angular_velocity_rad_s = None))]
     fn evaluate_cycle<'py>(
         &self,
         py: Python<'py>,
-        samples: usize,
-        velocity_m_s: Option<PyReadonlyArray1<'py, f64>>,
-        angular_velocity_rad_s: Option<PyReadonlyArray1<'py, f64>>,
+        samples: Option<&Bound<'py, PyAny>>,
+        velocity_m_s: Option<&Bound<'py, PyAny>>,
+        angular_velocity_rad_s: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        if samples == 0 {
-            return Err(PyValueError::new_err("samples must be at least 1, got 0"));
-        }
-        let p: Vec<f64> = (0..samples).map(|k| k as f64 / samples as f64).collect();
+        let samples = match samples {
+            None => 1000,
+            Some(s) => arg_int(
+                "samples",
+                s,
+                1,
+                Some(crate::convert::MAX_OUTPUT_BYTES / BYTES_PER_PHASE),
+            )?,
+        } as usize;
         let m = motion(velocity_m_s, angular_velocity_rad_s)?;
-        let wing = &self.wing;
-        let forces: Vec<WingForces> =
-            py.detach(|| p.iter().map(|&x| wing.evaluate(x, &m)).collect());
+        let mut p = try_vec::<f64>("samples", samples)?;
+        p.extend((0..samples).map(|k| k as f64 / samples as f64));
+        let forces = evaluate_all(py, &self.wing, &p, &m, "samples")?;
         let d = forces_dict(py, &forces, false)?;
         d.set_item("phase", PyArray1::from_vec(py, p))?;
         Ok(d)

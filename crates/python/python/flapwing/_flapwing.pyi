@@ -1,6 +1,17 @@
 """Type stubs of flapwing's native module (crates/python/src). SI units, radians; body
 frame x forward, y left, z up, origin at the centre of mass; world z up; quaternions as
-(w, x, y, z)."""
+(w, x, y, z).
+
+Arguments: arrays are any array-like of real numbers (lists, tuples, numpy arrays of any
+float or integer dtype); complex, boolean, text or object values raise TypeError, a wrong
+shape or a NaN/infinity ValueError. Integers accept anything with __index__ (numpy
+integers too); a non-integer raises TypeError, an integer out of range ValueError. Every
+message names the argument, the value and what is allowed; nothing is reshaped.
+
+Limits: one call builds at most 1 GiB of output arrays (MAX_OUTPUT_BYTES: `run(record=True)`
+2982616 steps, `evaluate_many`/`evaluate_cycle` 2982616 phases); a VecHoverTask holds at
+most 4096 tasks; an action lasts at most 1000000 wingbeats. Long calls release the GIL and
+raise KeyboardInterrupt on Ctrl-C (within about 50 ms)."""
 
 from typing import Any, Optional, Sequence
 
@@ -59,13 +70,16 @@ class Wing:
                  angular_velocity_rad_s: Optional[Vec3] = None) -> dict[str, Any]:
         """{term: {force_n (3,), moment_hinge_nm (3,), c_l, c_d}} for `translational`,
         `rotational`, `added_mass`, `wake_capture` and `total`; and stroke_rad, pitch_rad,
-        deviation_rad, t_star. Body motion relative to the air, body frame."""
+        deviation_rad, t_star. Body motion relative to the air, body frame. ValueError when
+        the motion is so large that the forces overflow (not finite)."""
     def evaluate_many(self, phases: npt.ArrayLike, velocity_m_s: Optional[Vec3] = None,
                       angular_velocity_rad_s: Optional[Vec3] = None) -> dict[str, Any]:
-        """`evaluate` at every phase in one call: arrays with a leading axis len(phases)."""
-    def evaluate_cycle(self, samples: int = 1000, velocity_m_s: Optional[Vec3] = None,
+        """`evaluate` at every phase in one call: arrays with a leading axis len(phases)
+        (1-D, finite, at most 2982616 phases: 1 GiB of output)."""
+    def evaluate_cycle(self, samples: Optional[int] = 1000, velocity_m_s: Optional[Vec3] = None,
                        angular_velocity_rad_s: Optional[Vec3] = None) -> dict[str, Any]:
-        """One wingbeat at `samples` equally spaced phases; adds the `phase` array."""
+        """One wingbeat at `samples` (1 to 2982616; None: 1000) equally spaced phases; adds
+        the `phase` array."""
 
 class Vehicle:
     """A vehicle model (built-in name or file)."""
@@ -115,7 +129,8 @@ class Vehicle:
         column k the eigenvector of multiplier k: Phi v = mu v, unit norm, largest entry
         real and positive) and floquet_longitudinal (the same per mode, as dicts)."""
     def lqr(self, delay_wingbeats: int = 0, **weights: float) -> "HoverController":
-        """The per-wingbeat hover LQR at the trim (weights: flapsim's LqrWeights fields)."""
+        """The per-wingbeat hover LQR at the trim (weights: flapsim's LqrWeights fields,
+        Bryson's-rule maxima, each finite and > 0; delay_wingbeats >= 0)."""
 
 class HoverController:
     """Per-wingbeat hover LQR with position integral."""
@@ -137,8 +152,11 @@ class Simulation:
     """One vehicle on rapier3d-f64."""
 
     def __init__(self, vehicle: "Vehicle | str | None" = None, mode: str = "free",
-                 mcap: Optional[str] = None, log_rate_hz: Optional[float] = 2000.0) -> None:
-        """mode: "free", "tethered" or "longitudinal"; `mcap` logs every step there."""
+                 mcap: Optional[str] = None, log_rate_hz: Optional[float] = 2000.0, *,
+                 force: bool = False) -> None:
+        """mode: "free", "tethered" or "longitudinal"; `mcap` logs every step there at
+        `log_rate_hz` (> 0; None: every step). An existing `mcap` file raises
+        FileExistsError unless `force=True` (the CLI's --force)."""
     @property
     def vehicle(self) -> Vehicle: ...
     @property
@@ -169,9 +187,12 @@ class Simulation:
         """step, t_s, phase, state (at the step's start), terms, wing_inertia, total
         ({force_n, moment_nm}, body frame about the CoM), controls."""
     def run(self, steps: int, record: bool = True) -> Optional[dict[str, FloatArray]]:
-        """`steps` steps in one call, without the GIL; per-step arrays when `record`."""
+        """`steps` (>= 0) steps in one call, without the GIL; per-step arrays when `record`
+        (360 bytes a step, at most 2982616 steps: 1 GiB; else ValueError: run in chunks or
+        with record=False). Ctrl-C raises KeyboardInterrupt, keeping the steps taken."""
     def run_wingbeats(self, wingbeats: int, record: bool = True
-                      ) -> Optional[dict[str, FloatArray]]: ...
+                      ) -> Optional[dict[str, FloatArray]]:
+        """`wingbeats` x steps_per_wingbeat steps (checked: no overflow); see `run`."""
     def summary(self) -> dict[str, Any]: ...
     def close_log(self) -> Optional[dict[str, int]]: ...
 
@@ -179,7 +200,8 @@ class HoverTask:
     """flapsim's hover or recovery task (see flapwing.envs)."""
 
     def __init__(self, model: str = "drosophila", task: str = "hover",
-                 randomize: Optional[str] = None, **spec: float) -> None: ...
+                 randomize: Optional[str] = None, **spec: float) -> None:
+        """spec: TaskSpec fields; action_wingbeats is an integer from 1 to 1000000."""
     @property
     def spec(self) -> dict[str, Any]: ...
     @property
@@ -198,15 +220,19 @@ class HoverTask:
     def trim(self) -> dict[str, Any]: ...
     @property
     def draws(self) -> dict[str, float]: ...
-    def reset(self, seed: int) -> FloatArray: ...
+    def reset(self, seed: int) -> FloatArray:
+        """seed: 0 to 2**64 - 1."""
     def step(self, action: npt.ArrayLike
-             ) -> tuple[FloatArray, float, bool, bool, Optional[str]]: ...
+             ) -> tuple[FloatArray, float, bool, bool, Optional[str]]:
+        """action: shape (4,), finite, within +-action_limit. Ctrl-C raises
+        KeyboardInterrupt and ends the episode."""
 
 class VecHoverTask:
     """Many tasks stepped in parallel Rust threads."""
 
     def __init__(self, num: int, model: str = "drosophila", task: str = "hover",
-                 randomize: Optional[str] = None, **spec: float) -> None: ...
+                 randomize: Optional[str] = None, **spec: float) -> None:
+        """num: 1 to 4096 tasks, built in parallel without the GIL."""
     def __len__(self) -> int: ...
     @property
     def observation_len(self) -> int: ...
@@ -214,6 +240,7 @@ class VecHoverTask:
     def action_limit(self) -> FloatArray: ...
     def reset(self, seeds: Sequence[int]) -> FloatArray: ...
     def step(self, actions: npt.ArrayLike, reset_seeds: Optional[Sequence[Optional[int]]] = None
-             ) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_], npt.NDArray[np.bool_]]: ...
+             ) -> tuple[FloatArray, FloatArray, npt.NDArray[np.bool_], npt.NDArray[np.bool_]]:
+        """actions: shape exactly (num, 4) (never reshaped), finite, within +-action_limit."""
     def reset_one(self, i: int, seed: int) -> FloatArray: ...
     def draws(self, i: int) -> dict[str, float]: ...

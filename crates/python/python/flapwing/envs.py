@@ -69,8 +69,8 @@ class FlapwingEnv(gym.Env):
         return obs, self._info()
 
     def step(self, action):
-        a = np.asarray(action, dtype=np.float64).reshape(4)
-        obs, reward, terminated, truncated, reason = self._task.step(a)
+        # The task checks the action (shape (4,), real, finite, in range): no reshaping here.
+        obs, reward, terminated, truncated, reason = self._task.step(action)
         info = self._info()
         if reason is not None:
             info["reason"] = reason
@@ -121,7 +121,8 @@ class VecHoverEnv(gym.vector.VectorEnv):
         return obs, {}
 
     def step(self, actions):
-        a = np.ascontiguousarray(actions, dtype=np.float64).reshape(self.num_envs, 4)
+        # Exactly (num_envs, 4), checked by the task: reshaping would mix envs' channels.
+        a = actions
         resets = None
         if self._done.any():
             seeds = iter(self._seeds(int(self._done.sum())))
