@@ -68,6 +68,9 @@ def test_wing_terms_sum_to_total_and_match_model_md():
     # 1.38562 (tolerance 2e-5 as in validate's table).
     assert f["translational"]["c_l"] == pytest.approx(1.38562, abs=2e-5)
     assert w.reynolds == pytest.approx(1360.0)  # Table 5, run V3
+    # The robofly reproduces the paper's BET, so its added mass is the paper's eq 7-8.
+    assert w.added_mass_form == "paper"
+    assert flapwing.Vehicle("drosophila").added_mass_form == "paper"  # the default, for now
 
 
 def test_whole_cycle_in_one_call_matches_single_evaluations():

@@ -545,6 +545,10 @@ fn run_metadata(
             (1.0 / (vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64)).to_string(),
         ),
         ("weight_n".to_owned(), vehicle.weight_n().to_string()),
+        (
+            "added_mass_form".to_owned(),
+            vehicle.wings[0].options().added_mass.name().to_owned(),
+        ),
         ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
     ])
 }

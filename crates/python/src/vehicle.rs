@@ -93,6 +93,12 @@ impl Vehicle {
     fn model_toml(&self) -> &str {
         &self.toml
     }
+    /// The added-mass term's form: `"impulse"` (-dP/dt, MODEL.md 4.3), `"paper"` (eq 7-8)
+    /// or `"off"`.
+    #[getter]
+    fn added_mass_form(&self) -> &'static str {
+        self.vehicle.wings[0].options().added_mass.name()
+    }
     /// Body mass, kg.
     #[getter]
     fn mass_kg(&self) -> f64 {

@@ -207,6 +207,12 @@ impl Wing {
     fn origin(&self) -> &str {
         &self.origin
     }
+    /// The added-mass term's form: `"impulse"` (-dP/dt, MODEL.md 4.3), `"paper"` (eq 7-8)
+    /// or `"off"`.
+    #[getter]
+    fn added_mass_form(&self) -> &'static str {
+        self.wing.options().added_mass.name()
+    }
     /// The paper's Reynolds number Re = V_ref c_bar / nu.
     #[getter]
     fn reynolds(&self) -> f64 {

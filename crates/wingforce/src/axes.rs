@@ -18,6 +18,7 @@
 
 use nalgebra::Vector3;
 
+use crate::added_mass::AddedMassForm;
 use crate::wing::{Side, TermForce, Wing, WingFrame};
 
 /// Generalized moments about the stroke and pitch axes, N m.
@@ -58,18 +59,28 @@ impl Wing {
     /// semi-definite: the added-mass term's generalized moments fall by A [phi_ddot,
     /// theta_ddot] (see the module doc). Depends on the wing's orientation only.
     ///
-    /// From eq 7 with the strip's mid-chord normal acceleration n . (alpha x p), alpha's
+    /// Both forms' normal parts hold the strip's mid-chord term n . (alpha x p), alpha's
     /// part from q_ddot_j being q_ddot_j k_j: with a1_j = n . (k_j x e_span) and
     /// a2_j = n . (k_j x e_le), dQ_i / dq_ddot_j = -(pi/4) rho [a1_i a1_j int c^2 r^2 dr
-    /// + (a1_i a2_j + a2_i a1_j) int c^2 r x dr + a2_i a2_j int c^2 x^2 dr].
+    /// + (a1_i a2_j + a2_i a1_j) int c^2 r x dr + a2_i a2_j int c^2 x^2 dr]. The impulse
+    /// form adds the strips' rotational added inertia about the span axis,
+    /// (pi/128) rho int c^4 dr (k_i . e_span)(k_j . e_span); its chordwise part holds no
+    /// acceleration. Zero with the term off.
     pub fn added_inertia(&self, frame: &WingFrame) -> [[f64; 2]; 2] {
         let am = &self.geometry().added_mass;
         let side = self.mount().side;
         let k = [WingFrame::stroke_axis(side), frame.pitch_axis(side)];
         let a1 = |j: usize| frame.n.dot(&k[j].cross(&frame.e_span));
         let a2 = |j: usize| frame.n.dot(&k[j].cross(&frame.e_le));
-        let scale = if self.options().added_mass {
+        let s = |j: usize| k[j].dot(&frame.e_span);
+        let form = self.options().added_mass;
+        let scale = if form.is_on() {
             0.25 * std::f64::consts::PI * self.fluid().density_kg_m3
+        } else {
+            0.0
+        };
+        let spin = if form == AddedMassForm::Impulse {
+            scale / 32.0 * am.c4
         } else {
             0.0
         };
@@ -79,7 +90,8 @@ impl Wing {
                 *v = scale
                     * (a1(i) * a1(j) * am.c2_r2
                         + (a1(i) * a2(j) + a2(i) * a1(j)) * am.c2_rx
-                        + a2(i) * a2(j) * am.c2_x2);
+                        + a2(i) * a2(j) * am.c2_x2)
+                    + spin * s(i) * s(j);
             }
         }
         a

@@ -18,6 +18,7 @@
 //! # Ok::<(), wingforce::Error>(())
 //! ```
 
+pub mod added_mass;
 pub mod axes;
 pub mod coefficients;
 pub mod cycle;
@@ -33,6 +34,7 @@ mod spline;
 mod strips;
 pub mod wing;
 
+pub use added_mass::AddedMassForm;
 pub use axes::AxisMoments;
 pub use coefficients::{RangeFlags, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
 pub use error::{Error, Result, Validator};

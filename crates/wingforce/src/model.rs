@@ -7,6 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::added_mass::AddedMassForm;
 use crate::coefficients::{TranslationalModel, WakeCaptureModel};
 use crate::error::{Error, Result, Validator};
 use crate::kinematics::{Kinematics, KinematicsSpec};
@@ -56,8 +57,9 @@ pub struct AeroSpec {
     pub ar_ro_corrections: bool,
     /// Include the rotational term.
     pub rotational: bool,
-    /// Include the added-mass term.
-    pub added_mass: bool,
+    /// The added-mass term's form: `"impulse"`, `"paper"` (eq 7-8) or `"off"`; `true` reads
+    /// as `"paper"`, `false` as `"off"`.
+    pub added_mass: AddedMassForm,
     /// Include the wake-capture term.
     pub wake_capture: bool,
     /// A refitted wake-capture model (e.g. written by `flapwing fit-wake`); the paper's if absent.

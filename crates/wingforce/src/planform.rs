@@ -99,6 +99,8 @@ pub struct Strip {
 /// Integrals of c^2 over the span used by the added-mass term (x is the mid-chord offset).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct AddedMassIntegrals {
+    /// int c^2 dr, m^3.
+    pub c2: f64,
     /// int c^2 r dr, m^4.
     pub c2_r: f64,
     /// int c^2 r^2 dr, m^5.
@@ -109,6 +111,8 @@ pub struct AddedMassIntegrals {
     pub c2_rx: f64,
     /// int c^2 x_mid^2 dr, m^5.
     pub c2_x2: f64,
+    /// int c^4 dr, m^5 (the strips' rotational added inertia).
+    pub c4: f64,
 }
 
 /// A planform with everything derived from it.
@@ -447,11 +451,13 @@ fn derive(
     let x_mid = |r: f64| shape.le_offset(r) - 0.5 * shape.chord(r);
     let c2 = |r: f64| shape.chord(r).powi(2);
     let added_mass = AddedMassIntegrals {
+        c2: integ(&c2),
         c2_r: integ(&|r| c2(r) * r),
         c2_r2: integ(&|r| c2(r) * r * r),
         c2_x: integ(&|r| c2(r) * x_mid(r)),
         c2_rx: integ(&|r| c2(r) * r * x_mid(r)),
         c2_x2: integ(&|r| c2(r) * x_mid(r) * x_mid(r)),
+        c4: integ(&|r| c2(r) * c2(r)),
     };
     // Strips: equal widths; each strip's integrals use the same quadrature restricted to it,
     // with the table's breaks inside the strip kept so tabulated wings stay exact.

@@ -9,6 +9,7 @@
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use serde::{Deserialize, Serialize};
 
+use crate::added_mass::{self, AddedMassForm};
 use crate::coefficients::{self, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
 use crate::inflow::InducedInflow;
 use crate::kinematics::{Kinematics, StrokePhase, WingAngles};
@@ -91,8 +92,8 @@ pub struct AeroOptions {
     pub ar_ro_corrections: bool,
     /// Include the rotational (Van Veen) term.
     pub rotational: bool,
-    /// Include the added-mass term.
-    pub added_mass: bool,
+    /// The added-mass term's form ([`AddedMassForm`]).
+    pub added_mass: AddedMassForm,
     /// The wake-capture model, or `None` to switch the term off.
     pub wake_capture: Option<WakeCaptureModel>,
     /// Van Veen et al.'s rotational coefficient C_rot (2.08 +- 0.13).
@@ -108,7 +109,7 @@ impl Default for AeroOptions {
             translational: TranslationalModel::Lee2016,
             ar_ro_corrections: true,
             rotational: true,
-            added_mass: true,
+            added_mass: AddedMassForm::default(),
             wake_capture: Some(WakeCaptureModel::paper()),
             c_rot: 2.08,
             induced_inflow: None,
@@ -624,20 +625,21 @@ impl Wing {
             terms[1] = frame.term(f, m, c.q_ref_s_n, sp.downstroke);
         }
 
-        // 3. Added mass (eq 7), normal acceleration of each strip's mid-chord point from the
-        //    rigid-wing kinematics: a_n(r, x) = k1 r + k2 x; the span integrals are cached.
-        if self.options.added_mass {
-            let am = &self.geometry.added_mass;
-            let acc =
-                |p: &Vector3<f64>| frame.alpha.cross(p) + frame.omega.cross(&frame.omega.cross(p));
-            let k1 = frame.n.dot(&acc(&frame.e_span));
-            let k2 = frame.n.dot(&acc(&frame.e_le));
-            let f_mag = c.am_k * (k1 * am.c2_r + k2 * am.c2_x);
-            let rf = c.am_k * (k1 * am.c2_r2 + k2 * am.c2_rx);
-            let xf = c.am_k * (k1 * am.c2_rx + k2 * am.c2_x2);
-            let f = f_mag * frame.n;
-            let m = frame.e_span.cross(&(rf * frame.n)) + frame.e_le.cross(&(xf * frame.n));
-            terms[2] = frame.term(f, m, c.q_ref_s_n, sp.downstroke);
+        // 3. Added mass in the chosen form (crate::added_mass); the span integrals are cached.
+        let am = match self.options.added_mass {
+            AddedMassForm::Impulse => Some(added_mass::impulse(
+                frame,
+                &self.geometry.added_mass,
+                c.am_k,
+                &c.inflow_s,
+            )),
+            AddedMassForm::Paper => {
+                Some(added_mass::paper(frame, &self.geometry.added_mass, c.am_k))
+            }
+            AddedMassForm::Off => None,
+        };
+        if let Some(am) = am {
+            terms[2] = frame.term(am.force_n, am.moment_nm, c.q_ref_s_n, sp.downstroke);
         }
 
         // 4. Wake capture (eq 23-24) on the reference scale, at R_g: lift along the stroke-plane

@@ -94,6 +94,8 @@ pub struct Report {
     pub v_ref_m_s: f64,
     /// Wingbeat frequency, Hz.
     pub freq_hz: f64,
+    /// The added-mass term's form (`impulse`, `paper` for eq 7-8, or `off`).
+    pub added_mass_form: &'static str,
     /// Wingbeat period, s.
     pub period_s: f64,
     /// 0.5 rho V_ref^2 S, N: multiply a coefficient by it to get newtons.
@@ -173,6 +175,7 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
         reynolds_definition: "Re = V_ref c_bar / nu",
         v_ref_m_s: wing.v_ref_m_s(),
         freq_hz: wing.kinematics().freq_hz,
+        added_mass_form: wing.options().added_mass.name(),
         period_s: wing.kinematics().period_s(),
         reference_force_n: wing.reference_force_n(),
         cycles: args.cycles,
@@ -363,6 +366,12 @@ fn text_report(r: &Report) -> anyhow::Result<String> {
         "f             {} Hz (T = {} s)",
         fmt_sig(r.freq_hz, 6),
         fmt_sig(r.period_s, 6)
+    )?;
+    writeln!(
+        s,
+        "added mass    {}",
+        wingforce::AddedMassForm::from_name(r.added_mass_form)
+            .map_or(r.added_mass_form, wingforce::AddedMassForm::describe)
     )?;
     match &r.wake_capture {
         Some(w) => {

@@ -46,6 +46,8 @@ struct Report<'a> {
     dt_s: f64,
     steps_per_wingbeat: usize,
     weight_n: f64,
+    /// The added-mass term's form (`impulse`, `paper` for eq 7-8, or `off`).
+    added_mass_form: &'static str,
     summary: &'a RunSummary,
     /// What the model's sensors sampled (`None` without sensors).
     sensors: Option<&'a SensorSummary>,
@@ -73,6 +75,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         "free"
     };
     let weight = vehicle.weight_n();
+    let added_mass = vehicle.wings[0].options().added_mass;
     let steps_per_wingbeat = vehicle.sim.steps_per_wingbeat;
     let name = vehicle.name.clone();
     let rate = if args.log.full_rate {
@@ -132,6 +135,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         dt_s: dt,
         steps_per_wingbeat,
         weight_n: weight,
+        added_mass_form: added_mass.name(),
         summary: &s,
         sensors: sensors.as_ref().map(|r| r.summary()),
         error: error.clone(),
@@ -179,6 +183,9 @@ fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
             "  {:<14} {:>12.4e} {:>12.4e} {:>12.4e} {:>12.4e} {:>12.4e} {:>12.4e}",
             t, l.force_n.x, l.force_n.y, l.force_n.z, l.moment_nm.x, l.moment_nm.y, l.moment_nm.z
         )?;
+    }
+    if let Some(form) = wingforce::AddedMassForm::from_name(r.added_mass_form) {
+        writeln!(o, "  (added mass: {})", form.describe())?;
     }
     writeln!(
         o,

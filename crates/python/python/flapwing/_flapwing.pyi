@@ -53,6 +53,9 @@ class Wing:
     @property
     def origin(self) -> str: ...
     @property
+    def added_mass_form(self) -> str:
+        """The added-mass term's form: "impulse" (-dP/dt), "paper" (eq 7-8) or "off"."""
+    @property
     def reynolds(self) -> float:
         """Re = V_ref c_bar / nu (the seed paper's)."""
     @property
@@ -91,6 +94,9 @@ class Vehicle:
     def origin(self) -> str: ...
     @property
     def model_toml(self) -> str: ...
+    @property
+    def added_mass_form(self) -> str:
+        """The added-mass term's form: "impulse" (-dP/dt), "paper" (eq 7-8) or "off"."""
     @property
     def mass_kg(self) -> float: ...
     @property
