@@ -2,6 +2,7 @@
 and flapwing.read_log reads every channel back through flightlog's own decoding."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -54,6 +55,27 @@ def test_log_errors(tmp_path):
     sim.close_log()
     with pytest.raises(ValueError, match="/no/such"):
         flapwing.read_channel(str(path), "/no/such")
+
+
+def test_a_truncated_log_reads_with_a_warning_that_says_what_was_recovered(tmp_path):
+    # A killed run's log: flapwing.read_log returns its complete chunks and says so.
+    path = tmp_path / "run.mcap"
+    sim = flapwing.Simulation("drosophila", "free", mcap=str(path), log_rate_hz=None)
+    sim.run(1000, record=False)
+    sim.close_log()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a complete log warns of nothing
+        full = flapwing.read_log(str(path), topics=["/vehicle/state"], pandas=False)
+    assert flapwing.log_damage(str(path)) is None
+    assert len(full["/vehicle/state"]["step"]) == 1000
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+    with pytest.warns(flapwing.TruncatedLogWarning, match=r"truncated.*recovered \d+ messages"):
+        half = flapwing.read_log(str(cut), topics=["/vehicle/state"], pandas=False)
+    rows = len(half["/vehicle/state"]["step"])
+    # Chunks close every 200 samples: whole chunks only, fewer than all.
+    assert 0 < rows < 1000 and rows % 200 == 0
+    np.testing.assert_array_equal(half["/vehicle/state"]["step"], np.arange(rows))
 
 
 def test_cli_sensor_channels_read_as_arrays(tmp_path, run_flapwing):

@@ -84,6 +84,7 @@ fn _flapwing(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<env::HoverTask>()?;
     m.add_class::<env::VecHoverTask>()?;
     m.add_function(wrap_pyfunction!(logs::log_topics, m)?)?;
+    m.add_function(wrap_pyfunction!(logs::log_damage, m)?)?;
     m.add_function(wrap_pyfunction!(logs::read_channel, m)?)?;
     Ok(())
 }

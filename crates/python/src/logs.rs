@@ -15,6 +15,14 @@ pub fn log_topics(path: std::path::PathBuf) -> PyResult<Vec<String>> {
     Ok(s.channels.into_iter().map(|c| c.topic).collect())
 }
 
+/// What is missing from a flapwing MCAP log: `None` for a complete log, else flightlog's
+/// note of where it is truncated or damaged and how much was recovered (a killed run's log).
+#[pyfunction]
+pub fn log_damage(path: std::path::PathBuf) -> PyResult<Option<String>> {
+    let s = flightlog::replay::read_summary(&path).map_err(log_err)?;
+    Ok(s.damage)
+}
+
 /// One channel of a flapwing MCAP log as {column: numpy array}: `log_time_ns` (int64) and
 /// one column per message field by its dotted path; numeric columns are float64 arrays (NaN
 /// where a message lacks the field), others lists of str (None where missing).

@@ -35,11 +35,12 @@ from ._flapwing import (
     Vehicle,
     Wing,
     builtin_models,
+    log_damage,
     log_topics,
     read_channel,
 )
 from ._flapwing import __version__, builtin_wings
-from .logs import read_log
+from .logs import TruncatedLogWarning, read_log
 
 from ._gym import register_when_imported as _register_when_imported
 
@@ -59,7 +60,9 @@ __all__ = [
     "Wing",
     "builtin_models",
     "builtin_wings",
+    "log_damage",
     "log_topics",
     "read_channel",
     "read_log",
+    "TruncatedLogWarning",
 ]

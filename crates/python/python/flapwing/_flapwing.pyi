@@ -41,6 +41,9 @@ def builtin_wings() -> list[str]:
 def log_topics(path: str) -> list[str]:
     """The topics of a flapwing MCAP log."""
 
+def log_damage(path: str) -> str | None:
+    """None for a complete log; else where it is truncated or damaged and what was recovered."""
+
 def read_channel(path: str, topic: str) -> dict[str, Any]:
     """One channel as {column: array}: `log_time_ns` (int64), numeric fields as float64
     arrays (NaN where missing), others as lists of str."""

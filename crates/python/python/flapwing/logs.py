@@ -3,11 +3,16 @@ DataFrame when pandas is installed and asked for. The decoding is flightlog's ow
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
-from ._flapwing import log_topics, read_channel
+from ._flapwing import log_damage, log_topics, read_channel
 
-__all__ = ["read_log"]
+__all__ = ["TruncatedLogWarning", "read_log"]
+
+
+class TruncatedLogWarning(UserWarning):
+    """A log is truncated or damaged (a killed run): ``read_log`` returns what it recovered."""
 
 
 def read_log(path: str, topics: list[str] | None = None, pandas: bool | None = None
@@ -17,8 +22,13 @@ def read_log(path: str, topics: list[str] | None = None, pandas: bool | None = N
     With ``pandas=True`` each channel is a ``pandas.DataFrame``; ``None`` (the default)
     gives DataFrames when pandas is importable and dicts otherwise. Raises ``OSError`` for
     a file that cannot be read and ``ValueError`` for one that is not a flapwing MCAP log
-    or lacks a topic.
+    or lacks a topic. A truncated or damaged log (a killed run) gives what it holds up to
+    its last complete chunk, with a ``TruncatedLogWarning`` that says where it ends and how
+    much was recovered.
     """
+    damage = log_damage(path)
+    if damage is not None:
+        warnings.warn(f"{path}: {damage}", TruncatedLogWarning, stacklevel=2)
     names = list(topics) if topics is not None else log_topics(path)
     out = {t: read_channel(path, t) for t in names}
     if pandas is False:
