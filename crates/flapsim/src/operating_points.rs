@@ -120,8 +120,9 @@ pub fn operating_points() -> Result<Vec<OperatingPoint>> {
         computed: bee_lw,
         relative_tolerance: 0.15,
         limitation: Some(format!(
-            "at 40 deg angle of attack (an estimate: Sun & Xiong's trimmed angles are not in the stored sources) the translational and wake-capture terms at Lee et al. 2016's coefficients carry {:.2} W with the hover downwash and the quasi-steady added-mass term's cycle mean {bee_am:.2} W (an ideal-fluid added-mass force has none); a trim on their variable, the angle of attack, lands at {bee_aoa_deg:.1} deg",
-            bee_lw - bee_am
+            "at 40 deg angle of attack (an estimate: Sun & Xiong's trimmed angles are not in the stored sources) the translational and wake-capture terms at Lee et al. 2016's coefficients carry {:.2} W with the hover downwash and the added-mass term's cycle mean ({}) {bee_am:.2} W (an ideal-fluid added-mass force has none); a trim on their variable, the angle of attack, lands at {bee_aoa_deg:.1} deg",
+            bee_lw - bee_am,
+            bee.wings[0].options().added_mass.describe()
         )),
     });
     rows.push(OperatingPoint {
