@@ -135,8 +135,20 @@ fn kill_while_writing(dir: &Path, whole: u64, tenths: u64) -> (u64, u64, u64) {
     let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
     assert!(made.success());
     let mut child = spawn_run(dir, &name, true);
+    // Opening a pipe's reading end blocks until the run opens its writing end: open it on a
+    // thread, so that a run that fails before it opens its log fails the test instead of
+    // hanging it.
+    let (tx, rx) = std::sync::mpsc::channel();
+    let path = fifo.clone();
+    std::thread::spawn(move || tx.send(std::fs::File::open(path)));
+    let Ok(opened) = rx.recv_timeout(std::time::Duration::from_secs(120)) else {
+        let _ = child.kill();
+        let mut err = String::new();
+        let _ = BufReader::new(child.stderr.take().unwrap()).read_to_string(&mut err);
+        panic!("the run never opened its log:\n{err}");
+    };
+    let mut pipe = opened.unwrap();
     let stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut pipe = std::fs::File::open(&fifo).unwrap();
     let mut bytes = vec![0u8; 8];
     pipe.read_exact(&mut bytes).unwrap();
     assert_eq!(&bytes, b"\x89MCAP0\r\n");
