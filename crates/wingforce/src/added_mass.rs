@@ -23,10 +23,9 @@
 //!   dF = -m' (n . a) n. Its cycle mean is not zero; kept so that the paper's own
 //!   blade-element comparisons can be reproduced.
 //!
-//! Which is the default: MODEL.md makes the impulse form the default. Here the default is
-//! still the paper's form, so that every vehicle number stays what it was until the vehicle
-//! models are rebuilt and checked against measured data on the impulse form (issue #24);
-//! a model chooses with `[aero] added_mass`, and every report names the form it used.
+//! Which is the default: the impulse form, as MODEL.md 4.3 makes it. A model chooses with
+//! `[aero] added_mass`, and every report names the form it used; `models/robofly.toml`
+//! chooses the paper's form, because it reproduces the paper's own blade-element numbers.
 //!
 //! The impulse form here takes the air as moving steadily relative to the stroke frame (the
 //! induced inflow): the body's own velocity and acceleration do not enter it. Prescribed
@@ -45,10 +44,11 @@ use crate::planform::AddedMassIntegrals;
 #[serde(rename_all = "snake_case")]
 pub enum AddedMassForm {
     /// -dP/dt of the strips' fluid impulse (MODEL.md 4.3, revised): no cycle-mean force.
-    Impulse,
-    /// The seed paper's eq 7-8 (a cycle-mean force that ideal flow does not allow). The
-    /// default for now (see the module doc).
+    /// The default.
     #[default]
+    Impulse,
+    /// The seed paper's eq 7-8 (a cycle-mean force that ideal flow does not allow), kept to
+    /// reproduce the paper's own blade-element comparisons.
     Paper,
     /// No added-mass term.
     Off,
