@@ -600,9 +600,6 @@ impl Simulation {
         {
             return fail("the body state is not finite".into());
         }
-        if !finite(&out.total.force_n) || !finite(&out.total.moment_nm) {
-            return fail("the aerodynamic load is not finite".into());
-        }
         let speed = s.velocity_m_s.norm();
         if speed > self.vehicle.sim.max_speed_m_s {
             return fail(format!(
@@ -616,6 +613,10 @@ impl Simulation {
                 "angular speed {w:.1} rad/s exceeds sim.max_angular_speed_rad_s = {}",
                 self.vehicle.sim.max_angular_speed_rad_s
             ));
+        }
+        // After the speeds: a load that overflowed at a runaway speed names the speed.
+        if !finite(&out.total.force_n) || !finite(&out.total.moment_nm) {
+            return fail("the aerodynamic load is not finite".into());
         }
         Ok(())
     }

@@ -84,8 +84,12 @@ fn pitch_on_a_constant_rate_stroke_settles_where_the_hinge_balances_the_air() {
     }
     let s = mid.expect("mid-plateau sample");
     let a = s.angles;
+    // Settled: the hinge damping is critical for k_h alone, but the impulse-form added mass
+    // (MODEL.md 4.3) adds the Munk moment of a plate translating at an angle of attack, a
+    // pitch stiffness that damping does not include, so the pitch still rings slightly
+    // (0.19 rad/s measured here; 0.1 held with eq 7-8). The static check below is the test.
     assert!(
-        a.theta_dot.abs() < 0.1,
+        a.theta_dot.abs() < 0.25,
         "settled: theta_dot {} rad/s",
         a.theta_dot
     );

@@ -126,12 +126,15 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
         .map(String::as_str)
         .unwrap_or("model");
     let toml = md.get("model_toml").map(String::as_str).unwrap_or("");
-    let vehicle = flapsim::Vehicle::from_toml(toml, origin).map_err(|e| {
+    let embedded = |e: flapsim::Error| {
         Error::Embedded(format!(
             "the model embedded in `{}` does not load: {e}",
             path.as_ref().display()
         ))
-    })?;
+    };
+    let mut spec = flapsim::VehicleSpec::from_toml(toml, origin).map_err(embedded)?;
+    spec.aero.added_mass = logged_added_mass_form(md, spec.aero.added_mass)?;
+    let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let rate = match md.get("log_rate_hz").map(String::as_str) {
         Some("every step") => None,
@@ -257,4 +260,24 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
         samples: idx as u64,
         note,
     })
+}
+
+/// The added-mass form the logged run used: the log's `added_mass_form` metadata, else (a log
+/// written before the forms existed, when eq 7-8 was the only form) the paper's form, unless
+/// the embedded model switched the term off. `from_model` is what the embedded model file
+/// resolves to today.
+fn logged_added_mass_form(
+    md: &std::collections::BTreeMap<String, String>,
+    from_model: wingforce::AddedMassForm,
+) -> Result<wingforce::AddedMassForm> {
+    use wingforce::AddedMassForm;
+    match md.get("added_mass_form") {
+        Some(name) => AddedMassForm::from_name(name).ok_or_else(|| {
+            Error::Embedded(format!(
+                "the log's `added_mass_form` metadata `{name}` is not a form: allowed \"impulse\", \"paper\", \"off\""
+            ))
+        }),
+        None if from_model == AddedMassForm::Off => Ok(AddedMassForm::Off),
+        None => Ok(AddedMassForm::Paper),
+    }
 }

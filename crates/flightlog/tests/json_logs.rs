@@ -64,13 +64,19 @@ fn old_and_new_logs_of_one_run_agree() {
     let path = dir.path().join("new.mcap");
     let settings = old.settings().unwrap();
     // The run of the model the old log embeds (models change between versions: the fly
-    // gained its hover downwash after the JSON logs).
+    // gained its hover downwash after the JSON logs), with the added-mass form of its day:
+    // eq 7-8, the only one before MODEL.md 4.3 was revised (the impulse form is the default
+    // now).
+    assert!(!old.metadata.contains_key("added_mass_form"));
+    let embedded = &old.metadata["model_toml"];
+    assert!(!embedded.contains("[aero]") && !embedded.contains("added_mass"));
+    let model = format!("{embedded}\n[aero]\nadded_mass = \"paper\"\n");
     let run = common::record_model(
         &common::mcap_opts(&path, settings.log_rate_hz),
         "simulate",
         settings.duration_s,
         flapsim::Mode::Free,
-        &old.metadata["model_toml"],
+        &model,
         &old.metadata["model_origin"],
     );
     assert_eq!(run.stats.samples, old.samples);
