@@ -56,7 +56,10 @@ fn bench(c: &mut Criterion) {
 
 /// Interleaved rounds of 200,000 evaluations per form; prints the median cost ratio.
 fn form_ratio_rounds() {
-    let (impulse, paper) = (robofly(AddedMassForm::Impulse), robofly(AddedMassForm::Paper));
+    let (impulse, paper) = (
+        robofly(AddedMassForm::Impulse),
+        robofly(AddedMassForm::Paper),
+    );
     let body = body();
     let n = 200_000;
     let time = |wing: &Wing| {

@@ -130,6 +130,23 @@ pub(crate) fn paper(frame: &WingFrame, am: &AddedMassIntegrals, k: f64) -> Force
     }
 }
 
+/// The strips' fluid impulse P = sum m' v_n n, stroke frame, N s (`k` and `u_s` as in
+/// [`impulse`], whose force is -dP/dt of it).
+#[inline]
+pub(crate) fn fluid_impulse(
+    frame: &WingFrame,
+    am: &AddedMassIntegrals,
+    k: f64,
+    u_s: &Vector3<f64>,
+) -> Vector3<f64> {
+    let n = &frame.n;
+    let a0 = n.dot(u_s);
+    let a1 = n.dot(&frame.omega.cross(&frame.e_span));
+    let a2 = n.dot(&frame.omega.cross(&frame.e_le));
+    // k = -(pi/4) rho: P = -k int c^2 v_n dr n.
+    -k * (a0 * am.c2 + a1 * am.c2_r + a2 * am.c2_x) * n
+}
+
 /// -dP/dt: `k` is -(pi/4) rho, `u_s` the wing's velocity relative to the air from the air's
 /// own (steady) motion, stroke frame.
 #[inline(always)]

@@ -663,6 +663,43 @@ impl Wing {
         }
     }
 
+    /// The fluid impulse P of the wing's strips (MODEL.md 4.3), stroke frame, N s, at the
+    /// wing's angles and rates in `frame` (the air moving steadily relative to the stroke
+    /// frame, as the impulse form takes it): `Some` when the added mass is in the impulse
+    /// form, whose force is -dP/dt.
+    pub fn fluid_impulse_n_s(&self, frame: &WingFrame) -> Option<Vector3<f64>> {
+        (self.options.added_mass == AddedMassForm::Impulse).then(|| {
+            added_mass::fluid_impulse(
+                frame,
+                &self.geometry.added_mass,
+                self.cache.am_k,
+                &self.cache.inflow_s,
+            )
+        })
+    }
+
+    /// The impulse-form added-mass term over a step from `start` to `end` (the wing's
+    /// frames there) of `dt_s`: the force -(P_end - P_start) / dt, so that a host which holds
+    /// it over the step hands the body exactly the fluid's change of impulse, with the moment
+    /// of `at_start` (the term evaluated at the step's start, body frame). `None` unless the
+    /// added mass is in the impulse form.
+    pub fn added_mass_over_step(
+        &self,
+        start: &WingFrame,
+        end: &WingFrame,
+        dt_s: f64,
+        at_start: &TermForce,
+        downstroke: bool,
+    ) -> Option<TermForce> {
+        let p0 = self.fluid_impulse_n_s(start)?;
+        let p1 = self.fluid_impulse_n_s(end)?;
+        let c = &self.cache;
+        let moment_s = c.body_from_stroke.transpose() * at_start.moment_hinge_nm;
+        let mut t = start.term(-(p1 - p0) / dt_s, moment_s, c.q_ref_s_n, downstroke);
+        c.to_body(&mut t);
+        Some(t)
+    }
+
     /// All four terms: the translational one from the body's motion, the others from `k`
     /// (computed by [`Wing::kinematic_loads`] for this wing).
     #[inline]

@@ -321,3 +321,44 @@ fn forms_are_named_and_checked() {
         assert_eq!(spec.aero.added_mass, form);
     }
 }
+
+/// The impulse form's force is -dP/dt of the impulse `Wing::fluid_impulse_n_s` reports:
+/// central differences of P along the motion against the force (fixed mount: body = stroke
+/// frame), and the term over a step, `Wing::added_mass_over_step`, is -(P_end - P_start)/dt.
+#[test]
+fn the_reported_impulse_is_what_the_force_differentiates() {
+    let w = wing(
+        &rectangle(0.2, 0.06, 0.02, 0.3),
+        &harmonic(140.0, 40.0, 10.0, 8.0, 3.0),
+        "impulse",
+    );
+    let side = w.mount().side;
+    let frame_at = |u: f64| WingFrame::new(&w.kinematics().angles(u), side);
+    let freq = w.kinematics().freq_hz;
+    let du = 1e-5;
+    let dt = du / freq;
+    for k in 0..16 {
+        let u = 0.03 + k as f64 / 16.0;
+        let p = |u: f64| w.fluid_impulse_n_s(&frame_at(u)).unwrap();
+        let dp_dt = (p(u + du) - p(u - du)) / (2.0 * dt);
+        let f = w.kinematic_loads(u).terms[2].force_n;
+        assert!(
+            (f + dp_dt).norm() <= 1e-6 * f.norm().max(1e-12),
+            "phase {u}: force {f:?}, -dP/dt {:?}",
+            -dp_dt
+        );
+        let at_start = w.kinematic_loads(u).terms[2];
+        let step = w
+            .added_mass_over_step(&frame_at(u), &frame_at(u + du), dt, &at_start, true)
+            .unwrap();
+        let expect = -(p(u + du) - p(u)) / dt;
+        assert!((step.force_n - expect).norm() <= 1e-12 * expect.norm());
+        assert_eq!(step.moment_hinge_nm, at_start.moment_hinge_nm);
+    }
+    let paper = wing(
+        &rectangle(0.2, 0.06, 0.02, 0.3),
+        &harmonic(140.0, 40.0, 10.0, 8.0, 3.0),
+        "paper",
+    );
+    assert!(paper.fluid_impulse_n_s(&frame_at(0.1)).is_none());
+}
