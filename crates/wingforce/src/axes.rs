@@ -61,8 +61,8 @@ impl Wing {
     ///
     /// Both forms' normal parts hold the strip's mid-chord term n . (alpha x p), alpha's
     /// part from q_ddot_j being q_ddot_j k_j: with a1_j = n . (k_j x e_span) and
-    /// a2_j = n . (k_j x e_le), dQ_i / dq_ddot_j = -(pi/4) rho [a1_i a1_j int c^2 r^2 dr
-    /// + (a1_i a2_j + a2_i a1_j) int c^2 r x dr + a2_i a2_j int c^2 x^2 dr]. The impulse
+    /// a2_j = n . (k_j x e_le), dQ_i / dq_ddot_j = -(pi/4) rho [a1_i a1_j int c^2 r^2 dr +
+    /// (a1_i a2_j + a2_i a1_j) int c^2 r x dr + a2_i a2_j int c^2 x^2 dr]. The impulse
     /// form adds the strips' rotational added inertia about the span axis,
     /// (pi/128) rho int c^4 dr (k_i . e_span)(k_j . e_span); its chordwise part holds no
     /// acceleration. Zero with the term off.
