@@ -53,7 +53,7 @@ fn every_builtin_vehicle_has_rows_with_sources_and_consistent_verdicts() {
             .any(|r| r["vehicle"] == vehicle && r["quantity"].as_str().unwrap().contains(needle))
     };
     for (vehicle, needle) in [
-        ("robobee", "stroke peak-to-peak at 180 V"),
+        ("robobee", "stroke peak-to-peak at 180 Vpp"),
         ("robobee", "pitch amplitude"),
         ("robobee", "pitch-stroke phase"),
         ("robobee", "mean lift"),

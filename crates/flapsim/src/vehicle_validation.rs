@@ -233,7 +233,13 @@ pub const ROBOBEE_STROKE_180V: [(f64, f64); 7] = [
     (170.0, 85.81),
 ];
 
-const ROBOBEE_STROKE_SOURCE: &str = "robobee3d bench CSV sdab1 (Harvard MRL lab data, notes 1c ii; 'Voltage' taken as the amplitude, as robobee3d's own model does)";
+const ROBOBEE_STROKE_SOURCE: &str = "robobee3d bench CSV sdab1 (Harvard MRL lab data, notes 1c ii: single-actuator bee, 54.4 mm^2 wing), its 180 V read as peak-to-peak";
+
+/// The bench files' voltages read as peak-to-peak: the lab's note "75mN unidirectional at
+/// 200Vpp" (robobee3d, the source of the model's force per volt) puts the actuator's rated
+/// force at 200 V peak-to-peak, and the bench runs go up to 200 V. The model's drive
+/// amplitude is half of it.
+pub const BENCH_VOLTS_TO_AMPLITUDE: f64 = 0.5;
 
 /// RoboBee bench pitch (notes 1c iii: robobee3d template/data "bee2 static numkin data", top
 /// wing pair at 170 Hz): (volts, mean of the two wings' pitch, deg).
@@ -375,17 +381,18 @@ fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
     let k = d.stroke_stiffness_nm_rad();
     let fn_hz = d.stroke_natural_freq_hz();
 
-    // Stroke amplitude over frequency at 180 V.
+    // Stroke amplitude over frequency at 180 V peak-to-peak.
+    let amp_180 = 180.0 * BENCH_VOLTS_TO_AMPLITUDE;
     let runs: Vec<TetheredRun> = ROBOBEE_STROKE_180V
         .iter()
-        .map(|&(f, _)| tethered(&v, f, 180.0))
+        .map(|&(f, _)| tethered(&v, f, amp_180))
         .collect::<Result<_>>()?;
-    let quasi_static_pp = 2.0 * (torque_per_volt * 180.0 / k).to_degrees();
+    let quasi_static_pp = 2.0 * (torque_per_volt * amp_180 / k).to_degrees();
     for (&(f, bench), r) in ROBOBEE_STROKE_180V.iter().zip(&runs) {
         let model = 2.0 * r.motion.stroke_amplitude_deg;
         b.push(
             "robobee",
-            format!("stroke peak-to-peak at 180 V, {f:.0} Hz, deg"),
+            format!("stroke peak-to-peak at 180 Vpp ({amp_180:.0} V amplitude), {f:.0} Hz, deg"),
             ROBOBEE_STROKE_SOURCE,
             if r.failed.is_some() { f64::NAN } else { model },
             Some(bench),
@@ -393,7 +400,7 @@ fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
             false,
             || {
                 format!(
-                    "model/bench {:.2}: the model's quasi-static stroke at 180 V is {quasi_static_pp:.1} deg p-p (2 T F_V V / k with force per volt an estimate, k = {k:.2e} N m/rad) against the bench's 56 deg at 100-140 Hz, and its stroke resonates at {fn_hz:.0} Hz undamped where the bench's stroke jumps between 160 and 165 Hz{}",
+                    "model/bench {:.2}: the model's quasi-static stroke at {amp_180:.0} V is {quasi_static_pp:.1} deg p-p (2 T F_V V / k, force per volt an estimate, k = {k:.2e} N m/rad) against the bench's 56 deg at 100-140 Hz, and its stroke resonates at {fn_hz:.0} Hz undamped where the bench's stroke jumps between 160 and 165 Hz{}",
                     model / bench,
                     r.failed
                         .as_ref()
@@ -406,10 +413,11 @@ fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
 
     // Pitch amplitude at 170 Hz.
     for &(volts, bench) in &ROBOBEE_PITCH_170HZ {
-        let r = tethered(&v, 170.0, volts)?;
+        let amp = volts * BENCH_VOLTS_TO_AMPLITUDE;
+        let r = tethered(&v, 170.0, amp)?;
         b.push(
             "robobee",
-            format!("pitch amplitude at {volts:.0} V, 170 Hz, deg"),
+            format!("pitch amplitude at {volts:.0} Vpp ({amp:.0} V amplitude), 170 Hz, deg"),
             "robobee3d bench CSV bee2 static numkin (Harvard MRL lab data, notes 1c iii: 37-42 deg at 160-200 V)",
             if r.failed.is_some() {
                 f64::NAN
@@ -456,7 +464,7 @@ fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
         || {
             let m = &r.motion;
             format!(
-                "at {limit_v:.0} V the model strokes +-{:.1} deg (bench at 180 V, 160-170 Hz: +-32 to +-43 deg) with pitch +-{:.1} deg, phase {:+.1} deg and mid-stroke angle of attack {:.1} deg (Jafferis 2016: the best mid-stroke hinge angle is about 70 deg from vertical, angle of attack about 20 deg); L/W {:.2}",
+                "at {limit_v:.0} V the model strokes +-{:.1} deg (bench at 180 Vpp, 160-170 Hz: +-32 to +-43 deg) with pitch +-{:.1} deg, phase {:+.1} deg and mid-stroke angle of attack {:.1} deg (Jafferis 2016: the best mid-stroke hinge angle is about 70 deg from vertical, angle of attack about 20 deg); L/W {:.2}",
                 m.stroke_amplitude_deg,
                 m.pitch_amplitude_deg,
                 m.pitch_phase_deg,
