@@ -308,7 +308,7 @@ def test_actuated_summary_reports_the_wing_motion(model):
         assert w["cycles"] == pytest.approx(1.0)
     # The drive it measured is the model file's [actuation.drive] (no controls set): a sine
     # without bias.
-    model_drive_v = {"robobee": 200.0, "hummingbird": 9.3}[model]
+    model_drive_v = {"robobee": 90.0, "hummingbird": 9.3}[model]
     assert left["drive_amplitude_v"] == pytest.approx(model_drive_v, rel=1e-6)
     assert left["drive_bias_v"] == pytest.approx(0.0, abs=1e-9 * left["drive_amplitude_v"])
     assert left["stroke_amplitude_deg"] == pytest.approx(right["stroke_amplitude_deg"])

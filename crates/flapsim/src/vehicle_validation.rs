@@ -257,41 +257,46 @@ pub const HUMMINGBIRD_STOP_DEG: f64 = 45.0;
 
 /// The built-in vehicles' parameters that are estimates (their model files say so too; a
 /// test checks every key named here appears in its file).
-pub const ESTIMATES: [Estimate; 9] = [
+pub const ESTIMATES: [Estimate; 10] = [
     Estimate {
         vehicle: "robobee",
         parameter: "actuation.piezo.force_per_volt_n_v",
-        why: "no blocked-force table read; robobee3d's lab notes give 0.28-0.75 mN/V",
+        why: "the lab's note '75mN unidirectional at 200Vpp' (0.75 mN/V of amplitude); no blocked-force table read; robobee3d's other values 0.28-0.47 mN/V",
     },
     Estimate {
         vehicle: "robobee",
         parameter: "actuation.piezo.voltage_limit_v",
-        why: "no published drive range read (Ma et al. 2013's supplement not readable)",
+        why: "100 V amplitude = the same note's 200 Vpp; no published drive range of Ma et al. 2013 read",
     },
     Estimate {
         vehicle: "robobee",
         parameter: "actuation.wing_inertia.mass_kg",
-        why: "no weighed wing mass; robobee3d's 0.51-0.7 mg are fits",
+        why: "no weighed wing mass; robobee3d's 0.55 mg is fitted to the stroke inertia",
     },
     Estimate {
         vehicle: "robobee",
         parameter: "actuation.wing_inertia.com_chord_m",
-        why: "centre of mass at half chord behind the spar: robobee3d's modelling assumption",
+        why: "half a mean chord behind the spar: robobee3d's modelling assumption",
     },
     Estimate {
         vehicle: "robobee",
         parameter: "actuation.wing_inertia.com_span_m",
-        why: "a uniform-plate estimate",
+        why: "robobee3d's lumped position ycp = 8.5 mm, a modelling value",
     },
     Estimate {
         vehicle: "robobee",
         parameter: "actuation.hinge.stiffness_nm_rad",
-        why: "lab-model and system-ID values 2.4e-6 to 7.5e-6 N m/rad, no published table",
+        why: "the lab's hinge model at w = 2.5 mm (7.5e-6); its other values and a system ID span 2.4e-6 to 7.5e-6 N m/rad; no published table",
     },
     Estimate {
         vehicle: "robobee",
         parameter: "actuation.hinge.damping_nm_s_rad",
-        why: "robobee3d model values 2e-9 to 4.5e-9 N m s/rad",
+        why: "the lab's hinge model at w = 2.5 mm (4.5e-9); its other values 2e-9 to 3e-9 N m s/rad",
+    },
+    Estimate {
+        vehicle: "robobee",
+        parameter: "actuation.drive.amplitude_v",
+        why: "a starting point (the bench's 180 Vpp): no flight drive voltage read; trim finds the hover value",
     },
     Estimate {
         vehicle: "hummingbird",
