@@ -719,9 +719,9 @@ mod tests {
             let key = e.parameter.rsplit('.').next().unwrap();
             let section = &e.parameter[..e.parameter.len() - key.len() - 1];
             let at = text
-                .find(&format!("[{section}]"))
+                .find(&format!("\n[{section}]"))
                 .unwrap_or_else(|| panic!("{e:?}: no section"));
-            let body = &text[at..];
+            let body = &text[at + 1..];
             let end = body[1..].find("\n[").map_or(body.len(), |i| i + 1);
             assert!(
                 body[..end]
