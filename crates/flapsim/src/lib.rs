@@ -28,6 +28,7 @@ pub mod study;
 pub mod summary;
 pub mod task;
 pub mod trim;
+pub mod vehicle_validation;
 
 pub use error::{Error, Result};
 pub use model::{Controls, Vehicle, VehicleSpec};

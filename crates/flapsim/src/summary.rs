@@ -1,9 +1,10 @@
 //! Run summaries: cycle-mean loads per term over complete wingbeats, lift over weight, final
-//! pose and drift.
+//! pose and drift, and an actuated vehicle's wing motion over its last complete drive period.
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
+use crate::actuated::{MotionRecorder, RecordedMotion};
 use crate::sim::{BodyLoad, State, StepOutput};
 
 /// What a run did, in the numbers people ask for first.
@@ -29,6 +30,12 @@ pub struct RunSummary {
     pub drift_m: f64,
     /// Largest distance from the start position during the run, m.
     pub max_excursion_m: f64,
+    /// An actuated vehicle's wing motion over the last complete drive period (stroke and
+    /// pitch amplitude, pitch-stroke phase, mid-stroke angle of attack, drive; see
+    /// [`crate::actuated::motion`]); absent for prescribed kinematics or a run shorter than
+    /// one period.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wing_motion: Option<RecordedMotion>,
 }
 
 /// Accumulates a [`RunSummary`] from step outputs.
@@ -48,6 +55,7 @@ pub struct SummaryBuilder {
     steps: u64,
     t_end_s: f64,
     max_excursion_m: f64,
+    motion: MotionRecorder,
 }
 
 fn add(a: &mut BodyLoad, b: &BodyLoad, w: f64) {
@@ -73,6 +81,7 @@ impl SummaryBuilder {
             steps: 0,
             t_end_s: 0.0,
             max_excursion_m: 0.0,
+            motion: MotionRecorder::new(),
         }
     }
 
@@ -105,6 +114,16 @@ impl SummaryBuilder {
         add(&mut self.cycle_total, &out.total, 1.0);
         self.cycle_vertical += (out.state.world_from_body * out.total.force_n).z;
         self.cycle_n += 1;
+        if let Some([l, r]) = &out.actuated {
+            self.motion.observe(
+                out.t_s,
+                out.phase,
+                [
+                    (&l.angles, l.actuator.voltage_v),
+                    (&r.angles, r.actuator.voltage_v),
+                ],
+            );
+        }
         self.steps += 1;
         self.t_end_s = out.t_s + dt_s;
     }
@@ -136,6 +155,7 @@ impl SummaryBuilder {
             max_excursion_m: self
                 .max_excursion_m
                 .max((final_state.position_m - start).norm()),
+            wing_motion: self.motion.finish(),
         }
     }
 }

@@ -195,14 +195,19 @@ fn free_flight_runs_from_rest() {
 
 #[test]
 fn bad_actuation_values_are_named() {
-    let over = flapsim::ROBOBEE_TOML.replace("amplitude_v = 200.0", "amplitude_v = 400.0");
+    let over = flapsim::ROBOBEE_TOML.replace("amplitude_v = 90.0", "amplitude_v = 400.0");
+    assert_ne!(
+        over,
+        flapsim::ROBOBEE_TOML,
+        "the robobee's drive amplitude moved"
+    );
     let e = Vehicle::from_toml(&over, "m.toml").unwrap_err().to_string();
     assert!(
-        e.contains("m.toml") && e.contains("actuation.drive") && e.contains("250"),
+        e.contains("m.toml") && e.contains("actuation.drive") && e.contains("100"),
         "{e}"
     );
     let neg =
-        flapsim::ROBOBEE_TOML.replace("stiffness_nm_rad = 5.0e-6", "stiffness_nm_rad = -5.0e-6");
+        flapsim::ROBOBEE_TOML.replace("stiffness_nm_rad = 7.5e-6", "stiffness_nm_rad = -5.0e-6");
     let e = Vehicle::from_toml(&neg, "m.toml").unwrap_err().to_string();
     assert!(
         e.contains("actuation.hinge.stiffness_nm_rad") && e.contains("-0.000005"),
@@ -210,7 +215,7 @@ fn bad_actuation_values_are_named() {
     );
     // A hinge so soft the wing flips past its stops ends the run with an error that says so.
     let soft =
-        flapsim::ROBOBEE_TOML.replace("stiffness_nm_rad = 5.0e-6", "stiffness_nm_rad = 1.0e-8");
+        flapsim::ROBOBEE_TOML.replace("stiffness_nm_rad = 7.5e-6", "stiffness_nm_rad = 1.0e-8");
     let mut sim = Simulation::new(Vehicle::from_toml(&soft, "soft").unwrap(), Mode::Tethered);
     let e = sim.run_for(0.1, |_| {}).unwrap_err().to_string();
     assert!(e.contains("stops") && e.contains("too soft"), "{e}");

@@ -346,18 +346,24 @@ fn bad_studies_name_the_factor() {
 fn a_sweep_over_an_actuated_robobee_drive() {
     // The study's factor is a drive parameter; each case runs the wings into their periodic
     // motion (flapsim::actuated::periodic) and averages it. Below the stroke resonance the
-    // stroke amplitude, and with it the lift, grows with the drive amplitude; 200 V at 160 Hz
-    // lifts more than the weight (the model's trim needs about 166 V), 120 V less.
+    // stroke amplitude, and with it the lift, grows with the drive amplitude. The robobee
+    // rebuilt from published sources (issue 24) lifts 0.95 of its weight at its 100 V limit
+    // and does not trim (`flapwing validate`'s vehicles section), so trim_feasible is only
+    // checked to be a verdict.
     let s = study(
-        "name = \"robobee_drive\"\nbase_model = \"robobee\"\ndesign = \"full_factorial\"\nresponses = [\"lift_over_weight\", \"aero_power_w\", \"trim_feasible\"]\n[[factor]]\npath = \"actuation.drive.amplitude_v\"\nlevels = [120.0, 160.0, 200.0]\n",
+        "name = \"robobee_drive\"\nbase_model = \"robobee\"\ndesign = \"full_factorial\"\nresponses = [\"lift_over_weight\", \"aero_power_w\", \"trim_feasible\"]\n[[factor]]\npath = \"actuation.drive.amplitude_v\"\nlevels = [60.0, 80.0, 100.0]\n",
     );
     let r = s.run(0..3, &|| ()).unwrap();
     let lw: Vec<f64> = r.iter().map(|c| c.responses[0]).collect();
     assert!(lw[0] < lw[1] && lw[1] < lw[2], "L/W {lw:?}");
-    assert!(lw[0] < 1.0 && lw[2] > 1.0, "L/W {lw:?}");
+    assert!(lw[0] < 1.0, "L/W {lw:?}");
     assert!(
         r.iter().all(|c| c.responses[1] > 0.0),
         "the drive works against the air"
     );
-    assert!(r.iter().all(|c| c.responses[2] == 1.0), "each case trims");
+    assert!(
+        r.iter()
+            .all(|c| c.responses[2] == 0.0 || c.responses[2] == 1.0),
+        "each case has a trim verdict"
+    );
 }

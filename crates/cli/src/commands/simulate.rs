@@ -187,6 +187,27 @@ fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
     if let Some(form) = wingforce::AddedMassForm::from_name(r.added_mass_form) {
         writeln!(o, "  (added mass: {})", form.describe())?;
     }
+    if let Some(m) = &s.wing_motion {
+        writeln!(
+            o,
+            "wing motion over the last complete drive period (amplitudes half peak-to-peak; phase + advanced, - delayed rotation):"
+        )?;
+        for (side, w) in ["left", "right"].iter().zip(&m.wings) {
+            writeln!(o, "  {side:<5} {}", w.describe())?;
+        }
+        if m.amplitude_change_deg.is_finite() {
+            writeln!(
+                o,
+                "  amplitudes changed by up to {:.3} deg from the period before{}",
+                m.amplitude_change_deg,
+                if !m.is_settled() {
+                    " (still settling: run longer for the periodic motion)"
+                } else {
+                    ""
+                }
+            )?;
+        }
+    }
     writeln!(
         o,
         "mean lift / weight: {:.4} (weight {:.4e} N)",

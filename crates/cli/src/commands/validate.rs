@@ -2,7 +2,9 @@
 //! the seed paper's Tables 3 and 5, Dickinson et al. 1999), computed through wingforce and the
 //! built-in robofly model, one row per case; then the built-in insects at their published
 //! operating points (`flapsim::operating_points`), where a row the quasi-steady model is
-//! known to miss says why. Exits 1 if any case fails (a known limitation is not a failure; an
+//! known to miss says why; then every built-in vehicle against measured data
+//! (`flapsim::vehicle_validation`: pass or MISS with the miss's measured cause). Exits 1 if
+//! any case fails (a known limitation or a vehicle row's MISS is not a failure; an
 //! unexplained miss, or a note on a row that now agrees, is).
 
 use std::fmt::Write;
@@ -14,6 +16,7 @@ use wingforce::quad::normal_cdf;
 use wingforce::{BodyMotion, Term, WakeCaptureModel, Wing, WingModelSpec};
 
 use flapsim::operating_points::{OperatingPoint, Verdict, operating_points};
+use flapsim::vehicle_validation::{VehicleSection, vehicle_section};
 
 use crate::cli::ValidateArgs;
 use crate::input::{BUILTIN_ROBOFLY, BUILTIN_ROBOFLY_ORIGIN};
@@ -347,6 +350,14 @@ fn verdict_text(v: Verdict) -> &'static str {
 struct Report {
     cases: Vec<Row>,
     operating_points: Vec<PointRow>,
+    /// The built-in vehicles against measured data (issue 24): rows with their verdicts
+    /// (`pass` / `MISS` and the miss's cause), what was NOT FOUND, the models' estimates.
+    vehicles: VehicleSection,
+    /// Vehicle rows that pass and that miss, and the misses among the property rows (a
+    /// miss is reported with its cause, not counted in `failed`).
+    vehicles_passed: usize,
+    vehicles_missed: usize,
+    vehicles_property_missed: usize,
     total: usize,
     passed: usize,
     failed: usize,
@@ -358,6 +369,8 @@ pub fn run(args: ValidateArgs) -> anyhow::Result<()> {
     let cases = cases()?;
     let points =
         operating_points().map_err(|e| anyhow!("the built-in insects' operating points: {e}"))?;
+    let vehicles = vehicle_section()
+        .map_err(|e| anyhow!("the built-in vehicles against measured data: {e}"))?;
     let failed = cases.iter().filter(|c| !c.passes()).count()
         + points
             .iter()
@@ -391,6 +404,10 @@ pub fn run(args: ValidateArgs) -> anyhow::Result<()> {
                     limitation: p.limitation.clone(),
                 })
                 .collect(),
+            vehicles_passed: vehicles.passed(),
+            vehicles_missed: vehicles.missed(),
+            vehicles_property_missed: vehicles.missed_properties(),
+            vehicles: vehicles.clone(),
             total: cases.len() + points.len(),
             passed: cases.len() + points.len() - failed,
             failed,
@@ -399,6 +416,7 @@ pub fn run(args: ValidateArgs) -> anyhow::Result<()> {
     } else {
         print_stdout(&table(&cases)?)?;
         print_stdout(&points_table(&points)?)?;
+        print_stdout(&vehicles_table(&vehicles)?)?;
     }
     if failed > 0 {
         return Err(anyhow!(
@@ -475,6 +493,68 @@ fn points_table(points: &[OperatingPoint]) -> Result<String, std::fmt::Error> {
             writeln!(s, "  note {}: {why}", i + 1)?;
         }
     }
+    Ok(s)
+}
+
+fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
+    let q_w = v.rows.iter().map(|r| r.quantity.len()).max().unwrap_or(8);
+    let mut s = String::new();
+    writeln!(
+        s,
+        "\nbuilt-in vehicles against measured data (tethered runs from rest, 30 settling + 4 measured drive periods; amplitudes half peak-to-peak; phase + advanced, - delayed):"
+    )?;
+    writeln!(
+        s,
+        "{:<11}  {:<q_w$}  {:>11}  {:>11}  {:>16}  result",
+        "vehicle", "quantity", "model", "measured", "tolerance"
+    )?;
+    let mut causes = Vec::new();
+    for r in &v.rows {
+        let measured = match r.measured {
+            Some(x) => format!("{x:>11.4}"),
+            None if r.property => format!("{:>11}", "(property)"),
+            None => format!("{:>11}", "NOT FOUND"),
+        };
+        let mut verdict = r.verdict.name().to_owned();
+        if r.property && r.cause.is_some() {
+            verdict = "MISS of a property".to_owned();
+        }
+        if let Some(c) = &r.cause {
+            causes.push((causes.len() + 1, c));
+            verdict = format!("{verdict} (cause {})", causes.len());
+        }
+        let model = if r.model.abs() < 1e-2 && r.model != 0.0 {
+            format!("{:>11.3e}", r.model)
+        } else {
+            format!("{:>11.4}", r.model)
+        };
+        writeln!(
+            s,
+            "{:<11}  {:<q_w$}  {model}  {measured}  {:>16}  {verdict}",
+            r.vehicle,
+            r.quantity,
+            r.tolerance_text()
+        )?;
+        writeln!(s, "{:<11}    source: {}", "", r.source)?;
+    }
+    for (i, c) in causes {
+        writeln!(s, "  cause {i}: {c}")?;
+    }
+    for (vehicle, what) in &v.not_found {
+        writeln!(s, "  NOT FOUND ({vehicle}): {what}")?;
+    }
+    writeln!(s, "  estimates, not published numbers:")?;
+    for e in &v.estimates {
+        writeln!(s, "    {} {}: {}", e.vehicle, e.parameter, e.why)?;
+    }
+    writeln!(
+        s,
+        "{} of {} vehicle rows pass, {} MISS ({} of them a property the model must have); a miss is reported with its cause, not counted as a failed case",
+        v.passed(),
+        v.rows.len(),
+        v.missed(),
+        v.missed_properties()
+    )?;
     Ok(s)
 }
 

@@ -10,6 +10,9 @@
 //! - [`spec`]: the `[actuation]` section of a vehicle model file;
 //! - [`periodic`]: the wings run into their periodic motion at a frozen body state (what
 //!   trim, the averaged model and a hover start need);
+//! - [`motion`]: the wing motion measured from a record of whole drive periods (stroke and
+//!   pitch amplitude, pitch-stroke phase, mid-stroke angle of attack, drive), one measurement
+//!   for `simulate`, the frequency response and `validate`;
 //! - [`response`]: the frequency response of the tethered vehicle (what a MAV builder reads
 //!   the resonance from).
 //!
@@ -21,6 +24,7 @@
 pub mod actuator;
 pub mod drive;
 pub mod dynamics;
+pub mod motion;
 pub mod periodic;
 pub mod response;
 pub mod spec;
@@ -30,6 +34,10 @@ pub use drive::Drive;
 pub use dynamics::{
     ActuatedWingOutput, DynamicWing, Hinge, Stroke, WingDynamics, WingInertia, WingState, WingStep,
 };
+pub use motion::{MotionRecorder, MotionSample, RecordedMotion, WingMotion};
 pub use periodic::{PERIODIC_TOLERANCE_RAD, PeriodicWings, settle};
-pub use response::{FrequencyResponse, ResponseOptions, ResponsePoint, frequency_response};
+pub use response::{
+    FrequencyResponse, ResponseOptions, ResponsePoint, TetheredRun, frequency_response,
+    run_tethered,
+};
 pub use spec::{Actuation, ActuationSpec};

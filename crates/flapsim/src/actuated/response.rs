@@ -5,13 +5,16 @@
 //! Per point: stroke and pitch amplitude (half the peak-to-peak), the pitch-to-stroke
 //! phase from the fundamental Fourier components, in the convention of wingforce's
 //! harmonic kinematics (`pitch_phase_deg`: 0 is symmetric rotation, positive is rotation
-//! advanced ahead of stroke reversal), mean lift (body z, both wings) and lift per volt.
+//! advanced ahead of stroke reversal, negative delayed), all measured by
+//! [`super::motion::WingMotion`] on the left wing's record; mean lift (body z, both wings)
+//! and lift per volt.
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use wingforce::BodyMotion;
 
 use super::dynamics::DynamicWing;
+use super::motion::{MotionSample, WingMotion};
 use crate::error::{Error, Result};
 use crate::model::Vehicle;
 
@@ -126,13 +129,41 @@ pub fn frequency_response(
     })
 }
 
-fn point(
+/// A tethered run of both wings at one drive: the left wing's record over the measured
+/// periods, and the mean lift over them.
+#[derive(Debug, Clone)]
+pub struct TetheredRun {
+    /// Drive frequency, Hz.
+    pub freq_hz: f64,
+    /// Drive amplitude, V.
+    pub amplitude_v: f64,
+    /// The left wing's samples over the measured periods.
+    pub samples: Vec<MotionSample>,
+    /// The left wing's motion measured from them ([`WingMotion::measure`]).
+    pub motion: WingMotion,
+    /// Mean lift of both wings (body z) over the measured periods, N (NaN if the run failed).
+    pub mean_lift_n: f64,
+    /// The wings at the end (Re, wake-capture inputs measured on the way).
+    pub wings: [wingforce::Wing; 2],
+    /// Why the run stopped early (the hinge hit its stops, the state blew up), if it did.
+    pub failed: Option<String>,
+}
+
+/// Drives both wings of the tethered actuated `vehicle` from rest at `freq_hz` and a common
+/// amplitude `amplitude_v` (the model's left-right difference kept) for
+/// `o.settle_cycles` periods, then records `o.measure_cycles` more.
+pub fn run_tethered(
     vehicle: &Vehicle,
     o: &ResponseOptions,
     freq_hz: f64,
     amplitude_v: f64,
-) -> Result<ResponsePoint> {
-    let act = vehicle.actuation.as_ref().expect("checked by the caller");
+) -> Result<TetheredRun> {
+    let act = vehicle.actuation.as_ref().ok_or_else(|| {
+        Error::Analysis(format!(
+            "{} has prescribed kinematics, no [actuation] section",
+            vehicle.name
+        ))
+    })?;
     let mut wings = vehicle.wings.clone();
     let mut dyns = Vec::with_capacity(2);
     for d in &act.drives {
@@ -147,12 +178,7 @@ fn point(
     let body = BodyMotion::default();
     let total = (o.settle_cycles + o.measure_cycles) * n;
     let start = o.settle_cycles * n;
-    let w = 2.0 * std::f64::consts::PI * freq_hz;
-    let (mut phi_min, mut phi_max) = (f64::INFINITY, f64::NEG_INFINITY);
-    let (mut th_min, mut th_max) = (f64::INFINITY, f64::NEG_INFINITY);
-    let mut phi1 = (0.0, 0.0);
-    let mut th1 = (0.0, 0.0);
-    let mut v1 = (0.0, 0.0);
+    let mut samples = Vec::with_capacity(o.measure_cycles * n);
     let mut lift = 0.0;
     let mut failed = None;
     'run: for k in 0..total {
@@ -162,20 +188,11 @@ fn point(
                 Ok(s) => {
                     lz += s.forces.total.force_n.z;
                     if i == 0 && k >= start {
-                        let t = k as f64 * dt;
-                        let (sn, cs) = (w * t).sin_cos();
-                        let a = &s.angles;
-                        phi_min = phi_min.min(a.phi);
-                        phi_max = phi_max.max(a.phi);
-                        th_min = th_min.min(a.theta);
-                        th_max = th_max.max(a.theta);
-                        phi1.0 += a.phi * cs;
-                        phi1.1 -= a.phi * sn;
-                        th1.0 += a.theta * cs;
-                        th1.1 -= a.theta * sn;
-                        let v = s.actuator.voltage_v;
-                        v1.0 += v * cs;
-                        v1.1 -= v * sn;
+                        samples.push(MotionSample::new(
+                            k as f64 * dt,
+                            &s.angles,
+                            s.actuator.voltage_v,
+                        ));
                     }
                 }
                 Err(e) => {
@@ -189,14 +206,28 @@ fn point(
         }
     }
     let m = (o.measure_cycles * n) as f64;
-    let arg = |z: (f64, f64)| z.1.atan2(z.0);
-    let wrap = |x: f64| {
-        let y = (x + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI);
-        y - std::f64::consts::PI
-    };
-    let mean_lift = if failed.is_some() { f64::NAN } else { lift / m };
-    let re = wings[0].reynolds();
-    let oor = wings[0]
+    let motion = WingMotion::measure(&samples, freq_hz);
+    Ok(TetheredRun {
+        freq_hz,
+        amplitude_v,
+        samples,
+        motion,
+        mean_lift_n: if failed.is_some() { f64::NAN } else { lift / m },
+        wings,
+        failed,
+    })
+}
+
+fn point(
+    vehicle: &Vehicle,
+    o: &ResponseOptions,
+    freq_hz: f64,
+    amplitude_v: f64,
+) -> Result<ResponsePoint> {
+    let run = run_tethered(vehicle, o, freq_hz, amplitude_v)?;
+    let (failed, mean_lift, mo) = (run.failed, run.mean_lift_n, run.motion);
+    let re = run.wings[0].reynolds();
+    let oor = run.wings[0]
         .wake_capture()
         .map(|p| p.flags.any())
         .unwrap_or(false);
@@ -206,12 +237,10 @@ fn point(
     Ok(ResponsePoint {
         freq_hz,
         amplitude_v,
-        stroke_amplitude_deg: measured(0.5 * (phi_max - phi_min).to_degrees()),
-        pitch_amplitude_deg: measured(0.5 * (th_max - th_min).to_degrees()),
-        pitch_phase_deg: measured(
-            wrap(arg(th1) - arg(phi1) + 0.5 * std::f64::consts::PI).to_degrees(),
-        ),
-        stroke_lag_deg: measured(wrap(arg(v1) - arg(phi1)).to_degrees()),
+        stroke_amplitude_deg: measured(mo.stroke_amplitude_deg),
+        pitch_amplitude_deg: measured(mo.pitch_amplitude_deg),
+        pitch_phase_deg: measured(mo.pitch_phase_deg),
+        stroke_lag_deg: measured(mo.stroke_lag_deg),
         mean_lift_n: mean_lift,
         lift_per_volt_n_v: mean_lift / amplitude_v,
         lift_to_weight: mean_lift / vehicle.weight_n(),

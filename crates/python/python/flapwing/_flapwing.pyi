@@ -202,7 +202,12 @@ class Simulation:
     def run_wingbeats(self, wingbeats: int, record: bool = True
                       ) -> Optional[dict[str, FloatArray]]:
         """`wingbeats` x steps_per_wingbeat steps (checked: no overflow); see `run`."""
-    def summary(self) -> dict[str, Any]: ...
+    def summary(self) -> dict[str, Any]:
+        """Cycle-mean loads per term over complete wingbeats, mean_lift_over_weight, final
+        pose, drift; for an actuated vehicle also wing_motion: {wings: [left, right] with
+        stroke/pitch amplitude (half peak-to-peak, deg), pitch_phase_deg (+ advanced, -
+        delayed), mid_stroke_aoa_deg, drive_amplitude_v, drive_bias_v, freq_hz, ...},
+        amplitude_change_deg} over the last complete drive period."""
     def close_log(self) -> Optional[dict[str, int]]: ...
 
 class HoverTask:

@@ -1,0 +1,159 @@
+//! `flapwing validate`'s vehicles section (issue 24): every built-in vehicle against measured
+//! data, each row with its source, model and measured values, tolerance and a verdict that
+//! follows from them; a miss carries its measured cause.
+
+mod common;
+
+use common::flapwing;
+use serde_json::Value;
+
+/// The built-in vehicles (flapsim::builtin_model).
+const VEHICLES: [&str; 5] = [
+    "robobee",
+    "hummingbird",
+    "drosophila",
+    "bumblebee",
+    "robobee_kinematic",
+];
+
+fn section() -> Value {
+    let run = flapwing(&["validate", "--json"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    run.json()["vehicles"].clone()
+}
+
+/// The verdict a row's numbers give under its check.
+fn passes(row: &Value) -> bool {
+    let model = row["model"].as_f64().unwrap_or(f64::NAN); // NaN is null in JSON
+    let check = &row["check"];
+    match check["kind"].as_str().unwrap() {
+        "relative" => match row["measured"].as_f64() {
+            Some(x) => (model / x - 1.0).abs() <= check["tolerance"].as_f64().unwrap(),
+            None => false,
+        },
+        "within" => {
+            check["lo"].as_f64().unwrap() <= model && model <= check["hi"].as_f64().unwrap()
+        }
+        "below" => model < check["bound"].as_f64().unwrap(),
+        k => panic!("unknown check {k}"),
+    }
+}
+
+#[test]
+fn every_builtin_vehicle_has_rows_with_sources_and_consistent_verdicts() {
+    let v = section();
+    let rows = v["rows"].as_array().unwrap();
+    for name in VEHICLES {
+        let mine: Vec<&Value> = rows.iter().filter(|r| r["vehicle"] == name).collect();
+        assert!(!mine.is_empty(), "no rows for {name}");
+    }
+    // The rows the issue names are there.
+    let has = |vehicle: &str, needle: &str| {
+        rows.iter()
+            .any(|r| r["vehicle"] == vehicle && r["quantity"].as_str().unwrap().contains(needle))
+    };
+    for (vehicle, needle) in [
+        ("robobee", "stroke peak-to-peak at 180 Vpp"),
+        ("robobee", "pitch amplitude"),
+        ("robobee", "pitch-stroke phase"),
+        ("robobee", "mean lift"),
+        ("robobee", "hover trim"),
+        ("hummingbird", "pitch amplitude"),
+        ("hummingbird", "hover trim"),
+        ("drosophila", "weight support"),
+        ("bumblebee", "oscillatory mode: period"),
+        ("bumblebee", "slow subsidence"),
+    ] {
+        assert!(has(vehicle, needle), "{vehicle}: {needle}");
+    }
+    let (mut passed, mut missed) = (0, 0);
+    for r in rows {
+        let source = r["source"].as_str().unwrap();
+        assert!(source.len() > 10, "{r}");
+        let verdict = r["verdict"].as_str().unwrap();
+        assert_eq!(verdict == "pass", passes(r), "verdict against numbers: {r}");
+        match verdict {
+            "pass" => {
+                assert!(r["cause"].is_null(), "{r}");
+                passed += 1;
+            }
+            "MISS" => {
+                assert!(
+                    r["cause"].as_str().unwrap().len() > 20,
+                    "a miss says why: {r}"
+                );
+                missed += 1;
+            }
+            _ => panic!("{r}"),
+        }
+        // A row with no published value says so in its source.
+        if r["measured"].is_null() && r["property"] == false {
+            assert!(source.contains("NOT FOUND"), "{r}");
+        }
+    }
+    let top = flapwing(&["validate", "--json"]).json();
+    assert_eq!(top["vehicles_passed"], passed);
+    assert_eq!(top["vehicles_missed"], missed);
+    // What no source gave is said plainly, the bumblebee's derivative table among it.
+    let nf = v["not_found"].as_array().unwrap();
+    assert!(
+        nf.iter()
+            .any(|e| e[0] == "bumblebee" && e[1].as_str().unwrap().contains("derivatives"))
+    );
+    assert!(
+        nf.iter()
+            .any(|e| e[0] == "robobee" && e[1].as_str().unwrap().contains("phase"))
+    );
+    assert!(
+        v["estimates"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|e| e["vehicle"] == "robobee")
+    );
+}
+
+#[test]
+fn added_mass_share_rows_exist_for_every_vehicle() {
+    let v = section();
+    let rows = v["rows"].as_array().unwrap();
+    for name in VEHICLES {
+        let r = rows
+            .iter()
+            .find(|r| {
+                r["vehicle"] == name
+                    && r["quantity"]
+                        .as_str()
+                        .unwrap()
+                        .starts_with("added-mass share of the mean lift (impulse)")
+            })
+            .unwrap_or_else(|| panic!("no added-mass row for {name}"));
+        assert_eq!(r["property"], true, "{r}");
+        assert_eq!(r["check"]["lo"], -0.01);
+        assert_eq!(r["check"]["hi"], 0.01);
+        // The prescribed vehicles' impulse form averages to zero over their periodic
+        // kinematics: below 1% of the lift (issue 24). (The actuated wings' rows are checked
+        // for a consistent verdict above; the robobee's misses at the time of writing, its
+        // cause measured in the row.)
+        if ["drosophila", "bumblebee", "robobee_kinematic"].contains(&name) {
+            assert_eq!(r["verdict"], "pass", "{r}");
+            assert!(r["model"].as_f64().unwrap().abs() < 0.01, "{r}");
+        }
+    }
+}
+
+#[test]
+fn text_report_prints_the_section() {
+    let run = flapwing(&["validate"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    let out = &run.stdout;
+    assert!(
+        out.contains("built-in vehicles against measured data"),
+        "{out}"
+    );
+    assert!(out.contains("NOT FOUND (bumblebee)"), "{out}");
+    assert!(out.contains("vehicle rows pass"), "{out}");
+    for name in VEHICLES {
+        assert!(out.lines().any(|l| l.starts_with(name)), "{name}");
+    }
+}
