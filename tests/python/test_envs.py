@@ -168,6 +168,12 @@ def test_randomising_an_actuated_vehicle_and_bad_files(tmp_path):
 @pytest.mark.parametrize("model", flapwing.builtin_models())
 @pytest.mark.parametrize("env_id", ["flapwing/Hover-v0", "flapwing/Recover-v0"])
 def test_every_builtin_vehicle_runs_in_every_task(env_id, model):
+    if model == "robobee":
+        # Rebuilt from its published parameter set (issue #24), the RoboBee lifts 0.95 W at
+        # its drive's 100 V limit: no hover to start a task from, and the error says so.
+        with pytest.raises(flapwing.AnalysisError, match="no hover trim"):
+            gym.make(env_id, model=model)
+        return
     env = gym.make(env_id, model=model)
     obs, _ = env.reset(seed=7)
     assert obs.shape == env.observation_space.shape == (12,)

@@ -91,6 +91,9 @@ pub struct HoverController {
     limits: [f64; N_CONTROLS],
     /// The channels are drive parameters.
     drive: bool,
+    /// An actuated vehicle's actuation: its commands also stay within the actuator's voltage
+    /// limit.
+    actuation: Option<crate::actuated::Actuation>,
     /// Integral of the position error, m s.
     integral: Vector3<f64>,
     period_s: f64,
@@ -199,6 +202,7 @@ impl HoverController {
             history: VecDeque::new(),
             limits: umax.map(|u| 3.0 * u),
             drive: vehicle.drive_controlled(),
+            actuation: vehicle.actuation.clone(),
             integral: Vector3::zeros(),
             period_s: period,
         })
@@ -229,7 +233,10 @@ impl HoverController {
     }
 
     /// Controls for the next wingbeat given the state measured now (delayed by the sensor
-    /// delay), saturated at three times the design excursion.
+    /// delay), saturated at three times the design excursion and, for an actuated vehicle,
+    /// at its actuator's voltage limit: a command past the limit is scaled back towards the
+    /// trim along its own direction (bisection on the scale, to 1e-9 of it) until the drive
+    /// fits, as a real drive amplifier saturates.
     pub fn update(&mut self, s: &State) -> Controls {
         self.history.push_back(self.error_state(s));
         while self.history.len() > self.delay_wingbeats.saturating_add(1) {
@@ -248,7 +255,28 @@ impl HoverController {
             .zip(&self.limits)
             .map(|(v, lim)| v.clamp(-lim, *lim))
             .collect();
-        self.trim_controls.with_channels(self.drive, &u)
+        let c = self.trim_controls.with_channels(self.drive, &u);
+        let Some(act) = &self.actuation else {
+            return c;
+        };
+        let fits = |c: &Controls| act.controlled_drives(c).is_ok();
+        if fits(&c) || !fits(&self.trim_controls) {
+            return c;
+        }
+        let scaled = |k: f64| {
+            let v: Vec<f64> = u.iter().map(|x| k * x).collect();
+            self.trim_controls.with_channels(self.drive, &v)
+        };
+        let (mut lo, mut hi) = (0.0, 1.0);
+        while hi - lo > 1e-9 {
+            let mid = 0.5 * (lo + hi);
+            if fits(&scaled(mid)) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        scaled(lo)
     }
 }
 

@@ -34,7 +34,7 @@ use crate::actuated::{ResponseOptions, Stroke, TetheredRun, run_tethered};
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::Result;
 use crate::operating_points::{
-    BUMBLEBEE_PITCH_MODES_NOTE, SUN_XIONG_SOURCE, builtin, bumblebee_mode_times, lift_over_weight,
+    SUN_XIONG_SOURCE, builtin, bumblebee_mode_times, bumblebee_pitch_modes_note, lift_over_weight,
 };
 
 /// How a row's model value is checked.
@@ -596,6 +596,7 @@ pub fn vehicle_section() -> Result<VehicleSection> {
     );
 
     let bee = builtin("bumblebee")?;
+    let note = bumblebee_pitch_modes_note(&bee)?;
     for (name, published, computed, _) in bumblebee_mode_times(&bee)? {
         b.push(
             "bumblebee",
@@ -605,12 +606,7 @@ pub fn vehicle_section() -> Result<VehicleSection> {
             Some(published),
             Check::Relative { tolerance: 0.30 },
             false,
-            || {
-                format!(
-                    "{:+.0}% off: {BUMBLEBEE_PITCH_MODES_NOTE}",
-                    100.0 * (computed / published - 1.0)
-                )
-            },
+            || format!("{:+.0}% off: {note}", 100.0 * (computed / published - 1.0)),
         );
     }
 

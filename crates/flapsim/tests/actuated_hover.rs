@@ -20,19 +20,42 @@ fn robobee() -> Vehicle {
     Vehicle::from_toml(flapsim::ROBOBEE_TOML, "robobee").unwrap()
 }
 
+/// The built-in RoboBee with the other published hinge: the softer of the two wings that
+/// robobee3d's system identification measured (PR #93: 2.4e-6 N m/rad), in place of the lab
+/// hinge model's 7.5e-6 that `models/robobee.toml` takes with the rest of its parameter set.
+/// The built-in one lifts 0.95 W at its 100 V limit and has no hover; this one trims inside
+/// it, so the piezo-driven trim, stability and hover are tested on it.
+pub fn robobee_identified_hinge() -> Vehicle {
+    let text =
+        flapsim::ROBOBEE_TOML.replace("stiffness_nm_rad = 7.5e-6", "stiffness_nm_rad = 2.4e-6");
+    assert_ne!(text, flapsim::ROBOBEE_TOML);
+    Vehicle::from_toml(&text, "robobee, identified hinge").unwrap()
+}
+
+fn vehicle(name: &str) -> Vehicle {
+    match name {
+        "robobee, identified hinge" => robobee_identified_hinge(),
+        _ => Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap(),
+    }
+}
+
+#[test]
+fn the_built_in_robobee_has_no_hover_and_says_why() {
+    // Rebuilt from its published parameter set (issue #24), the RoboBee makes less than its
+    // weight at its drive's 100 V limit: the trim stops with an error naming the limit.
+    let e = trim(&robobee()).unwrap_err().to_string();
+    assert!(e.contains("no hover trim") && e.contains("100 V"), "{e}");
+}
+
 #[test]
 fn the_actuated_robobee_trims_on_its_drive() {
-    let v = robobee();
+    let v = robobee_identified_hinge();
     let t = trim(&v).unwrap();
     assert!(t.max_residual() < 1e-6, "{t:?}");
     // The drive at trim stays within the piezo's limit, and only the drive channels moved.
     let tv = trimmed_vehicle(&v, &t).unwrap();
     let a = tv.actuation.as_ref().unwrap();
-    assert!(a.drives.iter().all(|d| d.peak_bound_v() <= 250.0));
-    assert!(
-        t.controls.amplitude_v < 0.0,
-        "200 V lifts more than the weight: {t:?}"
-    );
+    assert!(a.drives.iter().all(|d| d.peak_bound_v() <= 100.0));
     assert_eq!(t.controls.amplitude_rad, 0.0);
 }
 
@@ -43,8 +66,8 @@ fn averaged_and_floquet_modes_of_the_actuated_vehicles_agree() {
     // of 1-5 1/s: the averaged model holds to a few percent (measured 2%; bound 5%). The
     // RoboBee's wing modes (65, 116 1/s) sit closer to its body modes (5-17 1/s): measured
     // 26% and 44%, bound a factor 1.6.
-    for (name, bound) in [("hummingbird", 1.05), ("robobee", 1.6)] {
-        let v = Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap();
+    for (name, bound) in [("hummingbird", 1.05), ("robobee, identified hinge", 1.6)] {
+        let v = vehicle(name);
         let r = analyze(&v, true).unwrap();
         let modes = &r.longitudinal_modes;
         let osc: Vec<_> = modes
@@ -79,8 +102,8 @@ fn averaged_and_floquet_modes_of_the_actuated_vehicles_agree() {
 
 #[test]
 fn the_actuated_robobee_and_hummingbird_hover_under_lqr_from_a_5_deg_pitch_disturbance() {
-    for name in ["robobee", "hummingbird"] {
-        let v = Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap();
+    for name in ["robobee, identified hinge", "hummingbird"] {
+        let v = vehicle(name);
         let t = trim(&v).unwrap();
         let tv = trimmed_vehicle(&v, &t).unwrap();
         let d = Disturbance {

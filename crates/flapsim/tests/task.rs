@@ -1,5 +1,5 @@
-//! flapsim::task on every built-in vehicle: each has a `[sensors]` table, so each runs in
-//! both tasks; and the first observation of an episode is a delivered sensor reading of the
+//! flapsim::task on every built-in vehicle: each has a `[sensors]` table, so each that
+//! hovers runs in both tasks (the RoboBee has no hover, and the task says so); and the first observation of an episode is a delivered sensor reading of the
 //! initial state (the sensors' pre-roll), which shows a recovery task's disturbance.
 
 use flapsim::task::{Task, TaskSpec, preroll_s};
@@ -27,8 +27,15 @@ fn every_builtin_vehicle_has_sensors_and_runs_in_every_task() {
             ("hover", TaskSpec::hover()),
             ("recover", TaskSpec::recover()),
         ] {
-            let mut t = Task::new(text(name), name, spec, None)
-                .unwrap_or_else(|e| panic!("{name} {kind}: {e}"));
+            let t = Task::new(text(name), name, spec, None);
+            if name == "robobee" {
+                // Rebuilt from its published parameter set (issue #24), the RoboBee lifts
+                // 0.95 W at its 100 V limit: no hover to start a task from, and it says so.
+                let e = t.err().map(|e| e.to_string()).unwrap_or_default();
+                assert!(e.contains("no hover trim"), "{name} {kind}: {e}");
+                continue;
+            }
+            let mut t = t.unwrap_or_else(|e| panic!("{name} {kind}: {e}"));
             assert_eq!(t.observation_len(), 12);
             let o = t.reset(3).unwrap();
             assert_eq!(o.len(), 12);

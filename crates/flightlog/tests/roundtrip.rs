@@ -501,5 +501,6 @@ fn actuated_wings_log_their_hinge_and_actuator() {
         .outs
         .iter()
         .map(|o| o.actuated.unwrap()[1].actuator.voltage_v.abs());
-    assert!(volts.fold(0.0, f64::max) > 150.0);
+    // models/robobee.toml drives at 90 V amplitude.
+    assert!(volts.fold(0.0, f64::max) > 85.0);
 }

@@ -188,7 +188,9 @@ pub struct WingState {
 /// What one step of a dynamic wing produced (at the step's start).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WingStep {
-    /// The aerodynamic forces at the step's start (zero when aerodynamics is off).
+    /// The aerodynamic forces at the step's start (zero when aerodynamics is off), except
+    /// the impulse-form added mass: its mean over the step, the change of the fluid's
+    /// impulse across it over dt (see [`DynamicWing::step`]).
     pub forces: WingForces,
     /// Their moments about the stroke and pitch axes, N m.
     pub aero_axis: AxisMoments,
