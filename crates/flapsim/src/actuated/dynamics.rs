@@ -52,7 +52,13 @@ use wingforce::{
 
 use super::actuator::{Actuator, ActuatorState};
 use super::drive::Drive;
+use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root};
 use crate::error::{Error, Result};
+
+/// Deepest penetration into a contact stop before a run stops with an error, rad (10 deg):
+/// a stop is meant to be stiff, so a wing this deep in it says the contact is too soft for
+/// the loads, not anything about the robot.
+pub const MAX_PENETRATION_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0;
 
 /// The wing's mass properties about its hinge.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -78,17 +84,35 @@ impl WingInertia {
     }
 }
 
-/// The compliant pitch hinge.
+/// The pitch hinge: a torsional spring and damper (either may be zero), optional contact
+/// stops ([`StopContact`]) and a break limit.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Hinge {
-    /// Torsional stiffness k_h, N m/rad.
+    /// Torsional stiffness k_h, N m/rad (zero: the wing swings freely between its stops).
     pub stiffness_nm_rad: f64,
     /// Torsional damping c_h, N m s/rad.
     pub damping_nm_s_rad: f64,
     /// Rest angle theta_r (pi/2: the wing normal to the stroke plane), rad.
     pub rest_rad: f64,
-    /// The stops: |theta - theta_r| beyond this ends the run with an error, rad.
-    pub stop_rad: f64,
+    /// Where the hinge breaks (a flexure past its limit): |theta - theta_r| beyond this
+    /// ends the run with an error, rad (infinite: no such limit).
+    pub break_rad: f64,
+    /// Mechanical stops the wing strikes (none: the hinge has no stops, only its break
+    /// limit).
+    pub contact: Option<StopContact>,
+}
+
+impl Hinge {
+    /// The hinge's moment on the wing about the pitch axis, N m: spring, damper and, when
+    /// the wing presses into a stop, the stop (`m_eff`: the effective pitch inertia that
+    /// sets the stop's damping, see [`super::stop`]).
+    pub fn moment_nm(&self, theta_rad: f64, theta_dot_rad_s: f64, m_eff_kg_m2: f64) -> f64 {
+        let d = theta_rad - self.rest_rad;
+        let stop = self
+            .contact
+            .map_or(0.0, |c| c.moment_nm(d, theta_dot_rad_s, m_eff_kg_m2));
+        -self.stiffness_nm_rad * d - self.damping_nm_s_rad * theta_dot_rad_s + stop
+    }
 }
 
 /// What moves the stroke.
@@ -192,7 +216,7 @@ pub struct WingStep {
     pub forces: WingForces,
     /// Their moments about the stroke and pitch axes, N m.
     pub aero_axis: AxisMoments,
-    /// Hinge spring and damper moment on the wing about the pitch axis, N m.
+    /// Hinge spring, damper and stop moment on the wing about the pitch axis, N m.
     pub hinge_moment_nm: f64,
     /// Inertial reaction of the wing and actuator on the body, body frame: force N and
     /// moment about the hinge N m.
@@ -210,7 +234,7 @@ pub struct WingStep {
 pub struct ActuatedWingOutput {
     /// Angles, rates and accelerations.
     pub angles: WingAngles,
-    /// Hinge spring and damper moment on the wing about the pitch axis, N m.
+    /// Hinge spring, damper and stop moment on the wing about the pitch axis, N m.
     pub hinge_moment_nm: f64,
     /// Aerodynamic moment about the pitch axis, N m.
     pub aero_pitch_nm: f64,
@@ -246,6 +270,14 @@ pub struct DynamicWing {
     /// (t, phi_dot) over the current drive period, to measure the stroke reference.
     samples: Vec<(f64, f64)>,
     period_index: i64,
+}
+
+/// The state, time and stroke phase at a step's start (what its report describes).
+#[derive(Debug, Clone, Copy)]
+struct StepStart {
+    state: WingState,
+    t_s: f64,
+    phase: StrokePhase,
 }
 
 /// Held over a sub-step: aerodynamic generalized forces without the added mass's
@@ -329,8 +361,9 @@ impl DynamicWing {
         &self.drive
     }
 
-    /// Mechanical energy (kinetic plus spring), J: conserved without aerodynamics,
-    /// damping and drive.
+    /// Mechanical energy (kinetic plus the springs', the stops' contact springs included),
+    /// J: conserved without aerodynamics, damping, drive and stop strikes (or with
+    /// perfectly elastic ones).
     pub fn energy_j(&self) -> f64 {
         let s = &self.state;
         let m = self.mass_matrix(s.theta_rad, &[[0.0; 2]; 2]);
@@ -340,8 +373,10 @@ impl DynamicWing {
         let k = self.model.stroke_stiffness_nm_rad();
         let phi0 = self.stroke_rest();
         let dth = s.theta_rad - self.model.hinge.rest_rad;
+        let stop = self.model.hinge.contact.map_or(0.0, |c| c.potential_j(dth));
         ke + 0.5 * k * (s.phi_rad - phi0).powi(2)
             + 0.5 * self.model.hinge.stiffness_nm_rad * dth * dth
+            + stop
     }
 
     fn stroke_rest(&self) -> f64 {
@@ -366,6 +401,15 @@ impl DynamicWing {
         ]
     }
 
+    /// The effective pitch inertia a stop strike meets, kg m^2: M_tt - M_tp^2 / M_pp with
+    /// the stroke free (driven), M_tt with the stroke prescribed.
+    fn pitch_inertia_effective(&self, m: &[[f64; 2]; 2]) -> f64 {
+        match &self.model.stroke {
+            Stroke::Driven { .. } => m[1][1] - m[0][1] * m[1][0] / m[0][0],
+            Stroke::Prescribed(_) => m[1][1],
+        }
+    }
+
     /// Accelerations at time t for y = (phi, theta, phi_dot, theta_dot).
     fn accelerations(&self, t: f64, y: &[f64; 4], held: &Held) -> [f64; 2] {
         let [phi, theta, mut pd, td] = *y;
@@ -378,14 +422,13 @@ impl DynamicWing {
             Stroke::Driven { .. } => None,
         };
         let i = &self.model.inertia;
-        let h = &self.model.hinge;
         let (st, ct) = theta.sin_cos();
         let b = i.pitch_inertia_kg_m2;
         let c = i.product_kg_m2();
-        let q_theta = held.q[1]
-            - h.stiffness_nm_rad * (theta - h.rest_rad)
-            - h.damping_nm_s_rad * td
-            - b * st * ct * pd * pd;
+        let m = self.mass_matrix(theta, &held.added);
+        let m_eff = self.pitch_inertia_effective(&m);
+        let q_theta =
+            held.q[1] + self.model.hinge.moment_nm(theta, td, m_eff) - b * st * ct * pd * pd;
         match &self.model.stroke {
             Stroke::Driven {
                 actuator,
@@ -399,7 +442,6 @@ impl DynamicWing {
                     - (r.damping_nm_s_rad + damping_nm_s_rad) * pd
                     + 2.0 * b * st * ct * pd * td
                     + c * ct * td * td;
-                let m = self.mass_matrix(theta, &held.added);
                 let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
                 [
                     (m[1][1] * q_phi - m[0][1] * q_theta) / det,
@@ -408,7 +450,6 @@ impl DynamicWing {
             }
             Stroke::Prescribed(_) => {
                 let a = prescribed.unwrap_or_default();
-                let m = self.mass_matrix(theta, &held.added);
                 [a.phi_ddot, (q_theta - m[1][0] * a.phi_ddot) / m[1][1]]
             }
         }
@@ -417,7 +458,11 @@ impl DynamicWing {
     /// Angles at the current time with the given accelerations (prescribed stroke: from the
     /// kinematics).
     fn angles(&self, acc: [f64; 2]) -> WingAngles {
-        let s = &self.state;
+        self.angles_at(&self.state, self.t_s, acc)
+    }
+
+    /// Angles of `state` at time `t` with the given accelerations.
+    fn angles_at(&self, s: &WingState, t: f64, acc: [f64; 2]) -> WingAngles {
         let mut a = WingAngles {
             phi: s.phi_rad,
             theta: s.theta_rad,
@@ -428,7 +473,7 @@ impl DynamicWing {
             ..WingAngles::default()
         };
         if let Stroke::Prescribed(k) = &self.model.stroke {
-            let p = k.angles(self.t_s * k.freq_hz);
+            let p = k.angles(t * k.freq_hz);
             a.phi = p.phi;
             a.phi_dot = p.phi_dot;
             a.phi_ddot = p.phi_ddot;
@@ -471,40 +516,33 @@ impl DynamicWing {
     }
 
     /// Advances the wing by `dt_s` with the body moving as given; returns the loads at the
-    /// step's start. A pitch past the hinge stops or a non-finite state is an error.
+    /// step's start. A pitch past the hinge's break limit (or, with contact stops, a wing
+    /// pressed implausibly deep into a stop) or a non-finite state is an error.
     pub fn step(&mut self, wing: &mut Wing, body: &BodyMotion, dt_s: f64) -> Result<WingStep> {
         let n = self.model.substeps.max(1);
         let h = dt_s / n as f64;
+        let start = StepStart {
+            state: self.state,
+            t_s: self.t_s,
+            phase: self.stroke_phase(),
+        };
+        let stops = self.model.hinge.contact.is_some();
         let mut out = None;
+        let mut first = None;
         for sub in 0..n {
             let (held, aero) = self.aero_held(wing, body);
             let y0 = self.y();
             let t0 = self.t_s;
             let k1a = self.accelerations(t0, &y0, &held);
             if sub == 0 {
-                out = Some(self.report(wing, &held, aero, k1a));
-            }
-            let deriv = |a: [f64; 2], y: &[f64; 4]| [y[2], y[3], a[0], a[1]];
-            let k1 = deriv(k1a, &y0);
-            let add = |y: &[f64; 4], k: &[f64; 4], s: f64| {
-                [
-                    y[0] + s * k[0],
-                    y[1] + s * k[1],
-                    y[2] + s * k[2],
-                    y[3] + s * k[3],
-                ]
-            };
-            let y2 = add(&y0, &k1, 0.5 * h);
-            let k2 = deriv(self.accelerations(t0 + 0.5 * h, &y2, &held), &y2);
-            let y3 = add(&y0, &k2, 0.5 * h);
-            let k3 = deriv(self.accelerations(t0 + 0.5 * h, &y3, &held), &y3);
-            let y4 = add(&y0, &k3, h);
-            let k4 = deriv(self.accelerations(t0 + h, &y4, &held), &y4);
-            let mut y = [0.0; 4];
-            for i in 0..4 {
-                y[i] = y0[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+                if stops {
+                    first = Some((held, aero));
+                } else {
+                    out = Some(self.report(wing, &held, aero, k1a, &start));
+                }
             }
             let pd_old = self.angles([0.0; 2]).phi_dot;
+            let y = self.advance(t0, &y0, h, &held, k1a)?;
             self.state = WingState {
                 phi_rad: y[0],
                 theta_rad: y[1],
@@ -516,7 +554,103 @@ impl DynamicWing {
             self.track_reversal(pd_old, t0, h);
             self.track_period(wing);
         }
+        if let Some((held, aero)) = first {
+            // A strike's acceleration is an impulse that the step's start cannot sample:
+            // with stops the acceleration-proportional loads (added mass, the wing's
+            // inertial reaction) take the step's mean accelerations, whose impulse over the
+            // step is the wing's change of momentum.
+            let (s0, s1) = (&start.state, &self.state);
+            let acc = [
+                (s1.phi_dot_rad_s - s0.phi_dot_rad_s) / dt_s,
+                (s1.theta_dot_rad_s - s0.theta_dot_rad_s) / dt_s,
+            ];
+            out = Some(self.report(wing, &held, aero, acc, &start));
+        }
         Ok(out.expect("at least one sub-step"))
+    }
+
+    /// One classical fourth-order Runge-Kutta step of length `h` from (t0, y0) with the
+    /// loads held (`k1a`: the accelerations at the start, when known); returns the new
+    /// state and the three later stage states.
+    fn rk4(
+        &self,
+        t0: f64,
+        y0: &[f64; 4],
+        h: f64,
+        held: &Held,
+        k1a: Option<[f64; 2]>,
+    ) -> ([f64; 4], [[f64; 4]; 3]) {
+        let deriv = |a: [f64; 2], y: &[f64; 4]| [y[2], y[3], a[0], a[1]];
+        let add = |y: &[f64; 4], k: &[f64; 4], s: f64| {
+            [
+                y[0] + s * k[0],
+                y[1] + s * k[1],
+                y[2] + s * k[2],
+                y[3] + s * k[3],
+            ]
+        };
+        let k1 = deriv(k1a.unwrap_or_else(|| self.accelerations(t0, y0, held)), y0);
+        let y2 = add(y0, &k1, 0.5 * h);
+        let k2 = deriv(self.accelerations(t0 + 0.5 * h, &y2, held), &y2);
+        let y3 = add(y0, &k2, 0.5 * h);
+        let k3 = deriv(self.accelerations(t0 + 0.5 * h, &y3, held), &y3);
+        let y4 = add(y0, &k3, h);
+        let k4 = deriv(self.accelerations(t0 + h, &y4, held), &y4);
+        let mut y = [0.0; 4];
+        for i in 0..4 {
+            y[i] = y0[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+        (y, [y2, y3, y4])
+    }
+
+    /// Advances the structure over one sub-step of length `h` with the loads held: one
+    /// Runge-Kutta step away from the stops; near or in a stop, contact steps short enough
+    /// for the contact, each split where the wing touches a stop (see [`super::stop`]).
+    fn advance(
+        &self,
+        t0: f64,
+        y0: &[f64; 4],
+        h: f64,
+        held: &Held,
+        k1a: [f64; 2],
+    ) -> Result<[f64; 4]> {
+        let (y, stages) = self.rk4(t0, y0, h, held, Some(k1a));
+        let Some(stop) = self.model.hinge.contact else {
+            return Ok(y);
+        };
+        let rest = self.model.hinge.rest_rad;
+        // Clear of the stops: even at its rate the pitch cannot reach one within h.
+        let clear = |y: &[f64; 4]| stop.angle_rad - (y[1] - rest).abs() - y[3].abs() * h > 0.0;
+        if clear(y0) && clear(&y) && stages.iter().all(clear) {
+            return Ok(y);
+        }
+        let m_eff = self.pitch_inertia_effective(&self.mass_matrix(y0[1], &held.added));
+        let n = (h / stop.max_step_s(m_eff)).ceil().max(1.0);
+        if !(n <= MAX_CONTACT_STEPS as f64) {
+            return Err(Error::Analysis(format!(
+                "the hinge stops' contact (stiffness {:e} N m/rad, damping ratio {:.2}, effective pitch inertia {:e} kg m^2) needs {n:.0} contact steps in a sub-step of {:e} s, more than {MAX_CONTACT_STEPS}: lengthen [actuation.hinge.stop] contact_time_s (or lower its stiffness_nm_rad), or shorten the step",
+                stop.stiffness_nm_rad, stop.damping_ratio, m_eff, h
+            )));
+        }
+        let n = n as usize;
+        let hc = h / n as f64;
+        let mut y = *y0;
+        for k in 0..n {
+            let t = t0 + k as f64 * hc;
+            let (mut y1, _) = self.rk4(t, &y, hc, held, None);
+            // The contact force jumps at the touch (the dashpot): split the step there.
+            let s = (y1[1] - rest).signum();
+            let g = |y: &[f64; 4]| s * (y[1] - rest) - stop.angle_rad;
+            if g(&y) <= 0.0 && g(&y1) > 0.0 {
+                let f = hermite_root(g(&y), s * y[3], g(&y1), s * y1[3], hc);
+                if f < 1.0 {
+                    let (ya, _) = self.rk4(t, &y, f * hc, held, None);
+                    y1 = self.rk4(t + f * hc, &ya, (1.0 - f) * hc, held, None).0;
+                }
+            }
+            y = y1;
+        }
+        Ok(y)
     }
 
     fn check(&self, wing: &Wing) -> Result<()> {
@@ -537,17 +671,33 @@ impl DynamicWing {
         }
         let h = &self.model.hinge;
         let dev = s.theta_rad - h.rest_rad;
-        if dev.abs() > h.stop_rad {
+        if dev.abs() > h.break_rad {
             return Err(Error::Diverged {
                 t_s: self.t_s,
                 step: 0,
                 reason: format!(
-                    "{side} wing pitched {:.1} deg from its hinge rest angle, past the stops at +-{:.1} deg: the hinge (k_h = {:e} N m/rad) is too soft for this drive",
+                    "{side} wing pitched {:.1} deg from its hinge rest angle, past the stops at +-{:.1} deg (the hinge's break limit): the hinge (k_h = {:e} N m/rad) is too soft for this drive",
                     dev.to_degrees(),
-                    h.stop_rad.to_degrees(),
+                    h.break_rad.to_degrees(),
                     h.stiffness_nm_rad
                 ),
             });
+        }
+        if let Some(c) = &h.contact {
+            let delta = c.penetration(dev).0;
+            if delta > MAX_PENETRATION_RAD {
+                return Err(Error::Diverged {
+                    t_s: self.t_s,
+                    step: 0,
+                    reason: format!(
+                        "{side} wing pressed {:.1} deg into its stop at +-{:.1} deg (more than {:.0} deg): the stop contact (stiffness {:e} N m/rad) is too soft for the loads; shorten [actuation.hinge.stop] contact_time_s",
+                        delta.to_degrees(),
+                        c.angle_rad.to_degrees(),
+                        MAX_PENETRATION_RAD.to_degrees(),
+                        c.stiffness_nm_rad
+                    ),
+                });
+            }
         }
         Ok(())
     }
@@ -581,20 +731,21 @@ impl DynamicWing {
         self.samples.push((self.t_s, pd));
     }
 
-    /// The loads at the sub-step's start, with the accelerations solved there.
+    /// The loads at the step's start `at`, with the accelerations `acc`.
     fn report(
         &self,
         wing: &Wing,
         held: &Held,
         aero: Option<(WingForces, WingFrame)>,
         acc: [f64; 2],
+        at: &StepStart,
     ) -> WingStep {
-        let a = self.angles(acc);
+        let a = self.angles_at(&at.state, at.t_s, acc);
         let side = wing.mount().side;
         let frame = WingFrame::new(&a, side);
         let (forces, aero_axis) = match aero {
             Some((f, _)) => {
-                let k = wing.kinematic_loads_in(&a, &self.stroke_phase(), &frame);
+                let k = wing.kinematic_loads_in(&a, &at.phase, &frame);
                 let f = Wing::with_kinematic_terms(&f, &k);
                 (f, wing.axis_moments(&frame, &f.total))
             }
@@ -603,15 +754,13 @@ impl DynamicWing {
                     terms: Default::default(),
                     total: Default::default(),
                     angles: a,
-                    phase: self.stroke_phase(),
+                    phase: at.phase,
                 },
                 AxisMoments::default(),
             ),
         };
-        let _ = held;
-        let hg = &self.model.hinge;
-        let hinge_moment =
-            -hg.stiffness_nm_rad * (a.theta - hg.rest_rad) - hg.damping_nm_s_rad * a.theta_dot;
+        let m_eff = self.pitch_inertia_effective(&self.mass_matrix(a.theta, &held.added));
+        let hinge_moment = self.model.hinge.moment_nm(a.theta, a.theta_dot, m_eff);
         // Inertial reaction: -m a_c and -(I_h alpha + omega x I_h omega) about the hinge,
         // plus the actuator's reflected inertia about the stroke axis.
         let i = &self.model.inertia;
@@ -635,7 +784,7 @@ impl DynamicWing {
         let actuator = match &self.model.stroke {
             Stroke::Driven {
                 actuator, rest_rad, ..
-            } => actuator.state(a.phi - rest_rad, a.phi_dot, self.drive.voltage_v(self.t_s)),
+            } => actuator.state(a.phi - rest_rad, a.phi_dot, self.drive.voltage_v(at.t_s)),
             Stroke::Prescribed(_) => ActuatorState::default(),
         };
         WingStep {

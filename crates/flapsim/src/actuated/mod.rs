@@ -7,6 +7,8 @@
 //! - [`drive`]: the periodic drive voltage;
 //! - [`dynamics`]: the wing's two-degree-of-freedom equations and their sub-stepped
 //!   integrator (the module doc states both);
+//! - [`stop`]: hinge stops as a stiff unilateral contact with damping (the module doc
+//!   derives the contact law and its restitution);
 //! - [`spec`]: the `[actuation]` section of a vehicle model file;
 //! - [`periodic`]: the wings run into their periodic motion at a frozen body state (what
 //!   trim, the averaged model and a hover start need);
@@ -24,6 +26,7 @@ pub mod dynamics;
 pub mod periodic;
 pub mod response;
 pub mod spec;
+pub mod stop;
 
 pub use actuator::{Actuator, ActuatorState, DcMotor, Piezo, Reflected};
 pub use drive::Drive;
@@ -32,4 +35,5 @@ pub use dynamics::{
 };
 pub use periodic::{PERIODIC_TOLERANCE_RAD, PeriodicWings, settle};
 pub use response::{FrequencyResponse, ResponseOptions, ResponsePoint, frequency_response};
-pub use spec::{Actuation, ActuationSpec};
+pub use spec::{Actuation, ActuationSpec, StopSpec};
+pub use stop::StopContact;
