@@ -286,6 +286,9 @@ struct StepStart {
 struct Held {
     q: [f64; 2],
     added: [[f64; 2]; 2],
+    /// Integrate as if the hinge had no stops (the contact-free part of a step that
+    /// touches one).
+    free: bool,
 }
 
 impl DynamicWing {
@@ -410,6 +413,16 @@ impl DynamicWing {
         }
     }
 
+    /// The nearer stop's unclamped push k_c delta + c delta_dot at state `y` (positive: the
+    /// stop pushes the wing out), N m.
+    fn stop_push(&self, stop: &StopContact, y: &[f64; 4], held: &Held) -> f64 {
+        let dev = y[1] - self.model.hinge.rest_rad;
+        let (delta, s) = stop.penetration(dev);
+        let m_eff = self.pitch_inertia_effective(&self.mass_matrix(y[1], &held.added));
+        let c = 2.0 * stop.damping_ratio * (stop.stiffness_nm_rad * m_eff).sqrt();
+        stop.stiffness_nm_rad * delta + c * s * y[3]
+    }
+
     /// Accelerations at time t for y = (phi, theta, phi_dot, theta_dot).
     fn accelerations(&self, t: f64, y: &[f64; 4], held: &Held) -> [f64; 2] {
         let [phi, theta, mut pd, td] = *y;
@@ -427,8 +440,15 @@ impl DynamicWing {
         let c = i.product_kg_m2();
         let m = self.mass_matrix(theta, &held.added);
         let m_eff = self.pitch_inertia_effective(&m);
-        let q_theta =
-            held.q[1] + self.model.hinge.moment_nm(theta, td, m_eff) - b * st * ct * pd * pd;
+        let hinge = if held.free {
+            Hinge {
+                contact: None,
+                ..self.model.hinge
+            }
+        } else {
+            self.model.hinge
+        };
+        let q_theta = held.q[1] + hinge.moment_nm(theta, td, m_eff) - b * st * ct * pd * pd;
         match &self.model.stroke {
             Stroke::Driven {
                 actuator,
@@ -505,6 +525,7 @@ impl DynamicWing {
             Held {
                 q: [q.stroke_nm, q.pitch_nm],
                 added: wing.added_inertia(&frame),
+                free: false,
             },
             Some((f, frame)),
         )
@@ -635,20 +656,75 @@ impl DynamicWing {
         let n = n as usize;
         let hc = h / n as f64;
         let mut y = *y0;
+        let free = Held {
+            free: true,
+            ..*held
+        };
         for k in 0..n {
             let t = t0 + k as f64 * hc;
-            let (mut y1, _) = self.rk4(t, &y, hc, held, None);
-            // The contact force jumps at the touch (the dashpot): split the step there.
-            let s = (y1[1] - rest).signum();
-            let g = |y: &[f64; 4]| s * (y[1] - rest) - stop.angle_rad;
-            if g(&y) <= 0.0 && g(&y1) > 0.0 {
-                let f = hermite_root(g(&y), s * y[3], g(&y1), s * y1[3], hc);
-                if f < 1.0 {
-                    let (ya, _) = self.rk4(t, &y, f * hc, held, None);
-                    y1 = self.rk4(t + f * hc, &ya, (1.0 - f) * hc, held, None).0;
+            if stop.penetration(y[1] - rest).0 >= 0.0 {
+                // In a stop: the contact force is continuous until the wing leaves, but its
+                // slope jumps where the clamp takes over (k_c delta + c delta_dot falls
+                // through zero): split the step there too, found by regula falsi
+                // (Illinois) on the contact's own Runge-Kutta steps.
+                let y1 = self.rk4(t, &y, hc, held, None).0;
+                let push = |y: &[f64; 4]| self.stop_push(&stop, y, held);
+                let (p0, p1) = (push(&y), push(&y1));
+                if !(p0 > 0.0 && p1 <= 0.0) {
+                    y = y1;
+                    continue;
                 }
+                let (mut lo, mut hi, mut plo, mut phi) = (0.0, hc, p0, p1);
+                let (mut tau, mut ya) = (hc, y1);
+                for _ in 0..40 {
+                    tau = lo + (hi - lo) * plo / (plo - phi);
+                    ya = self.rk4(t, &y, tau, held, None).0;
+                    let pa = push(&ya);
+                    if pa.abs() <= 1e-13 * p0 || hi - lo <= 1e-13 * hc {
+                        break;
+                    }
+                    if pa > 0.0 {
+                        lo = tau;
+                        plo = pa;
+                        phi *= 0.5;
+                    } else {
+                        hi = tau;
+                        phi = pa;
+                        plo *= 0.5;
+                    }
+                }
+                y = self.rk4(t + tau, &ya, hc - tau, held, None).0;
+                continue;
             }
-            y = y1;
+            // Out of the stops: the step as if there were none. If that ends in a stop, the
+            // wing touched it within the step, where the contact force jumps (the dashpot):
+            // find the touch on the contact-free path, a first guess on the step's cubic
+            // Hermite interpolant refined by Newton on the contact-free part's own
+            // Runge-Kutta step (to round-off), put the wing exactly on the stop and finish
+            // the step with the contact on from its first stage.
+            let yf = self.rk4(t, &y, hc, &free, None).0;
+            if stop.penetration(yf[1] - rest).0 < 0.0 {
+                y = yf;
+                continue;
+            }
+            let s = (yf[1] - rest).signum();
+            let g = |y: &[f64; 4]| s * (y[1] - rest) - stop.angle_rad;
+            let mut f = hermite_root(g(&y), s * y[3], g(&yf), s * yf[3], hc);
+            let mut ya = self.rk4(t, &y, f * hc, &free, None).0;
+            for _ in 0..6 {
+                let (ga, rate) = (g(&ya), s * ya[3]);
+                if !(rate > 0.0) || ga.abs() <= 1e-15 * stop.angle_rad {
+                    break;
+                }
+                let next = (f - ga / (rate * hc)).clamp(0.0, 1.0);
+                if next == f {
+                    break;
+                }
+                f = next;
+                ya = self.rk4(t, &y, f * hc, &free, None).0;
+            }
+            ya[1] = rest + s * stop.angle_rad;
+            y = self.rk4(t + f * hc, &ya, (1.0 - f) * hc, held, None).0;
         }
         Ok(y)
     }

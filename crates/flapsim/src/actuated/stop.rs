@@ -72,11 +72,20 @@
 //! ([`StopContact::max_step_s`]; the fourth-order Runge-Kutta step then loses < 4e-6 of
 //! an undamped contact oscillation's energy per step and resolves an overdamped one), at
 //! most [`MAX_CONTACT_STEPS`] per sub-step, else the run stops with an error saying to
-//! lengthen the contact time. The contact force jumps at first touch (the dashpot's
-//! c delta_dot), so a contact step in which the wing touches a stop is split at the touch,
-//! found on the step's cubic Hermite interpolant of the pitch: the strike is then resolved
-//! to the fourth order of the contact step, not the first. Away from the stops the
-//! sub-step is one Runge-Kutta step, as without stops.
+//! lengthen the contact time. The contact force is not smooth at two instants, and a
+//! Runge-Kutta step across either would lose its order there (measured before these
+//! splits: rebound errors of 1-5% of the strike speed, varying with where the steps fell):
+//! - at the touch it jumps (the dashpot's c delta_dot): a contact step that starts clear of
+//!   the stops is first taken as if there were none; if it ends in a stop, the touch is
+//!   found on that contact-free path (a guess on the step's cubic Hermite interpolant,
+//!   refined by Newton on the contact-free part's own Runge-Kutta step to round-off), the
+//!   wing is put exactly on the stop and the step finished with the contact on;
+//! - where the clamp takes over (k_c delta + c delta_dot falls through zero) its slope
+//!   jumps: a contact step across that instant is split there (regula falsi, Illinois).
+//! So a strike is resolved to the fourth order of the contact step whatever the sub-step:
+//! measured, the rebound speed ratio is within 4e-5 of e and changes by < 1e-5 between
+//! sub-steps of 1e-4 s and 3e-6 s. Away from the stops a sub-step is one Runge-Kutta step,
+//! as without stops.
 //!
 //! # What the tests check (`tests/hinge_stop.rs`)
 //! A wing without aerodynamics thrown at a stop rebounds with the stated e (speed) and e^2
@@ -141,7 +150,9 @@ impl StopContact {
     /// its rate and the wing's effective pitch inertia m.
     pub fn moment_nm(&self, dev_rad: f64, dev_rate_rad_s: f64, m_eff_kg_m2: f64) -> f64 {
         let (delta, s) = self.penetration(dev_rad);
-        if delta <= 0.0 {
+        // In contact from delta = 0 on: a wing exactly on the stop and moving in meets the
+        // dashpot at once (the integrator puts a touching wing there).
+        if delta < 0.0 {
             return 0.0;
         }
         let c = 2.0 * self.damping_ratio * (self.stiffness_nm_rad * m_eff_kg_m2).sqrt();
