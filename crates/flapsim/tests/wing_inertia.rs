@@ -14,8 +14,8 @@
 //!    (stroke spring, hinge spring, centre of mass behind the pitch axis, large motions)
 //!    keeps T + V to 1e-9 of itself.
 //! 2. A cyclic coordinate. With no stroke spring the stroke angle does not appear in the
-//!    Lagrangian, so its momentum p_phi = (J + J_a + B cos^2 theta) phi_dot
-//!    - C sin(theta) theta_dot is conserved (to 1e-9), while phi_dot itself swings as the
+//!    Lagrangian, so its momentum p_phi = (J + J_a + B cos^2 theta) phi_dot -
+//!    C sin(theta) theta_dot is conserved (to 1e-9), while phi_dot itself swings as the
 //!    wing pitches: this checks the B cos^2 theta and C sin theta terms and their sign
 //!    against each other.
 //! 3. The linearised forced response. With the stroke prescribed as a small sinusoid

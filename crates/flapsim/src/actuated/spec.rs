@@ -166,7 +166,7 @@ impl HingeSpec {
                     .within_open_low(&f(break_name), b, 0.0, 180.0)?
                     .to_radians();
                 if let Some(c) = &contact
-                    && !(b > c.angle_rad)
+                    && b <= c.angle_rad
                 {
                     return Err(v
                         .invalid(
