@@ -378,3 +378,98 @@ fn every_point_of_the_hummingbird_frequency_response_is_steady() {
         );
     }
 }
+
+fn load_err(text: &str) -> String {
+    Vehicle::from_toml(text, "m.toml").unwrap_err().to_string()
+}
+
+#[test]
+fn bad_stop_values_are_named_and_old_files_keep_their_meaning() {
+    let h = flapsim::HUMMINGBIRD_TOML;
+    let cases = [
+        (
+            h.replace("restitution = 0.0", "restitution = 1.5"),
+            "actuation.hinge.stop.restitution",
+            "1.5",
+            "[0, 1]",
+        ),
+        (
+            h.replace("restitution = 0.0", "restitution = -0.1"),
+            "actuation.hinge.stop.restitution",
+            "-0.1",
+            "[0, 1]",
+        ),
+        (
+            h.replace("contact_time_s = 2.0e-4", "stiffness_nm_rad = -2.0"),
+            "actuation.hinge.stop.stiffness_nm_rad",
+            "-2",
+            "> 0",
+        ),
+        (
+            h.replace("contact_time_s = 2.0e-4", "contact_time_s = -2.0e-4"),
+            "actuation.hinge.stop.contact_time_s",
+            "-0.0002",
+            "(0, 1]",
+        ),
+        (
+            h.replace("angle_deg = 45.0", "angle_deg = 200.0"),
+            "actuation.hinge.stop.angle_deg",
+            "200",
+            "(0, 179]",
+        ),
+        (
+            h.replace(
+                "contact_time_s = 2.0e-4",
+                "contact_time_s = 2.0e-4\nstiffness_nm_rad = 2.0",
+            ),
+            "actuation.hinge.stop.stiffness_nm_rad",
+            "both",
+            "one of the two",
+        ),
+        (
+            h.replace("rest_deg = 90.0 ", "break_deg = 30.0\nrest_deg = 90.0 "),
+            "actuation.hinge.break_deg",
+            "30",
+            "past the contact stops at 45",
+        ),
+        (
+            h.replace(
+                "rest_deg = 90.0 ",
+                "break_deg = 80.0\nstop_deg = 80.0\nrest_deg = 90.0 ",
+            ),
+            "actuation.hinge.stop_deg",
+            "both",
+            "older name",
+        ),
+        (
+            flapsim::ROBOBEE_TOML.replace("stiffness_nm_rad = 5.0e-6", "stiffness_nm_rad = 0.0"),
+            "actuation.hinge.stiffness_nm_rad",
+            "0",
+            "contact stops",
+        ),
+    ];
+    for (text, field, value, allowed) in cases {
+        let e = load_err(&text);
+        assert!(
+            e.contains("m.toml") && e.contains(field) && e.contains(value) && e.contains(allowed),
+            "{field}: {e}"
+        );
+    }
+    // An old file with only `stop_deg` (the RoboBee's flexure) loads with the meaning it had:
+    // a break limit at 85 deg, no contact stops.
+    let rb = Vehicle::from_toml(flapsim::ROBOBEE_TOML, "robobee").unwrap();
+    let hinge = rb.actuation.unwrap().dynamics.hinge;
+    assert!(flapsim::ROBOBEE_TOML.contains("stop_deg = 85.0"));
+    assert!((hinge.break_rad - 85f64.to_radians()).abs() < 1e-15);
+    assert!(hinge.contact.is_none());
+    // The hummingbird's stops: 45 deg, restitution 0 (realised 0.01), 0.2 ms contact, no
+    // break limit, no spring.
+    let hb = hummingbird().actuation.unwrap().dynamics;
+    let c = hb.hinge.contact.unwrap();
+    assert_eq!(hb.hinge.stiffness_nm_rad, 0.0);
+    assert!(hb.hinge.break_rad.is_infinite());
+    assert!((c.angle_rad - 45f64.to_radians()).abs() < 1e-15);
+    assert_eq!(c.restitution, 0.0);
+    let k = StopContact::stiffness_for_contact_time(hb.inertia.pitch_inertia_kg_m2, 2e-4);
+    assert!((c.stiffness_nm_rad / k - 1.0).abs() < 1e-15);
+}

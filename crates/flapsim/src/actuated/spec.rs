@@ -161,9 +161,9 @@ impl HingeSpec {
         };
         let break_rad = match break_deg {
             None => f64::INFINITY,
-            Some(b) => {
+            Some(b_deg) => {
                 let b = v
-                    .within_open_low(&f(break_name), b, 0.0, 180.0)?
+                    .within_open_low(&f(break_name), b_deg, 0.0, 180.0)?
                     .to_radians();
                 if let Some(c) = &contact
                     && b <= c.angle_rad
@@ -171,10 +171,10 @@ impl HingeSpec {
                     return Err(v
                         .invalid(
                             &f(break_name),
-                            b.to_degrees(),
+                            b_deg,
                             &format!(
                                 "an angle past the contact stops at {} deg (the wing strikes the stops before the hinge can break)",
-                                c.angle_rad.to_degrees()
+                                self.stop.as_ref().map_or(0.0, |s| s.angle_deg)
                             ),
                         )
                         .into());
