@@ -50,7 +50,8 @@ fn structural(com_chord_m: f64, stroke_damping: f64) -> WingDynamics {
             stiffness_nm_rad: 2.5e-6,
             damping_nm_s_rad: 0.0,
             rest_rad: 0.5 * PI,
-            stop_rad: 1.5,
+            break_rad: 1.5,
+            contact: None,
         },
         stroke: Stroke::Driven {
             actuator: Actuator::Piezo(robobee_piezo()),
@@ -160,7 +161,7 @@ fn coupled_stroke_and_pitch_conserve_energy() {
     // any of them would pump or drain energy. Large amplitudes, 100 stroke periods.
     let mut model = structural(-0.3e-3, 0.0);
     // No stops in the way: this is about the equations, not the hinge's travel.
-    model.hinge.stop_rad = 3.0;
+    model.hinge.break_rad = 3.0;
     let f = model.stroke_natural_freq_hz();
     let start = WingState {
         phi_rad: 0.5,
@@ -288,7 +289,8 @@ fn dc_motor_stall_torque_and_no_load_speed_are_analytic() {
             stiffness_nm_rad: 1e-3,
             damping_nm_s_rad: 0.0,
             rest_rad: 0.5 * PI,
-            stop_rad: 1.0,
+            break_rad: 1.0,
+            contact: None,
         },
         stroke: Stroke::Driven {
             actuator: Actuator::DcMotor(m),
@@ -364,7 +366,8 @@ fn a_stiff_hinge_reproduces_the_prescribed_kinematics_forces() {
             stiffness_nm_rad: k_h,
             damping_nm_s_rad: 2.0 * (k_h * b).sqrt(),
             rest_rad: 60f64.to_radians(),
-            stop_rad: 1.0,
+            break_rad: 1.0,
+            contact: None,
         },
         stroke: Stroke::Prescribed(kin),
         substeps: 8,

@@ -61,43 +61,61 @@ fn the_actuated_robobee_trims_on_its_drive() {
 
 #[test]
 fn averaged_and_floquet_modes_of_the_actuated_vehicles_agree() {
-    // (model, allowed ratio between the Floquet and averaged unstable pair's growth rate and
-    // frequency). The hummingbird's slowest wing mode decays at 80 1/s against body modes
-    // of 1-5 1/s: the averaged model holds to a few percent (measured 2%; bound 5%). The
-    // RoboBee's wing modes (65, 116 1/s) sit closer to its body modes (5-17 1/s): measured
-    // 26% and 44%, bound a factor 1.6.
-    for (name, bound) in [("hummingbird", 1.05), ("robobee, identified hinge", 1.6)] {
-        let v = vehicle(name);
-        let r = analyze(&v, true).unwrap();
-        let modes = &r.longitudinal_modes;
-        let osc: Vec<_> = modes
-            .iter()
-            .filter(|m| m.kind == ModeKind::Oscillatory)
-            .collect();
-        let real: Vec<_> = modes.iter().filter(|m| m.kind == ModeKind::Real).collect();
-        assert_eq!(osc.len(), 1, "{name}: {modes:#?}");
-        assert!(!osc[0].stable);
-        assert_eq!(real.len(), 2, "{name}: {modes:#?}");
-        assert!(real.iter().all(|m| m.stable));
-        // Floquet: 4 body and 4 wing multipliers; the leading pair is the unstable
-        // oscillation, every other one decays.
-        let f = &r.floquet_longitudinal;
-        assert_eq!(f.len(), 8);
-        assert!(
-            f[0].exponent.0 > 0.0 && f[0].exponent.1.abs() > 0.0,
-            "{f:?}"
-        );
-        assert!(f[2..].iter().all(|m| m.exponent.0 < 0.0), "{f:?}");
-        let ratio = |a: f64, b: f64| (a / b).abs().max((b / a).abs());
-        assert!(
-            ratio(f[0].exponent.0, osc[0].re_per_s) < bound
-                && ratio(f[0].exponent.1, osc[0].im_rad_s) < bound,
-            "{name}: Floquet {:?} vs averaged {} +- {} i",
-            f[0].exponent,
-            osc[0].re_per_s,
-            osc[0].im_rad_s
-        );
-    }
+    // The RoboBee (identified hinge): the averaged model's unstable oscillation and the
+    // Floquet analysis's leading pair agree within a factor 1.6 in growth rate and frequency
+    // (its wing modes sit close to its body modes, so the averaged model's assumption that
+    // the wings settle at once holds only roughly).
+    let name = "robobee, identified hinge";
+    let r = analyze(&vehicle(name), true).unwrap();
+    let osc = insect_like_averaged_modes(name, &r);
+    let f = &r.floquet_longitudinal;
+    assert_eq!(f.len(), 8);
+    assert!(
+        f[0].exponent.0 > 0.0 && f[0].exponent.1.abs() > 0.0,
+        "{f:?}"
+    );
+    assert!(f[2..].iter().all(|m| m.exponent.0 < 0.0), "{f:?}");
+    let ratio = |a: f64, b: f64| (a / b).abs().max((b / a).abs());
+    assert!(
+        ratio(f[0].exponent.0, osc.0) < 1.6 && ratio(f[0].exponent.1, osc.1) < 1.6,
+        "{name}: Floquet {:?} vs averaged {osc:?}",
+        f[0].exponent,
+    );
+
+    // The hummingbird, its wing free between inelastic stops (flappy's): the averaged model
+    // keeps the insect structure (an unstable oscillation, 1.47 +- 4.57i 1/s measured), but
+    // the Floquet analysis of the full system, whose wing strikes its stops every half
+    // stroke, finds one real unstable exponent (+2.16 1/s) and a stable oscillatory pair
+    // (-2.65 +- 2.67i 1/s). Both say unstable at a similar rate (within a factor 1.6); they
+    // no longer agree on the mode's shape, which stays open in issue #24 (with the spring
+    // hinge the model had before, they agreed to 2%).
+    let name = "hummingbird";
+    let r = analyze(&vehicle(name), true).unwrap();
+    let osc = insect_like_averaged_modes(name, &r);
+    let f = &r.floquet_longitudinal;
+    assert_eq!(f.len(), 8);
+    let unstable: Vec<_> = f.iter().filter(|m| m.exponent.0 > 0.0).collect();
+    assert_eq!(unstable.len(), 1, "{f:?}");
+    assert!(
+        ratio(unstable[0].exponent.0, osc.0) < 1.6,
+        "{name}: Floquet {f:?} vs averaged {osc:?}"
+    );
+}
+
+/// The averaged longitudinal modes of an insect's hover (Sun & Xiong 2005): one unstable
+/// oscillation and two stable subsidences; returns the oscillation's (growth, frequency).
+fn insect_like_averaged_modes(name: &str, r: &flapsim::stability::StabilityReport) -> (f64, f64) {
+    let modes = &r.longitudinal_modes;
+    let osc: Vec<_> = modes
+        .iter()
+        .filter(|m| m.kind == ModeKind::Oscillatory)
+        .collect();
+    let real: Vec<_> = modes.iter().filter(|m| m.kind == ModeKind::Real).collect();
+    assert_eq!(osc.len(), 1, "{name}: {modes:#?}");
+    assert!(!osc[0].stable);
+    assert_eq!(real.len(), 2, "{name}: {modes:#?}");
+    assert!(real.iter().all(|m| m.stable));
+    (osc[0].re_per_s, osc[0].im_rad_s)
 }
 
 #[test]

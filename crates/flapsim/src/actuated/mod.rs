@@ -7,6 +7,8 @@
 //! - [`drive`]: the periodic drive voltage;
 //! - [`dynamics`]: the wing's two-degree-of-freedom equations and their sub-stepped
 //!   integrator (the module doc states both);
+//! - [`stop`]: hinge stops as a stiff unilateral contact with damping (the module doc
+//!   derives the contact law and its restitution);
 //! - [`spec`]: the `[actuation]` section of a vehicle model file;
 //! - [`periodic`]: the wings run into their periodic motion at a frozen body state (what
 //!   trim, the averaged model and a hover start need);
@@ -28,6 +30,7 @@ pub mod motion;
 pub mod periodic;
 pub mod response;
 pub mod spec;
+pub mod stop;
 
 pub use actuator::{Actuator, ActuatorState, DcMotor, Piezo, Reflected};
 pub use drive::Drive;
@@ -40,4 +43,5 @@ pub use response::{
     FrequencyResponse, ResponseOptions, ResponsePoint, TetheredRun, frequency_response,
     run_tethered,
 };
-pub use spec::{Actuation, ActuationSpec};
+pub use spec::{Actuation, ActuationSpec, StopSpec};
+pub use stop::StopContact;

@@ -9,6 +9,7 @@ use wingforce::Validator;
 use super::actuator::{Actuator, DcMotor, Piezo};
 use super::drive::Drive;
 use super::dynamics::{Hinge, Stroke, WingDynamics, WingInertia};
+use super::stop::StopContact;
 use crate::error::Result;
 
 /// `[actuation.wing_inertia]`.
@@ -27,28 +28,168 @@ pub struct WingInertiaSpec {
     pub com_chord_m: f64,
 }
 
-/// `[actuation.hinge]`.
+/// `[actuation.hinge]`: the passive pitch hinge.
+///
+/// A flexure hinge (the RoboBee's) is a torsional spring that breaks past a limit:
+/// `stiffness_nm_rad`, `damping_nm_s_rad`, `rest_deg` and `break_deg` (its older name
+/// `stop_deg` keeps its meaning: past it a run ends with an error). A hinge with mechanical
+/// stops (the Purdue hummingbird robot's) adds `[actuation.hinge.stop]` ([`StopSpec`]): the
+/// wing strikes the stops as a stiff unilateral contact (see [`super::stop`]); its spring
+/// may then be zero, and it has no break limit unless `break_deg` gives one.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HingeSpec {
-    /// Torsional stiffness, N m/rad.
+    /// Torsional stiffness, N m/rad (0 only with contact stops: a free wing between them).
     pub stiffness_nm_rad: f64,
     /// Torsional damping, N m s/rad.
     #[serde(default)]
     pub damping_nm_s_rad: f64,
-    /// Rest pitch angle theta_r, deg (90: wing normal to the stroke plane).
+    /// Rest pitch angle theta_r, deg (90: wing normal to the stroke plane); the stops sit
+    /// symmetrically about it.
     #[serde(default = "default_rest_deg")]
     pub rest_deg: f64,
-    /// Hinge stops: |theta - theta_r| past this ends a run with an error, deg.
-    #[serde(default = "default_stop_deg")]
-    pub stop_deg: f64,
+    /// Where the hinge breaks: |theta - theta_r| past this ends a run with an error, deg.
+    /// Default: 85 without contact stops, none with them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub break_deg: Option<f64>,
+    /// The older name of `break_deg`, with the same meaning (give at most one of the two).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop_deg: Option<f64>,
+    /// `[actuation.hinge.stop]`: mechanical stops the wing strikes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop: Option<StopSpec>,
+}
+
+/// `[actuation.hinge.stop]`: hinge stops as a stiff unilateral contact with damping
+/// ([`super::stop`]), symmetric about the hinge's rest angle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StopSpec {
+    /// Angle from the rest angle where the wing touches a stop, both ways, deg.
+    pub angle_deg: f64,
+    /// Coefficient of restitution of a strike, in [0, 1] (below 0.01 realised as 0.01).
+    pub restitution: f64,
+    /// Contact time t_c, s: the contact stiffness is B (pi / t_c)^2 with B the wing's pitch
+    /// inertia. A numerical parameter, not physics: short against the wingbeat. Give this or
+    /// `stiffness_nm_rad`; default: 1/100 of the drive period.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_time_s: Option<f64>,
+    /// Contact stiffness, N m/rad, instead of `contact_time_s`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness_nm_rad: Option<f64>,
 }
 
 fn default_rest_deg() -> f64 {
     90.0
 }
-fn default_stop_deg() -> f64 {
-    85.0
+
+/// The break limit of a hinge without contact stops when the file gives none, deg.
+const DEFAULT_BREAK_DEG: f64 = 85.0;
+
+impl HingeSpec {
+    /// Validates the hinge (`field`: its dotted path; `drive_freq_hz` sets the default
+    /// contact time).
+    fn build(
+        &self,
+        v: &Validator<'_>,
+        field: &str,
+        pitch_inertia_kg_m2: f64,
+        drive_freq_hz: f64,
+    ) -> Result<Hinge> {
+        let f = |name: &str| format!("{field}.{name}");
+        let rest_rad = v
+            .within(&f("rest_deg"), self.rest_deg, 0.0, 180.0)?
+            .to_radians();
+        let damping = v.non_negative(&f("damping_nm_s_rad"), self.damping_nm_s_rad)?;
+        let contact = match &self.stop {
+            None => None,
+            Some(s) => {
+                let g = |name: &str| f(&format!("stop.{name}"));
+                let angle = v
+                    .within_open_low(&g("angle_deg"), s.angle_deg, 0.0, 179.0)?
+                    .to_radians();
+                let e = v.within(&g("restitution"), s.restitution, 0.0, 1.0)?;
+                let k = match (s.contact_time_s, s.stiffness_nm_rad) {
+                    (Some(_), Some(_)) => {
+                        return Err(v
+                            .invalid(
+                                &g("stiffness_nm_rad"),
+                                "both contact_time_s and stiffness_nm_rad",
+                                "one of the two (the stiffness follows from the contact time)",
+                            )
+                            .into());
+                    }
+                    (None, Some(k)) => v.positive(&g("stiffness_nm_rad"), k)?,
+                    (t, None) => {
+                        let t = match t {
+                            Some(t) => v.within_open_low(&g("contact_time_s"), t, 0.0, 1.0)?,
+                            None => 0.01 / drive_freq_hz,
+                        };
+                        StopContact::stiffness_for_contact_time(pitch_inertia_kg_m2, t)
+                    }
+                };
+                Some(StopContact::new(angle, e, k))
+            }
+        };
+        let stiffness = if contact.is_some() {
+            v.non_negative(&f("stiffness_nm_rad"), self.stiffness_nm_rad)?
+        } else {
+            if self.stiffness_nm_rad == 0.0 {
+                return Err(v
+                    .invalid(
+                        &f("stiffness_nm_rad"),
+                        self.stiffness_nm_rad,
+                        "a finite number > 0, or 0 with contact stops ([actuation.hinge.stop]) to hold the wing",
+                    )
+                    .into());
+            }
+            v.positive(&f("stiffness_nm_rad"), self.stiffness_nm_rad)?
+        };
+        let (break_name, break_deg) = match (self.break_deg, self.stop_deg) {
+            (Some(_), Some(_)) => {
+                return Err(v
+                    .invalid(
+                        &f("stop_deg"),
+                        "both break_deg and stop_deg",
+                        "one of the two (stop_deg is the older name of break_deg)",
+                    )
+                    .into());
+            }
+            (Some(b), None) => ("break_deg", Some(b)),
+            (None, Some(b)) => ("stop_deg", Some(b)),
+            (None, None) => ("break_deg", contact.is_none().then_some(DEFAULT_BREAK_DEG)),
+        };
+        let break_rad = match break_deg {
+            None => f64::INFINITY,
+            Some(b_deg) => {
+                let b = v
+                    .within_open_low(&f(break_name), b_deg, 0.0, 180.0)?
+                    .to_radians();
+                if let Some(c) = &contact
+                    && b <= c.angle_rad
+                {
+                    return Err(v
+                        .invalid(
+                            &f(break_name),
+                            b_deg,
+                            &format!(
+                                "an angle past the contact stops at {} deg (the wing strikes the stops before the hinge can break)",
+                                self.stop.as_ref().map_or(0.0, |s| s.angle_deg)
+                            ),
+                        )
+                        .into());
+                }
+                b
+            }
+        };
+        Ok(Hinge {
+            stiffness_nm_rad: stiffness,
+            damping_nm_s_rad: damping,
+            rest_rad,
+            break_rad,
+            contact,
+        })
+    }
 }
 
 /// `[actuation.stroke]`.
@@ -204,17 +345,12 @@ impl ActuationSpec {
                 )
                 .into());
         }
-        let h = &self.hinge;
-        let hinge = Hinge {
-            stiffness_nm_rad: v.positive(&f("hinge.stiffness_nm_rad"), h.stiffness_nm_rad)?,
-            damping_nm_s_rad: v.non_negative(&f("hinge.damping_nm_s_rad"), h.damping_nm_s_rad)?,
-            rest_rad: v
-                .within(&f("hinge.rest_deg"), h.rest_deg, 0.0, 180.0)?
-                .to_radians(),
-            stop_rad: v
-                .within_open_low(&f("hinge.stop_deg"), h.stop_deg, 0.0, 180.0)?
-                .to_radians(),
-        };
+        let hinge = self.hinge.build(
+            v,
+            &f("hinge"),
+            inertia.pitch_inertia_kg_m2,
+            self.drive.freq_hz,
+        )?;
         let actuator = match (&self.piezo, &self.dc_motor) {
             (Some(p), None) => {
                 let g = |n: &str| f(&format!("piezo.{n}"));
