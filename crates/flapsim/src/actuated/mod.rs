@@ -21,6 +21,7 @@
 //! measured stroke reference).
 
 pub mod actuator;
+mod contact;
 pub mod drive;
 pub mod dynamics;
 pub mod periodic;
