@@ -356,9 +356,11 @@ fn the_hummingbird_flapping_does_not_depend_on_the_step() {
 fn every_point_of_the_hummingbird_frequency_response_is_steady() {
     // `flapwing frequency-response --model hummingbird` sweeps 21 frequencies from 0.5 to
     // 1.5 times the stroke's natural frequency. With the invented 1e-3 N m/rad hinge spring
-    // and the 85 deg failure limit 5 of the 21 ended with "no steady response" (issue 24);
-    // with the stops every point is steady and the pitch amplitude is the stops' 45 deg
-    // (plus the contact's penetration, under 0.5 deg).
+    // and the 85 deg failure limit 5 of the 21 ended with "no steady response" (issue 24,
+    // with eq 7-8's added mass; with the impulse form all 21 were steady but the pitch swung
+    // 26-79 deg, past the robot's 45 deg stops). With the stops every point is steady and
+    // the pitch amplitude is the stops' 45 deg plus the contact's penetration (measured
+    // 0.06-0.17 deg; bound 0.5 deg).
     let v = hummingbird();
     let act = v.actuation.as_ref().unwrap();
     let fn_hz = act.dynamics.stroke_natural_freq_hz();

@@ -24,6 +24,7 @@
 //! measured stroke reference).
 
 pub mod actuator;
+mod contact;
 pub mod drive;
 pub mod dynamics;
 pub mod motion;

@@ -1,0 +1,124 @@
+//! The integrator's contact steps near and in the hinge stops (the law is [`super::stop`],
+//! which also states how the steps are chosen and split): the part of
+//! [`DynamicWing`]'s sub-step that only a hinge with stops takes.
+
+use super::dynamics::{DynamicWing, Held};
+use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root};
+use crate::error::{Error, Result};
+
+impl DynamicWing {
+    /// Advances the structure over one sub-step of length `h` with the loads held: one
+    /// Runge-Kutta step away from the stops; near or in a stop, contact steps short enough
+    /// for the contact, each split where the wing touches a stop (see [`super::stop`]).
+    pub(super) fn advance(
+        &self,
+        t0: f64,
+        y0: &[f64; 4],
+        h: f64,
+        held: &Held,
+        k1a: [f64; 2],
+    ) -> Result<[f64; 4]> {
+        let (y, stages) = self.rk4(t0, y0, h, held, Some(k1a));
+        let Some(stop) = self.model().hinge.contact else {
+            return Ok(y);
+        };
+        let rest = self.model().hinge.rest_rad;
+        // Clear of the stops: even at its rate the pitch cannot reach one within h.
+        let clear = |y: &[f64; 4]| stop.angle_rad - (y[1] - rest).abs() - y[3].abs() * h > 0.0;
+        if clear(y0) && clear(&y) && stages.iter().all(clear) {
+            return Ok(y);
+        }
+        let m_eff = self.pitch_inertia_effective(&self.mass_matrix(y0[1], &held.added));
+        let n = (h / stop.max_step_s(m_eff)).ceil().max(1.0);
+        if n.is_nan() || n > MAX_CONTACT_STEPS as f64 {
+            return Err(Error::Analysis(format!(
+                "the hinge stops' contact (stiffness {:e} N m/rad, damping ratio {:.2}, effective pitch inertia {:e} kg m^2) needs {n:.0} contact steps in a sub-step of {:e} s, more than {MAX_CONTACT_STEPS}: lengthen [actuation.hinge.stop] contact_time_s (or lower its stiffness_nm_rad), or shorten the step",
+                stop.stiffness_nm_rad, stop.damping_ratio, m_eff, h
+            )));
+        }
+        let n = n as usize;
+        let hc = h / n as f64;
+        let mut y = *y0;
+        let free = Held {
+            free: true,
+            ..*held
+        };
+        for k in 0..n {
+            let t = t0 + k as f64 * hc;
+            if stop.penetration(y[1] - rest).0 >= 0.0 {
+                // In a stop: the contact force is continuous until the wing leaves, but its
+                // slope jumps where the clamp takes over (k_c delta + c delta_dot falls
+                // through zero): split the step there too, found by regula falsi
+                // (Illinois) on the contact's own Runge-Kutta steps.
+                let y1 = self.rk4(t, &y, hc, held, None).0;
+                let push = |y: &[f64; 4]| self.stop_push(&stop, y, held);
+                let (p0, p1) = (push(&y), push(&y1));
+                if !(p0 > 0.0 && p1 <= 0.0) {
+                    y = y1;
+                    continue;
+                }
+                let (mut lo, mut hi, mut plo, mut phi) = (0.0, hc, p0, p1);
+                let (mut tau, mut ya) = (hc, y1);
+                for _ in 0..40 {
+                    tau = lo + (hi - lo) * plo / (plo - phi);
+                    ya = self.rk4(t, &y, tau, held, None).0;
+                    let pa = push(&ya);
+                    if pa.abs() <= 1e-13 * p0 || hi - lo <= 1e-13 * hc {
+                        break;
+                    }
+                    if pa > 0.0 {
+                        lo = tau;
+                        plo = pa;
+                        phi *= 0.5;
+                    } else {
+                        hi = tau;
+                        phi = pa;
+                        plo *= 0.5;
+                    }
+                }
+                y = self.rk4(t + tau, &ya, hc - tau, held, None).0;
+                continue;
+            }
+            // Out of the stops: the step as if there were none. If that ends in a stop, the
+            // wing touched it within the step, where the contact force jumps (the dashpot):
+            // find the touch on the contact-free path, a first guess on the step's cubic
+            // Hermite interpolant refined by Newton on the contact-free part's own
+            // Runge-Kutta step (to round-off), put the wing exactly on the stop and finish
+            // the step with the contact on from its first stage.
+            let yf = self.rk4(t, &y, hc, &free, None).0;
+            if stop.penetration(yf[1] - rest).0 < 0.0 {
+                y = yf;
+                continue;
+            }
+            let s = (yf[1] - rest).signum();
+            let g = |y: &[f64; 4]| s * (y[1] - rest) - stop.angle_rad;
+            let mut f = hermite_root(g(&y), s * y[3], g(&yf), s * yf[3], hc);
+            let mut ya = self.rk4(t, &y, f * hc, &free, None).0;
+            for _ in 0..6 {
+                let (ga, rate) = (g(&ya), s * ya[3]);
+                if rate.is_nan() || rate <= 0.0 || ga.abs() <= 1e-15 * stop.angle_rad {
+                    break;
+                }
+                let next = (f - ga / (rate * hc)).clamp(0.0, 1.0);
+                if next == f {
+                    break;
+                }
+                f = next;
+                ya = self.rk4(t, &y, f * hc, &free, None).0;
+            }
+            ya[1] = rest + s * stop.angle_rad;
+            y = self.rk4(t + f * hc, &ya, (1.0 - f) * hc, held, None).0;
+        }
+        Ok(y)
+    }
+
+    /// The nearer stop's unclamped push k_c delta + c delta_dot at state `y` (positive: the
+    /// stop pushes the wing out), N m.
+    fn stop_push(&self, stop: &StopContact, y: &[f64; 4], held: &Held) -> f64 {
+        let dev = y[1] - self.model().hinge.rest_rad;
+        let (delta, s) = stop.penetration(dev);
+        let m_eff = self.pitch_inertia_effective(&self.mass_matrix(y[1], &held.added));
+        let c = 2.0 * stop.damping_ratio * (stop.stiffness_nm_rad * m_eff).sqrt();
+        stop.stiffness_nm_rad * delta + c * s * y[3]
+    }
+}
