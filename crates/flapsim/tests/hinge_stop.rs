@@ -444,7 +444,7 @@ fn bad_stop_values_are_named_and_old_files_keep_their_meaning() {
             "older name",
         ),
         (
-            flapsim::ROBOBEE_TOML.replace("stiffness_nm_rad = 5.0e-6", "stiffness_nm_rad = 0.0"),
+            flapsim::ROBOBEE_TOML.replace("stiffness_nm_rad = 7.5e-6", "stiffness_nm_rad = 0.0"),
             "actuation.hinge.stiffness_nm_rad",
             "0",
             "contact stops",
