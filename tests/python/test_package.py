@@ -70,7 +70,7 @@ def test_wing_terms_sum_to_total_and_match_model_md():
     assert w.reynolds == pytest.approx(1360.0)  # Table 5, run V3
     # The robofly reproduces the paper's BET, so its added mass is the paper's eq 7-8.
     assert w.added_mass_form == "paper"
-    assert flapwing.Vehicle("drosophila").added_mass_form == "paper"  # the default, for now
+    assert flapwing.Vehicle("drosophila").added_mass_form == "impulse"  # the default
 
 
 def test_whole_cycle_in_one_call_matches_single_evaluations():
@@ -140,13 +140,13 @@ def test_errors_are_python_exceptions_with_flapwing_messages(tmp_path):
 
 
 def test_tethered_cycle_means_match_the_cli():
-    # README, `flapwing simulate --tethered --duration-s 0.05`: mean lift/weight 1.0084 over
+    # README, `flapwing simulate --tethered --duration-s 0.05`: mean lift/weight 0.8802 over
     # the complete wingbeats of 1090 steps.
     sim = flapwing.Simulation("drosophila", "tethered")
     tr = sim.run(1090)
     assert tr["force_n"].shape == (1090, 3)
     assert tr["term_force_n"].shape == (1090, 4, 3)
-    assert sim.summary()["mean_lift_over_weight"] == pytest.approx(1.0084, abs=1e-4)
+    assert sim.summary()["mean_lift_over_weight"] == pytest.approx(0.8802, abs=1e-4)
     np.testing.assert_allclose(tr["term_force_n"].sum(axis=1) + 0.0, tr["force_n"] - 0.0,
                                rtol=1e-9, atol=1e-18)
 
@@ -188,9 +188,9 @@ def test_free_fall_with_controls_and_state():
 def test_trim_stability_and_lqr():
     v = flapwing.Vehicle("drosophila")
     t = v.trim()
-    # README: trim body pitch 45.00 deg, stroke amplitude 139.502 deg (-0.498 offset).
+    # README: trim body pitch 45.00 deg, stroke amplitude 147.115 deg (+7.115 offset).
     assert math.degrees(t["pitch_rad"]) == pytest.approx(45.0, abs=0.01)
-    assert math.degrees(t["controls"]["amplitude_rad"]) == pytest.approx(-0.4977, abs=1e-3)
+    assert math.degrees(t["controls"]["amplitude_rad"]) == pytest.approx(7.1151, abs=1e-3)
     r = v.stability(floquet=False)
     a = r["a_longitudinal"]
     assert a.shape == (len(r["longitudinal_states"]),) * 2
