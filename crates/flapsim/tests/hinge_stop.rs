@@ -449,6 +449,16 @@ fn bad_stop_values_are_named_and_old_files_keep_their_meaning() {
             "0",
             "contact stops",
         ),
+        (
+            // Issue #24: a negative wing inertia.
+            flapsim::ROBOBEE_TOML.replace(
+                "pitch_inertia_kg_m2 = 2.33e-12",
+                "pitch_inertia_kg_m2 = -2.33e-12",
+            ),
+            "actuation.wing_inertia.pitch_inertia_kg_m2",
+            "-0.00000000000233",
+            "a finite number > 0",
+        ),
     ];
     for (text, field, value, allowed) in cases {
         let e = load_err(&text);
