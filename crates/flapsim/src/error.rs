@@ -16,6 +16,10 @@ pub enum Error {
         /// What went wrong, in words.
         reason: String,
     },
+    /// A host gave the wing set something it cannot use (no wings, two wings at one place,
+    /// a non-finite body state, ...), in words naming the value and what is allowed.
+    #[error("{0}")]
+    Input(String),
     /// An analysis (trim, stability) could not find what it looked for.
     #[error("{0}")]
     Analysis(String),

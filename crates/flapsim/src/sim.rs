@@ -1,24 +1,26 @@
-//! The vehicle as a rapier3d-f64 rigid body fed wing forces every step.
+//! flapwing's own host of the wing set: one vehicle as a rapier3d-f64 rigid body in a
+//! private world.
 //!
-//! Each step at time t_k: both wings' forces are evaluated from their kinematics at the
-//! wingbeat phase of t_k and the body's air-relative linear and angular velocity at t_k;
-//! their sum (force and moment about the centre of mass) replaces the body's user force and
-//! torque (rapier keeps user forces until reset) and rapier advances the body by dt.
-//! [`StepOutput`] pairs the state at t_k with the loads applied over [t_k, t_k + dt].
+//! Each step at time t_k: the [`WingSet`] returns the loads over [t_k, t_k + dt] from the
+//! body's state at t_k (see [`crate::wings`]); their sum (force and moment about the centre
+//! of mass) replaces the body's user force and torque (rapier keeps user forces until reset)
+//! and rapier advances the body by dt. [`StepOutput`] pairs the state at t_k with the loads
+//! applied over [t_k, t_k + dt].
 
 use nalgebra::{UnitQuaternion, Vector3};
 use rapier3d_f64::na::Unit;
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
-use wingforce::{BodyMotion, KinematicLoads, Term, Wing, WingForces};
+use wingforce::WingForces;
 
-use crate::actuated::{ActuatedWingOutput, DynamicWing};
+use crate::actuated::ActuatedWingOutput;
 use crate::error::{Error, Result};
 use crate::frames::{from_glam, quat_from_glam, quat_to_glam, to_glam};
 use crate::model::{Controls, Vehicle};
+pub use crate::wings::{BodyLoad, State};
+use crate::wings::{WingSet, WingSetOutput};
 
 mod actuated;
-use actuated::actuated_loads_into;
 
 /// Which degrees of freedom the body has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -42,43 +44,6 @@ impl Mode {
         translations: [true, false, true],
         rotations: [false, true, false],
     };
-}
-
-/// Force and moment about the centre of mass, body frame.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct BodyLoad {
-    /// Force, body frame, N.
-    pub force_n: Vector3<f64>,
-    /// Moment about the centre of mass, body frame, N m.
-    pub moment_nm: Vector3<f64>,
-}
-
-impl BodyLoad {
-    pub(crate) fn add(&mut self, f: Vector3<f64>, m: Vector3<f64>) {
-        self.force_n += f;
-        self.moment_nm += m;
-    }
-}
-
-/// The body's state.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct State {
-    /// Position of the centre of mass, world (z up), m.
-    pub position_m: Vector3<f64>,
-    /// Attitude: world_from_body.
-    pub world_from_body: UnitQuaternion<f64>,
-    /// Velocity of the centre of mass, world frame, m/s.
-    pub velocity_m_s: Vector3<f64>,
-    /// Angular velocity, body frame, rad/s.
-    pub angular_velocity_body_rad_s: Vector3<f64>,
-}
-
-impl State {
-    /// Roll, pitch (positive nose up) and yaw, rad.
-    pub fn euler_rad(&self) -> (f64, f64, f64) {
-        let (r, p, y) = self.world_from_body.euler_angles();
-        (r, -p, y)
-    }
 }
 
 /// What one step computed.
@@ -106,10 +71,26 @@ pub struct StepOutput {
     pub actuated: Option<[ActuatedWingOutput; 2]>,
 }
 
-/// Longest wingbeat, in steps, whose kinematic loads are kept (about 1 KB per step).
-const MAX_TABLE_STEPS: u64 = 4096;
-
 impl StepOutput {
+    /// The first two wings' results of a wing-set step, with the body's state at t_k.
+    fn fill(&mut self, o: &WingSetOutput, state: &State) {
+        self.step = o.step;
+        self.t_s = o.t_s;
+        self.phase = o.phase;
+        self.state = *state;
+        for (w, f) in self.wings.iter_mut().zip(&o.wings) {
+            *w = *f;
+        }
+        self.terms = o.terms;
+        self.wing_inertia = o.wing_inertia;
+        self.total = o.total;
+        self.controls = o.controls;
+        self.actuated = match o.actuated.as_slice() {
+            [l, r, ..] => Some([*l, *r]),
+            _ => None,
+        };
+    }
+
     /// All zeros, at rest, at t = 0.
     fn empty() -> Self {
         let wing = WingForces {
@@ -145,41 +126,15 @@ impl StepOutput {
 /// A simulation of one vehicle. Drive it step by step ([`Simulation::step`]) or run it for a
 /// duration ([`Simulation::run_for`]).
 pub struct Simulation {
+    /// The model as loaded (the wing set holds the one with the controls in force).
     vehicle: Vehicle,
     mode: Mode,
     world: PhysicsWorld,
     body: RigidBodyHandle,
-    dt_s: f64,
-    step: u64,
-    /// Phase at `base_step` and the phase advance per step since then.
-    base_phase: f64,
-    base_step: u64,
-    phase_per_step: f64,
-    /// Steps per wingbeat at the frequency the step was sized for.
-    steps_per_wingbeat: u64,
-    /// The wingbeat frequency is still the one the step was sized for, so the kinematics
-    /// repeat exactly every `steps_per_wingbeat` steps (see [`Simulation::phase`]).
-    periodic: bool,
-    /// Both wings' [`KinematicLoads`] at each step of the wingbeat (periodic runs only),
-    /// computed the first time the step comes round and reused every wingbeat after until
-    /// the controls change. An entry holds for the controls of generation `table_gen` only
-    /// (so that a control change needs no clearing).
-    phase_table: Vec<Option<(u64, [KinematicLoads; 2])>>,
-    table_gen: u64,
-    /// The wingbeat frequency the step was sized for, Hz.
-    sized_for_hz: f64,
+    /// The wings: the force element this host steps.
+    wings: WingSet,
     /// What the last step computed (boxed so that it moves cheaply).
     out: Option<Box<StepOutput>>,
-    pending: Option<Controls>,
-    /// Wingbeat index of the last step taken.
-    last_cycle: i64,
-    wind_world_m_s: Vector3<f64>,
-    /// Centroid radius of each wing (for wing inertia), m.
-    wing_centroid_r_m: f64,
-    /// Wings held still: no aerodynamic or wing-inertia loads (free fall, tests).
-    wings_still: bool,
-    /// The wings' dynamics of an actuated vehicle (left, right).
-    dynamic: Option<Box<[DynamicWing; 2]>>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -187,8 +142,8 @@ impl std::fmt::Debug for Simulation {
         f.debug_struct("Simulation")
             .field("vehicle", &self.vehicle.name)
             .field("mode", &self.mode)
-            .field("dt_s", &self.dt_s)
-            .field("step", &self.step)
+            .field("dt_s", &self.dt_s())
+            .field("step", &self.steps())
             .finish_non_exhaustive()
     }
 }
@@ -197,14 +152,17 @@ impl Simulation {
     /// A simulation of `vehicle` in `mode`, starting from the vehicle's initial state at t = 0
     /// (an actuated vehicle's wings at rest at their springs' rest angles).
     pub fn new(vehicle: Vehicle, mode: Mode) -> Self {
-        let dynamic = vehicle.actuation.as_ref().map(|a| {
-            Box::new([0, 1].map(|i| {
-                DynamicWing::new(a.dynamics.clone(), a.drives[i]).expect(
-                    "drives were checked against the voltage limit when the model was built",
-                )
-            }))
-        });
-        let dt_s = 1.0 / (vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64);
+        // A built vehicle's drives were checked against the voltage limit and its two wings
+        // are on opposite sides: the wing set accepts every vehicle `Vehicle::from_toml` built.
+        Self::try_new(vehicle, mode)
+            .expect("a vehicle that was built checks out as a wing set (model.rs checks)")
+    }
+
+    /// [`Simulation::new`], with the wing set's objections (a vehicle assembled by hand with
+    /// a bad drive) as an error.
+    pub fn try_new(vehicle: Vehicle, mode: Mode) -> Result<Self> {
+        let wings = WingSet::from_vehicle_sized(&vehicle)?;
+        let dt_s = wings.dt_s();
         let mut world = PhysicsWorld::new();
         world.gravity = Vector::new(0.0, 0.0, -vehicle.gravity_m_s2);
         world.integration_parameters.dt = dt_s;
@@ -262,33 +220,13 @@ impl Simulation {
                 Some(body),
             );
         }
-        let g = vehicle.wings[0].geometry();
-        let wing_centroid_r_m = g.strips.iter().map(|s| s.area_m2 * s.r_m).sum::<f64>() / g.area_m2;
-        let steps_per_wingbeat = vehicle.sim.steps_per_wingbeat as u64;
-        let vehicle_freq_hz = vehicle.freq_hz();
-        let controls = vehicle.controls;
         let mut sim = Self {
             vehicle,
             mode,
             world,
             body,
-            dt_s,
-            step: 0,
-            base_phase: 0.0,
-            base_step: 0,
-            phase_per_step: 1.0 / steps_per_wingbeat as f64,
-            steps_per_wingbeat,
-            periodic: true,
-            phase_table: Vec::new(),
-            table_gen: 0,
-            sized_for_hz: vehicle_freq_hz,
+            wings,
             out: None,
-            pending: None,
-            last_cycle: 0,
-            wind_world_m_s: Vector3::zeros(),
-            wing_centroid_r_m,
-            wings_still: false,
-            dynamic,
         };
         // Zero the velocities on locked axes (rapier leaves them as given).
         if let Mode::Locked {
@@ -303,13 +241,16 @@ impl Simulation {
             rb.set_linvel(to_glam(&v), true);
             rb.set_angvel(to_glam(&w), true);
         }
-        sim.pending = Some(controls);
-        sim
+        Ok(sim)
     }
 
     /// The vehicle (wings carry the kinematics currently in force).
     pub fn vehicle(&self) -> &Vehicle {
-        &self.vehicle
+        self.wings.vehicle().unwrap_or(&self.vehicle)
+    }
+    /// The wing set this host steps (the force element; see [`crate::wings`]).
+    pub fn wing_set(&self) -> &WingSet {
+        &self.wings
     }
     /// The mode.
     pub fn mode(&self) -> Mode {
@@ -317,64 +258,35 @@ impl Simulation {
     }
     /// Step length, s.
     pub fn dt_s(&self) -> f64 {
-        self.dt_s
+        self.wings.dt_s()
     }
     /// Steps taken so far.
     pub fn steps(&self) -> u64 {
-        self.step
+        self.wings.steps()
     }
     /// Current time, s.
     pub fn time_s(&self) -> f64 {
-        self.step as f64 * self.dt_s
+        self.wings.time_s()
     }
-    /// Wingbeat phase now, cycles. While the frequency is the one the step was sized for,
-    /// the phase advances by exactly 1/`steps_per_wingbeat` per step within a wingbeat and
-    /// by exactly 1 per wingbeat, and the kinematics are evaluated at the phase's first
-    /// wingbeat after the last control change: they repeat bit for bit every wingbeat.
+    /// Wingbeat phase now, cycles (see [`WingSet::phase`]).
     pub fn phase(&self) -> f64 {
-        let (cycles, table_phase, _) = self.phase_parts();
-        table_phase + cycles as f64
-    }
-
-    /// Whole wingbeats since the last control change, the phase at which the kinematics are
-    /// evaluated, and the index of the step in the wingbeat (periodic runs only).
-    fn phase_parts(&self) -> (u64, f64, Option<usize>) {
-        let n = self.step - self.base_step;
-        if self.periodic {
-            let (m, j) = (n / self.steps_per_wingbeat, n % self.steps_per_wingbeat);
-            (
-                m,
-                self.base_phase + j as f64 * self.phase_per_step,
-                Some(j as usize),
-            )
-        } else {
-            (0, self.base_phase + n as f64 * self.phase_per_step, None)
-        }
-    }
-
-    /// Both wings' kinematic loads at a phase.
-    fn kinematic_loads(&self, phase: f64) -> [KinematicLoads; 2] {
-        let [l, r] = &self.vehicle.wings;
-        if self.vehicle.mirror_symmetric {
-            Wing::mirrored_kinematic_loads(l, r, phase)
-        } else {
-            [l.kinematic_loads(phase), r.kinematic_loads(phase)]
-        }
+        self.wings.phase()
     }
 
     /// Controls to apply at the start of the next wingbeat (immediately if none has begun).
     pub fn set_controls(&mut self, controls: Controls) {
-        self.pending = Some(controls);
+        // A set built from a vehicle always takes controls.
+        let _ = self.wings.set_controls(controls);
     }
 
     /// Holds the wings still (no aerodynamic loads at all) or lets them flap again.
     pub fn set_wings_still(&mut self, still: bool) {
-        self.wings_still = still;
+        self.wings.set_still(still);
     }
 
     /// Uniform wind, world frame, m/s (a gust is a wind that changes with time).
     pub fn set_wind(&mut self, wind_world_m_s: Vector3<f64>) {
-        self.wind_world_m_s = wind_world_m_s;
+        self.wings.set_wind(wind_world_m_s);
     }
 
     /// The body's state now.
@@ -405,133 +317,36 @@ impl Simulation {
 
     /// Loads at the current state without stepping.
     pub fn loads(&self) -> StepOutput {
-        if let Some(d) = &self.dynamic {
-            // The wings' accelerations come out of a step: step copies of them.
-            let mut d = d.clone();
-            let mut wings = self.vehicle.wings.clone();
-            let mut out = StepOutput::empty();
-            // A state the step would reject still gets its loads reported as far as known.
-            let _ = actuated_loads_into(&self.actuated_ctx(), &mut d, &mut wings, &mut out);
-            return out;
-        }
-        let (cycles, table_phase, j) = self.phase_parts();
-        let kin = match j.and_then(|j| self.phase_table.get(j)) {
-            Some(Some((g, k))) if *g == self.table_gen => *k,
-            _ => self.kinematic_loads(table_phase),
-        };
-        let mut out = StepOutput::empty();
-        self.loads_into(&kin, cycles, table_phase, &mut out);
-        out
-    }
-
-    /// The loads at the current state from both wings' kinematic loads, written into `out`.
-    fn loads_into(
-        &self,
-        kin: &[KinematicLoads; 2],
-        cycles: u64,
-        table_phase: f64,
-        out: &mut StepOutput,
-    ) {
         let state = self.state();
-        let body_from_world = state.world_from_body.inverse();
-        let motion = BodyMotion {
-            velocity_m_s: body_from_world * (state.velocity_m_s - self.wind_world_m_s),
-            angular_velocity_rad_s: state.angular_velocity_body_rad_s,
-        };
-        let [l, r] = &self.vehicle.wings;
-        out.wings = Wing::evaluate_pair_with(l, r, kin, &motion);
-        if cycles > 0 {
-            for w in &mut out.wings {
-                w.phase.half_stroke += 2 * cycles as i64;
-            }
+        let mut out = StepOutput::empty();
+        match self.wings.loads(&state) {
+            Ok(o) => out.fill(&o, &state),
+            // The state came from rapier's integration of finite loads; a non-finite one is
+            // reported by the next step.
+            Err(_) => out.state = state,
         }
-        let mut terms = [BodyLoad::default(); 4];
-        let mut total = BodyLoad::default();
-        if !self.wings_still {
-            for (w, f) in self.vehicle.wings.iter().zip(&out.wings) {
-                let hinge = &w.mount().hinge_in_body_m;
-                for term in Term::ALL {
-                    let t = f.term(term);
-                    let m = t.moment_about_com_nm(hinge);
-                    terms[term as usize].add(t.force_n, m);
-                    total.add(t.force_n, m);
-                }
-            }
-        }
-        let mut wing_inertia = BodyLoad::default();
-        let m_w = self.vehicle.sim.wing_mass_kg;
-        if m_w > 0.0 && !self.wings_still {
-            for (w, k) in self.vehicle.wings.iter().zip(kin) {
-                // Reaction of the wing's centre of mass (on the pitch axis at its centroid
-                // radius) accelerating with the kinematics: -m a, applied at the hinge.
-                let fr = &k.frame;
-                let p = self.wing_centroid_r_m * fr.e_span;
-                let a = fr.alpha.cross(&p) + fr.omega.cross(&fr.omega.cross(&p));
-                let f_s = -m_w * a;
-                let r = w.body_from_stroke();
-                let f_b = r * f_s;
-                let m_b = r * p.cross(&f_s) + w.mount().hinge_in_body_m.cross(&f_b);
-                wing_inertia.add(f_b, m_b);
-                total.add(f_b, m_b);
-            }
-        }
-        out.step = self.step;
-        out.t_s = self.time_s();
-        out.phase = table_phase + cycles as f64;
-        out.state = state;
-        out.terms = terms;
-        out.wing_inertia = wing_inertia;
-        out.total = total;
-        out.controls = self.vehicle.controls;
+        out
     }
 
     /// Advances one step; returns what was applied during it.
     pub fn step(&mut self) -> Result<&StepOutput> {
-        // Controls change only at the first step of a wingbeat.
-        let cycle = self.phase().floor() as i64;
-        if self.pending.is_some() && (self.step == 0 || cycle != self.last_cycle) {
-            if let Some(c) = self.pending.take() {
-                self.apply_controls(&c)?;
-            }
-        }
-        self.last_cycle = cycle;
-        if let Some(mut d) = self.dynamic.take() {
-            let mut out = self
-                .out
-                .take()
-                .unwrap_or_else(|| Box::new(StepOutput::empty()));
-            let ctx = self.actuated_ctx();
-            let r = actuated_loads_into(&ctx, &mut d, &mut self.vehicle.wings, &mut out);
-            self.dynamic = Some(d);
-            let r = r.and_then(|_| self.check(&out));
-            if let Err(e) = r {
-                self.out = Some(out);
-                return Err(e);
-            }
-            return Ok(self.apply_and_advance(out));
-        }
-        let (cycles, table_phase, j) = self.phase_parts();
-        // The output lives in a box that moves out and back (a pointer, not a kilobyte).
+        let state = self.state();
         let mut out = self
             .out
             .take()
             .unwrap_or_else(|| Box::new(StepOutput::empty()));
-        match j {
-            Some(j) if j < self.phase_table.len() => {
-                let generation = self.table_gen;
-                if !matches!(&self.phase_table[j], Some((g, _)) if *g == generation) {
-                    self.phase_table[j] = Some((generation, self.kinematic_loads(table_phase)));
-                }
-                if let Some((_, kin)) = &self.phase_table[j] {
-                    self.loads_into(kin, cycles, table_phase, &mut out);
-                }
-            }
-            _ => {
-                let kin = self.kinematic_loads(table_phase);
-                self.loads_into(&kin, cycles, table_phase, &mut out);
-            }
+        out.state = state;
+        out.step = self.wings.steps();
+        out.t_s = self.wings.time_s();
+        if let Err(e) = self.check_state(&out) {
+            self.out = Some(out);
+            return Err(e);
         }
-        if let Err(e) = self.check(&out) {
+        let r = self.wings.step(&state).map(|o| out.fill(o, &state));
+        let r = r.and_then(|_| self.check(&out));
+        if let Err(e) = r {
+            // What the wings computed before the failure stays readable.
+            out.fill(self.wings.output(), &state);
             self.out = Some(out);
             return Err(e);
         }
@@ -547,39 +362,19 @@ impl Simulation {
         rb.add_force(to_glam(&(q * out.total.force_n)), false);
         rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
         self.world.step();
-        self.step += 1;
         self.out.insert(out)
     }
 
-    /// Applies controls now and restarts the wingbeat bookkeeping from the current phase.
-    fn apply_controls(&mut self, c: &Controls) -> Result<()> {
-        let phase = self.phase();
-        self.vehicle.apply_controls(c)?;
-        if let (Some(d), Some(a)) = (&mut self.dynamic, &self.vehicle.actuation) {
-            for (w, drive) in d.iter_mut().zip(a.drives) {
-                w.set_drive(drive)?;
-            }
-        }
-        self.base_phase = phase;
-        self.base_step = self.step;
-        let freq_hz = self.vehicle.freq_hz();
-        // The step was sized for the model's frequency: while it holds, the phase advances
-        // by exactly 1/N per step and the kinematics repeat every N steps.
-        self.periodic = freq_hz == self.sized_for_hz;
-        self.phase_per_step = if self.periodic {
-            1.0 / self.steps_per_wingbeat as f64
-        } else {
-            freq_hz * self.dt_s
-        };
-        self.table_gen += 1;
-        let len = if self.periodic && self.steps_per_wingbeat <= MAX_TABLE_STEPS {
-            self.steps_per_wingbeat as usize
-        } else {
-            0
-        };
-        if self.phase_table.len() != len {
-            self.phase_table.clear();
-            self.phase_table.resize(len, None);
+    /// The body state's finiteness (the first of [`Simulation::check`]'s checks, made before
+    /// the wings are stepped).
+    fn check_state(&self, out: &StepOutput) -> Result<()> {
+        let s = &out.state;
+        if s.first_non_finite().is_some() {
+            return Err(Error::Diverged {
+                t_s: out.t_s,
+                step: out.step,
+                reason: "the body state is not finite".into(),
+            });
         }
         Ok(())
     }
@@ -628,7 +423,7 @@ impl Simulation {
         duration_s: f64,
         mut observer: impl FnMut(&StepOutput) -> bool,
     ) -> Result<bool> {
-        let n = (duration_s / self.dt_s).round() as u64;
+        let n = (duration_s / self.dt_s()).round() as u64;
         for _ in 0..n {
             let out = self.step()?;
             if !observer(&out) {

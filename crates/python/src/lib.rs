@@ -36,6 +36,7 @@ create_exception!(
 pub(crate) fn sim_err(e: flapsim::Error) -> PyErr {
     match e {
         flapsim::Error::Model(m) => PyValueError::new_err(m.to_string()),
+        flapsim::Error::Input(m) => PyValueError::new_err(m),
         e @ flapsim::Error::Diverged { .. } => DivergedError::new_err(e.to_string()),
         e @ flapsim::Error::Analysis(_) => AnalysisError::new_err(e.to_string()),
     }

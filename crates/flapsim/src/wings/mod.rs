@@ -1,0 +1,457 @@
+//! The wing set: flapping wings as a force element on one rigid body, for any host.
+//!
+//! A [`WingSet`] holds any number of wings (each with its own hinge position, stroke plane,
+//! planform and kinematics, or actuation) and their own state: the wingbeat phase, the
+//! actuated wings' stroke and pitch dynamics and the table of kinematic loads. Each
+//! [`WingSet::step`] takes the body's state at t_k from the host and returns the loads on the
+//! body over [t_k, t_k + dt] about its centre of mass, body frame: the aerodynamic load of
+//! each of wingforce's four terms, the inertial reaction of the wings and actuators, and each
+//! wing's forces, angles and hinge state. The host integrates the body.
+//!
+//! No engine and no I/O: the element depends on wingforce and nalgebra (and flapsim's plain
+//! model types). Its hosts are flapsim's own [`crate::Simulation`] (a private rapier world),
+//! [`crate::host::RapierWings`] (a body in the user's rapier world), the C ABI, the MuJoCo
+//! plugin and the FMU (crates `flapwing-ffi`, `flapwing-mujoco`, `flapwing-fmu`).
+//!
+//! The time step is the host's and fixed per set. When it divides the wingbeat into a whole
+//! number of steps N (dt = 1/(f N), as flapsim's own host sizes it), the phase advances by
+//! exactly 1/N per step and the kinematic loads repeat bit for bit every wingbeat, so they are
+//! computed once per step of the wingbeat and reused; otherwise the phase advances by f dt.
+//! Every wing is evaluated at the set's wingbeat phase (wing 0's frequency): a set built
+//! with [`WingSet::builder`] refuses wings at different frequencies. A vehicle model whose
+//! left and right kinematics tables have different periods keeps flapsim's earlier reading
+//! (both wings at the left wing's frequency, the right table stretched to it).
+
+mod body;
+mod step;
+
+use nalgebra::Vector3;
+use wingforce::{KinematicLoads, Kinematics, Side, Wing};
+
+pub use body::{BodyLoad, State};
+pub use step::WingSetOutput;
+
+use crate::actuated::{Drive, DynamicWing};
+use crate::error::{Error, Result};
+use crate::model::{Controls, Vehicle};
+
+/// Longest wingbeat, in steps, whose kinematic loads are kept (about 500 B per wing and step).
+const MAX_TABLE_STEPS: u64 = 4096;
+
+/// Flapping wings as a force element: see the module documentation.
+#[derive(Debug, Clone)]
+pub struct WingSet {
+    /// The wings, with the kinematics currently in force.
+    wings: Vec<Wing>,
+    /// The actuated wings' dynamics (one per wing), or `None` for prescribed kinematics.
+    dynamic: Option<Vec<DynamicWing>>,
+    /// The vehicle whose controls map onto these wings (sets built from a model).
+    vehicle: Option<Box<Vehicle>>,
+    /// Mass of each prescribed wing, lumped on its pitch axis at the centroid radius, kg.
+    wing_mass_kg: f64,
+    /// Centroid radius of each wing, m.
+    centroid_r_m: Vec<f64>,
+    dt_s: f64,
+    step: u64,
+    /// Phase at `base_step` and the phase advance per step since then.
+    base_phase: f64,
+    base_step: u64,
+    phase_per_step: f64,
+    /// Steps per wingbeat when dt divides the wingbeat (see the module documentation).
+    steps_per_wingbeat: Option<u64>,
+    /// The wingbeat frequency is the one dt divides, so the kinematics repeat exactly.
+    periodic: bool,
+    /// The frequency dt was sized for, Hz.
+    sized_for_hz: f64,
+    /// Each wing's kinematic loads at each step of the wingbeat, `len()` per step (periodic
+    /// runs only), valid where `table_gen` holds the current generation: computed the first
+    /// time the step comes round and reused every wingbeat until the kinematics change.
+    table: Vec<KinematicLoads>,
+    table_gen: Vec<u64>,
+    generation: u64,
+    pending: Option<Controls>,
+    controls: Controls,
+    /// Wingbeat index of the last step taken.
+    last_cycle: i64,
+    wind_world_m_s: Vector3<f64>,
+    still: bool,
+    out: WingSetOutput,
+}
+
+/// Builds a [`WingSet`] of prescribed-kinematics wings, one by one.
+#[derive(Debug, Clone)]
+pub struct WingSetBuilder {
+    dt_s: f64,
+    wings: Vec<Wing>,
+    wing_mass_kg: f64,
+}
+
+impl WingSetBuilder {
+    /// Adds a wing (its mount gives the hinge position and stroke plane).
+    pub fn wing(mut self, wing: Wing) -> Self {
+        self.wings.push(wing);
+        self
+    }
+
+    /// Mass of each wing, lumped on its pitch axis at the centroid radius, kg (0: massless).
+    pub fn wing_mass_kg(mut self, m: f64) -> Self {
+        self.wing_mass_kg = m;
+        self
+    }
+
+    /// The set, or an error naming what is wrong (no wings, two wings at one place, wings at
+    /// different frequencies, a step that is not positive and finite).
+    pub fn build(self) -> Result<WingSet> {
+        if !(self.wing_mass_kg >= 0.0 && self.wing_mass_kg.is_finite()) {
+            return Err(Error::Input(format!(
+                "wing set: wing_mass_kg = {}; allowed: a finite mass >= 0",
+                self.wing_mass_kg
+            )));
+        }
+        if let Some(w0) = self.wings.first() {
+            let f0 = w0.kinematics().freq_hz;
+            for (i, w) in self.wings.iter().enumerate() {
+                let f = w.kinematics().freq_hz;
+                if f != f0 {
+                    return Err(Error::Input(format!(
+                        "wing set: wing {i} flaps at {f} Hz, wing 0 at {f0} Hz; allowed: one wingbeat frequency for all wings"
+                    )));
+                }
+            }
+        }
+        WingSet::assemble(self.wings, None, None, self.wing_mass_kg, self.dt_s)
+    }
+}
+
+impl WingSet {
+    /// A builder for a set of prescribed-kinematics wings stepped by `dt_s`.
+    pub fn builder(dt_s: f64) -> WingSetBuilder {
+        WingSetBuilder {
+            dt_s,
+            wings: Vec::new(),
+            wing_mass_kg: 0.0,
+        }
+    }
+
+    /// The wings of a vehicle model with its controls, stepped by `dt_s` (flapsim's own host
+    /// uses `1 / (f steps_per_wingbeat)`; [`WingSet::from_vehicle_sized`] does that). An
+    /// actuated vehicle's wings start at rest at their springs' rest angles.
+    pub fn from_vehicle(vehicle: &Vehicle, dt_s: f64) -> Result<Self> {
+        let dynamic = match &vehicle.actuation {
+            Some(a) => Some(
+                a.drives
+                    .iter()
+                    .map(|d| DynamicWing::new(a.dynamics.clone(), *d))
+                    .collect::<Result<Vec<_>>>()?,
+            ),
+            None => None,
+        };
+        let mut set = Self::assemble(
+            vehicle.wings.to_vec(),
+            dynamic,
+            Some(Box::new(vehicle.clone())),
+            vehicle.sim.wing_mass_kg,
+            dt_s,
+        )?;
+        set.controls = vehicle.controls;
+        set.pending = Some(vehicle.controls);
+        Ok(set)
+    }
+
+    /// [`WingSet::from_vehicle`] with the step the model asks for: `sim.steps_per_wingbeat`
+    /// steps per wingbeat.
+    pub fn from_vehicle_sized(vehicle: &Vehicle) -> Result<Self> {
+        let dt_s = 1.0 / (vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64);
+        Self::from_vehicle(vehicle, dt_s)
+    }
+
+    fn assemble(
+        wings: Vec<Wing>,
+        dynamic: Option<Vec<DynamicWing>>,
+        vehicle: Option<Box<Vehicle>>,
+        wing_mass_kg: f64,
+        dt_s: f64,
+    ) -> Result<Self> {
+        if wings.is_empty() {
+            return Err(Error::Input(
+                "wing set: no wings; allowed: one or more wings".into(),
+            ));
+        }
+        if !(dt_s > 0.0 && dt_s.is_finite()) {
+            return Err(Error::Input(format!(
+                "wing set: time step dt_s = {dt_s}; allowed: a finite step > 0 s"
+            )));
+        }
+        for (i, a) in wings.iter().enumerate() {
+            for (j, b) in wings.iter().enumerate().skip(i + 1) {
+                let (ma, mb) = (a.mount(), b.mount());
+                if ma.hinge_in_body_m == mb.hinge_in_body_m
+                    && ma.side == mb.side
+                    && ma.stroke_plane_tilt_rad == mb.stroke_plane_tilt_rad
+                {
+                    return Err(Error::Input(format!(
+                        "wing set: wings {i} and {j} are at the same place (hinge at {:?} m in the body, {:?} side, stroke plane tilted {:.2} deg); allowed: each wing at its own hinge or side",
+                        ma.hinge_in_body_m.as_slice(),
+                        ma.side,
+                        ma.stroke_plane_tilt_rad.to_degrees()
+                    )));
+                }
+            }
+        }
+        let freq_hz = match &dynamic {
+            Some(d) => d[0].drive().freq_hz,
+            None => wings[0].kinematics().freq_hz,
+        };
+        let centroid_r_m = wings
+            .iter()
+            .map(|w| {
+                let g = w.geometry();
+                g.strips.iter().map(|s| s.area_m2 * s.r_m).sum::<f64>() / g.area_m2
+            })
+            .collect();
+        let n = wings.len();
+        let mut set = Self {
+            wings,
+            dynamic,
+            vehicle,
+            wing_mass_kg,
+            centroid_r_m,
+            dt_s,
+            step: 0,
+            base_phase: 0.0,
+            base_step: 0,
+            phase_per_step: 0.0,
+            steps_per_wingbeat: None,
+            periodic: false,
+            sized_for_hz: freq_hz,
+            table: Vec::new(),
+            table_gen: Vec::new(),
+            generation: 0,
+            pending: None,
+            controls: Controls::default(),
+            last_cycle: 0,
+            wind_world_m_s: Vector3::zeros(),
+            still: false,
+            out: WingSetOutput::empty(n),
+        };
+        // Whole steps per wingbeat: dt = 1/(f N) exactly, as flapsim's own host sizes it.
+        let n_steps = (1.0 / (freq_hz * dt_s)).round();
+        if n_steps >= 1.0 && 1.0 / (freq_hz * n_steps) == dt_s {
+            set.steps_per_wingbeat = Some(n_steps as u64);
+        }
+        set.restart_phase(0.0);
+        Ok(set)
+    }
+
+    /// Number of wings.
+    pub fn len(&self) -> usize {
+        self.wings.len()
+    }
+    /// Always false: a set has at least one wing.
+    pub fn is_empty(&self) -> bool {
+        self.wings.is_empty()
+    }
+    /// The wings, with the kinematics in force.
+    pub fn wings(&self) -> &[Wing] {
+        &self.wings
+    }
+    /// The vehicle model the set was built from, with the controls in force.
+    pub fn vehicle(&self) -> Option<&Vehicle> {
+        self.vehicle.as_deref()
+    }
+    /// The host's time step, s.
+    pub fn dt_s(&self) -> f64 {
+        self.dt_s
+    }
+    /// Steps taken so far.
+    pub fn steps(&self) -> u64 {
+        self.step
+    }
+    /// Current time, s.
+    pub fn time_s(&self) -> f64 {
+        self.step as f64 * self.dt_s
+    }
+    /// Controls in force.
+    pub fn controls(&self) -> Controls {
+        self.controls
+    }
+    /// Whether the wings are actuated (their angles integrated in time).
+    pub fn is_actuated(&self) -> bool {
+        self.dynamic.is_some()
+    }
+    /// Wingbeat frequency now, Hz.
+    pub fn freq_hz(&self) -> f64 {
+        match &self.dynamic {
+            Some(d) => d[0].drive().freq_hz,
+            None => self.wings[0].kinematics().freq_hz,
+        }
+    }
+    /// What the last step computed.
+    pub fn output(&self) -> &WingSetOutput {
+        &self.out
+    }
+
+    /// Wingbeat phase now, cycles. While the frequency is the one the step divides, the phase
+    /// advances by exactly 1/N per step within a wingbeat and by exactly 1 per wingbeat, and
+    /// the kinematics are evaluated at the phase's first wingbeat after the last control
+    /// change: they repeat bit for bit every wingbeat.
+    pub fn phase(&self) -> f64 {
+        let (cycles, table_phase, _) = self.phase_parts();
+        table_phase + cycles as f64
+    }
+
+    /// Whole wingbeats since the last control change, the phase at which the kinematics are
+    /// evaluated, and the index of the step in the wingbeat (periodic runs only).
+    fn phase_parts(&self) -> (u64, f64, Option<usize>) {
+        let n = self.step - self.base_step;
+        match self.steps_per_wingbeat {
+            Some(per) if self.periodic => {
+                let (m, j) = (n / per, n % per);
+                (
+                    m,
+                    self.base_phase + j as f64 * self.phase_per_step,
+                    Some(j as usize),
+                )
+            }
+            _ => (0, self.base_phase + n as f64 * self.phase_per_step, None),
+        }
+    }
+
+    /// Controls to apply at the start of the next wingbeat (immediately if none has begun).
+    /// Only a set built from a vehicle model has controls; for others see
+    /// [`WingSet::set_kinematics`].
+    pub fn set_controls(&mut self, controls: Controls) -> Result<()> {
+        if self.vehicle.is_none() {
+            return Err(Error::Input(
+                "wing set: controls need a vehicle model to map them onto the wings (WingSet::from_vehicle); set each wing's kinematics instead".into(),
+            ));
+        }
+        self.pending = Some(controls);
+        Ok(())
+    }
+
+    /// Replaces wing `i`'s kinematics now (prescribed wings) and restarts the wingbeat
+    /// bookkeeping from the current phase.
+    pub fn set_kinematics(&mut self, i: usize, kinematics: Kinematics) -> Result<()> {
+        if self.dynamic.is_some() {
+            return Err(Error::Input(
+                "wing set: the wings are actuated; their motion comes from the drive".into(),
+            ));
+        }
+        let n = self.wings.len();
+        let f0 = self.wings[0].kinematics().freq_hz;
+        if i >= n {
+            return Err(Error::Input(format!(
+                "wing set: wing index {i}; allowed: 0..{n}"
+            )));
+        }
+        if n > 1 && kinematics.freq_hz != f0 {
+            return Err(Error::Input(format!(
+                "wing set: new kinematics of wing {i} at {} Hz, the set flaps at {f0} Hz; allowed: one frequency for all wings (change every wing's)",
+                kinematics.freq_hz
+            )));
+        }
+        let phase = self.phase();
+        self.wings[i].set_kinematics(kinematics);
+        self.restart_phase(phase);
+        Ok(())
+    }
+
+    /// Holds the wings still (no aerodynamic or wing-inertia loads) or lets them flap again.
+    pub fn set_still(&mut self, still: bool) {
+        self.still = still;
+    }
+
+    /// Uniform wind, world frame, m/s.
+    pub fn set_wind(&mut self, wind_world_m_s: Vector3<f64>) {
+        self.wind_world_m_s = wind_world_m_s;
+    }
+
+    /// The actuated wings' dynamics (`None` for prescribed kinematics).
+    pub fn dynamic_wings(&self) -> Option<&[DynamicWing]> {
+        self.dynamic.as_deref()
+    }
+
+    /// Continues the actuated wings from given dynamics and wings (a periodic motion found
+    /// at a frozen body state); does nothing for prescribed kinematics.
+    pub fn start_dynamic_from(&mut self, dynamic: &[DynamicWing], wings: &[Wing]) {
+        if let Some(d) = &mut self.dynamic {
+            d.clone_from_slice(dynamic);
+            for (w, settled) in self.wings.iter_mut().zip(wings) {
+                w.set_stroke_reference(settled.stroke_reference().cloned());
+            }
+        }
+    }
+
+    /// Overwrites the actuated wings' states (Floquet perturbations).
+    pub fn set_wing_states(&mut self, states: &[crate::actuated::WingState]) {
+        if let Some(d) = &mut self.dynamic {
+            for (w, s) in d.iter_mut().zip(states) {
+                w.set_state(*s);
+            }
+        }
+    }
+
+    /// Applies controls now and restarts the wingbeat bookkeeping from the current phase.
+    fn apply_controls(&mut self, c: &Controls) -> Result<()> {
+        let phase = self.phase();
+        let Some(v) = &mut self.vehicle else {
+            return Ok(());
+        };
+        v.apply_controls(c)?;
+        if let (Some(d), Some(a)) = (&mut self.dynamic, &v.actuation) {
+            for (w, drive) in d.iter_mut().zip(a.drives) {
+                w.set_drive(drive)?;
+            }
+        } else {
+            for (w, vw) in self.wings.iter_mut().zip(&v.wings) {
+                w.set_kinematics(vw.kinematics().clone());
+            }
+        }
+        self.controls = *c;
+        self.restart_phase(phase);
+        Ok(())
+    }
+
+    /// Restarts the wingbeat bookkeeping at `phase` (after the kinematics changed).
+    fn restart_phase(&mut self, phase: f64) {
+        self.base_phase = phase;
+        self.base_step = self.step;
+        let freq_hz = self.freq_hz();
+        self.periodic = self.steps_per_wingbeat.is_some() && freq_hz == self.sized_for_hz;
+        self.phase_per_step = match self.steps_per_wingbeat {
+            Some(per) if self.periodic => 1.0 / per as f64,
+            _ => freq_hz * self.dt_s,
+        };
+        self.generation += 1;
+        let per = match self.steps_per_wingbeat {
+            Some(per) if self.periodic && per <= MAX_TABLE_STEPS && self.dynamic.is_none() => {
+                per as usize
+            }
+            _ => 0,
+        };
+        if self.table_gen.len() != per {
+            self.table_gen.clear();
+            self.table_gen.resize(per, 0);
+            self.table.clear();
+            self.table
+                .resize(per * self.wings.len(), self.wings[0].kinematic_loads(0.0));
+        }
+    }
+
+    /// Whether wings `i` and `i + 1` are a mirror-symmetric pair (left then right, same
+    /// kinematics): their kinematic loads are computed together.
+    fn mirrored_pair(&self, i: usize) -> bool {
+        let (a, b) = (&self.wings[i], &self.wings[i + 1]);
+        a.mount().side == Side::Left
+            && b.mount().side == Side::Right
+            && a.kinematics() == b.kinematics()
+    }
+
+    /// The drives of the actuated wings now.
+    pub fn drives(&self) -> Option<Vec<Drive>> {
+        self.dynamic
+            .as_ref()
+            .map(|d| d.iter().map(|w| *w.drive()).collect())
+    }
+}

@@ -1,0 +1,308 @@
+//! One step of the wing set: the loads on the body over [t_k, t_k + dt] from the body's
+//! state at t_k.
+//!
+//! Prescribed wings: each wing's forces from its kinematics at the wingbeat phase of t_k and
+//! the body's air-relative velocity and angular velocity at t_k (pairs of wings side by side,
+//! [`Wing::evaluate_pair_with`]); a wing's mass, lumped on its pitch axis at the centroid
+//! radius, reacts on the body with -m a. Actuated wings: each wing's dynamics advanced by the
+//! step ([`DynamicWing::step`]) with its aerodynamic and inertial reaction. Sums are taken in
+//! a fixed order (aerodynamic terms wing by wing, then the wings' inertia; actuated: wing by
+//! wing), so a run is bit for bit reproducible.
+
+use nalgebra::Vector3;
+use wingforce::{BodyMotion, KinematicLoads, Term, Wing, WingForces};
+
+use super::{BodyLoad, State, WingSet};
+use crate::actuated::ActuatedWingOutput;
+use crate::error::{Error, Result};
+use crate::model::Controls;
+
+/// What one step of a [`WingSet`] computed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WingSetOutput {
+    /// Step index k.
+    pub step: u64,
+    /// t_k, s.
+    pub t_s: f64,
+    /// Wingbeat phase at t_k (cycles).
+    pub phase: f64,
+    /// Each wing's forces, in the set's order.
+    pub wings: Vec<WingForces>,
+    /// Each actuated wing's hinge and actuator state (empty for prescribed kinematics).
+    pub actuated: Vec<ActuatedWingOutput>,
+    /// Aerodynamic load of each term ([`Term::ALL`] order), all wings, about the CoM.
+    pub terms: [BodyLoad; 4],
+    /// Inertial reaction of the wings' (and actuators') masses.
+    pub wing_inertia: BodyLoad,
+    /// Everything the wings apply to the body.
+    pub total: BodyLoad,
+    /// Controls in force during this step.
+    pub controls: Controls,
+}
+
+/// A wing's forces before any step: all zero.
+pub(crate) fn zero_forces() -> WingForces {
+    WingForces {
+        terms: Default::default(),
+        total: Default::default(),
+        angles: Default::default(),
+        phase: wingforce::StrokePhase {
+            half_stroke: 0,
+            t_star: 0.0,
+            downstroke: true,
+        },
+    }
+}
+
+impl WingSetOutput {
+    pub(super) fn empty(n: usize) -> Self {
+        let wing = zero_forces();
+        Self {
+            step: 0,
+            t_s: 0.0,
+            phase: 0.0,
+            wings: vec![wing; n],
+            actuated: Vec::new(),
+            terms: Default::default(),
+            wing_inertia: BodyLoad::default(),
+            total: BodyLoad::default(),
+            controls: Controls::default(),
+        }
+    }
+}
+
+impl WingSet {
+    /// The body's motion relative to the air, body frame.
+    fn motion(&self, body: &State) -> BodyMotion {
+        let body_from_world = body.world_from_body.inverse();
+        BodyMotion {
+            velocity_m_s: body_from_world * (body.velocity_m_s - self.wind_world_m_s),
+            angular_velocity_rad_s: body.angular_velocity_body_rad_s,
+        }
+    }
+
+    fn check_input(&self, body: &State) -> Result<()> {
+        match body.first_non_finite() {
+            Some(field) => Err(Error::Input(format!(
+                "wing set, step {} (t = {:.6} s): the body state's {field} is not finite; allowed: finite numbers",
+                self.step,
+                self.time_s()
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// Advances the wings by one step from the body's state at t_k and returns the loads over
+    /// the step (see the module documentation). Pending controls take effect at the first
+    /// step of a wingbeat. A non-finite body state is an error and changes nothing.
+    pub fn step(&mut self, body: &State) -> Result<&WingSetOutput> {
+        self.check_input(body)?;
+        let cycle = self.phase().floor() as i64;
+        if self.pending.is_some() && (self.step == 0 || cycle != self.last_cycle) {
+            if let Some(c) = self.pending.take() {
+                self.apply_controls(&c)?;
+            }
+        }
+        self.last_cycle = cycle;
+        let mut out = std::mem::replace(&mut self.out, WingSetOutput::empty(0));
+        let r = if self.dynamic.is_some() {
+            self.actuated_into(body, &mut out)
+        } else {
+            self.prescribed_step_into(body, &mut out);
+            Ok(())
+        };
+        self.out = out;
+        r?;
+        self.step += 1;
+        Ok(&self.out)
+    }
+
+    /// The loads at a body state without advancing (an actuated set steps a copy of its
+    /// wings: their accelerations come out of a step).
+    pub fn loads(&self, body: &State) -> Result<WingSetOutput> {
+        self.check_input(body)?;
+        let mut out = WingSetOutput::empty(self.wings.len());
+        if self.dynamic.is_some() {
+            let mut copy = self.clone();
+            // A state the step would reject still gets its loads reported as far as known.
+            let _ = copy.actuated_into(body, &mut out);
+            return Ok(out);
+        }
+        let (cycles, table_phase, j) = self.phase_parts();
+        let n = self.wings.len();
+        let cached = j.filter(|&j| self.table_gen.get(j) == Some(&self.generation));
+        let kin: Vec<KinematicLoads> = match cached {
+            Some(j) => self.table[j * n..(j + 1) * n].to_vec(),
+            None => self.kinematic_loads(table_phase),
+        };
+        self.loads_into(body, &kin, cycles, table_phase, &mut out);
+        Ok(out)
+    }
+
+    /// Every wing's kinematic loads at a phase (mirror-symmetric pairs together).
+    fn kinematic_loads(&self, phase: f64) -> Vec<KinematicLoads> {
+        let mut kin = Vec::with_capacity(self.wings.len());
+        self.kinematic_loads_extend(phase, &mut kin);
+        kin
+    }
+
+    fn kinematic_loads_extend(&self, phase: f64, kin: &mut Vec<KinematicLoads>) {
+        let n = self.wings.len();
+        let mut i = 0;
+        while i < n {
+            if i + 1 < n && self.mirrored_pair(i) {
+                kin.extend(Wing::mirrored_kinematic_loads(
+                    &self.wings[i],
+                    &self.wings[i + 1],
+                    phase,
+                ));
+                i += 2;
+            } else {
+                kin.push(self.wings[i].kinematic_loads(phase));
+                i += 1;
+            }
+        }
+    }
+
+    fn prescribed_step_into(&mut self, body: &State, out: &mut WingSetOutput) {
+        let (cycles, table_phase, j) = self.phase_parts();
+        let n = self.wings.len();
+        match j {
+            Some(j) if j < self.table_gen.len() => {
+                if self.table_gen[j] != self.generation {
+                    let kin = self.kinematic_loads(table_phase);
+                    self.table[j * n..(j + 1) * n].copy_from_slice(&kin);
+                    self.table_gen[j] = self.generation;
+                }
+                let kin = &self.table[j * n..(j + 1) * n];
+                self.loads_into(body, kin, cycles, table_phase, out);
+            }
+            _ => {
+                let kin = self.kinematic_loads(table_phase);
+                self.loads_into(body, &kin, cycles, table_phase, out);
+            }
+        }
+    }
+
+    /// The loads of prescribed wings at a body state from their kinematic loads.
+    fn loads_into(
+        &self,
+        body: &State,
+        kin: &[KinematicLoads],
+        cycles: u64,
+        table_phase: f64,
+        out: &mut WingSetOutput,
+    ) {
+        let motion = self.motion(body);
+        let n = self.wings.len();
+        out.wings.resize(n, zero_forces());
+        let mut i = 0;
+        while i < n {
+            match (
+                kin[i..].first_chunk::<2>(),
+                self.wings[i..].first_chunk::<2>(),
+            ) {
+                (Some(pair), Some([l, r])) => {
+                    let f = Wing::evaluate_pair_with(l, r, pair, &motion);
+                    out.wings[i..i + 2].copy_from_slice(&f);
+                    i += 2;
+                }
+                _ => {
+                    out.wings[i] = self.wings[i].evaluate_with(&kin[i], &motion);
+                    i += 1;
+                }
+            }
+        }
+        if cycles > 0 {
+            for w in &mut out.wings {
+                w.phase.half_stroke += 2 * cycles as i64;
+            }
+        }
+        let mut terms = [BodyLoad::default(); 4];
+        let mut total = BodyLoad::default();
+        if !self.still {
+            for (w, f) in self.wings.iter().zip(&out.wings) {
+                let hinge = &w.mount().hinge_in_body_m;
+                for term in Term::ALL {
+                    let t = f.term(term);
+                    let m = t.moment_about_com_nm(hinge);
+                    terms[term as usize].add(t.force_n, m);
+                    total.add(t.force_n, m);
+                }
+            }
+        }
+        let mut wing_inertia = BodyLoad::default();
+        let m_w = self.wing_mass_kg;
+        if m_w > 0.0 && !self.still {
+            for ((w, k), r_c) in self.wings.iter().zip(kin).zip(&self.centroid_r_m) {
+                // Reaction of the wing's centre of mass (on the pitch axis at its centroid
+                // radius) accelerating with the kinematics: -m a, applied at the hinge.
+                let fr = &k.frame;
+                let p: Vector3<f64> = *r_c * fr.e_span;
+                let a = fr.alpha.cross(&p) + fr.omega.cross(&fr.omega.cross(&p));
+                let f_s = -m_w * a;
+                let r = w.body_from_stroke();
+                let f_b = r * f_s;
+                let m_b = r * p.cross(&f_s) + w.mount().hinge_in_body_m.cross(&f_b);
+                wing_inertia.add(f_b, m_b);
+                total.add(f_b, m_b);
+            }
+        }
+        out.step = self.step;
+        out.t_s = self.time_s();
+        out.phase = table_phase + cycles as f64;
+        out.terms = terms;
+        out.wing_inertia = wing_inertia;
+        out.total = total;
+        out.controls = self.controls;
+        out.actuated.clear();
+    }
+
+    /// The loads of actuated wings, advancing their dynamics by one step. The inertial
+    /// reaction of the wings and actuators is reported in `wing_inertia`, apart from the
+    /// aerodynamic terms, and both enter `total`.
+    fn actuated_into(&mut self, body: &State, out: &mut WingSetOutput) -> Result<()> {
+        let motion = self.motion(body);
+        let (t_s, step, dt_s) = (self.time_s(), self.step, self.dt_s);
+        let freq_hz = self.freq_hz();
+        let Some(dynamic) = &mut self.dynamic else {
+            return Ok(());
+        };
+        let n = self.wings.len();
+        let mut terms = [BodyLoad::default(); 4];
+        let mut total = BodyLoad::default();
+        let mut wing_inertia = BodyLoad::default();
+        out.wings.resize(n, zero_forces());
+        out.actuated.resize(n, ActuatedWingOutput::default());
+        for i in 0..n {
+            let s = dynamic[i]
+                .step(&mut self.wings[i], &motion, dt_s)
+                .map_err(|e| match e {
+                    Error::Diverged { reason, .. } => Error::Diverged { t_s, step, reason },
+                    e => e,
+                })?;
+            let hinge = self.wings[i].mount().hinge_in_body_m;
+            if !self.still {
+                for term in Term::ALL {
+                    let t = s.forces.term(term);
+                    let m = t.moment_about_com_nm(&hinge);
+                    terms[term as usize].add(t.force_n, m);
+                    total.add(t.force_n, m);
+                }
+                let m = s.inertial_moment_hinge_nm + hinge.cross(&s.inertial_force_n);
+                wing_inertia.add(s.inertial_force_n, m);
+                total.add(s.inertial_force_n, m);
+            }
+            out.wings[i] = s.forces;
+            out.actuated[i] = s.output();
+        }
+        out.step = step;
+        out.t_s = t_s;
+        out.phase = t_s * freq_hz;
+        out.terms = terms;
+        out.wing_inertia = wing_inertia;
+        out.total = total;
+        out.controls = self.controls;
+        Ok(())
+    }
+}
