@@ -15,7 +15,7 @@ use wingforce::WingForces;
 
 use crate::actuated::ActuatedWingOutput;
 use crate::error::{Error, Result};
-use crate::frames::{from_glam, quat_from_glam, quat_to_glam, to_glam};
+use crate::frames::{quat_to_glam, to_glam};
 use crate::model::{Controls, Vehicle};
 pub use crate::wings::{BodyLoad, State};
 use crate::wings::{WingSet, WingSetOutput};
@@ -168,25 +168,7 @@ impl Simulation {
         world.integration_parameters.dt = dt_s;
         world.integration_parameters.num_solver_iterations = vehicle.sim.solver_iterations;
         world.integration_parameters.length_unit = 1.0;
-        let i = &vehicle.inertia_kg_m2;
-        let inertia = Matrix::from_cols_array(&[
-            i[(0, 0)],
-            i[(1, 0)],
-            i[(2, 0)],
-            i[(0, 1)],
-            i[(1, 1)],
-            i[(2, 1)],
-            i[(0, 2)],
-            i[(1, 2)],
-            i[(2, 2)],
-        ]);
-        let props = MassProperties::with_inertia_matrix(Vector::ZERO, vehicle.mass_kg, inertia);
-        let q = quat_to_glam(&vehicle.initial_attitude);
-        let mut builder = RigidBodyBuilder::dynamic()
-            .pose(Pose::from_parts(to_glam(&vehicle.initial_position_m), q))
-            .additional_mass_properties(props)
-            .can_sleep(false)
-            .allow_fast_rotation(true);
+        let mut builder = crate::host::vehicle_body(&vehicle);
         let (lin, ang) = match mode {
             Mode::Tethered => (Vector3::zeros(), Vector3::zeros()),
             _ => (
@@ -291,14 +273,7 @@ impl Simulation {
 
     /// The body's state now.
     pub fn state(&self) -> State {
-        let rb = &self.world.bodies[self.body];
-        let q = quat_from_glam(rb.rotation());
-        State {
-            position_m: from_glam(rb.translation()),
-            world_from_body: q,
-            velocity_m_s: from_glam(rb.linvel()),
-            angular_velocity_body_rad_s: q.inverse() * from_glam(rb.angvel()),
-        }
+        crate::host::body_state(&self.world.bodies[self.body])
     }
 
     /// Overwrites the body's state (for disturbances and Floquet perturbations).

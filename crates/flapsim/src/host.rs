@@ -1,0 +1,142 @@
+//! The wing set on a body in your own rapier world.
+//!
+//! [`RapierWings`] attaches a [`WingSet`] to any [`RigidBodyHandle`] of the user's
+//! [`RigidBodySet`]. Before each step of the user's `PhysicsPipeline` (with the wing set's
+//! time step as `IntegrationParameters::dt`), [`RapierWings::apply`] reads the body's state,
+//! steps the wings, and sets the body's user force and torque to the wings' loads (rapier keeps
+//! user forces until reset). The world may hold anything else: ground, obstacles, other
+//! vehicles with their own wing sets.
+//!
+//! Frames: the wing set's body frame is the rapier body's local frame, its origin the
+//! vehicle's centre of mass. A body whose rapier centre of mass is elsewhere (colliders with
+//! density) gets the moment transferred to it and the origin's velocity read off the rigid
+//! motion, so the loads stay the model's. glam meets nalgebra only in [`crate::frames`].
+
+use nalgebra::Vector3;
+use rapier3d_f64::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::frames::{from_glam, quat_from_glam, quat_to_glam, to_glam};
+use crate::model::Vehicle;
+use crate::wings::{State, WingSet, WingSetOutput};
+
+/// A rigid-body builder for a vehicle: dynamic, its mass and inertia about its centre of
+/// mass at the body origin, its initial pose and velocities, never asleep. Add colliders
+/// with zero density so that they leave the mass properties to the model.
+pub fn vehicle_body(vehicle: &Vehicle) -> RigidBodyBuilder {
+    let i = &vehicle.inertia_kg_m2;
+    let inertia = Matrix::from_cols_array(&[
+        i[(0, 0)],
+        i[(1, 0)],
+        i[(2, 0)],
+        i[(0, 1)],
+        i[(1, 1)],
+        i[(2, 1)],
+        i[(0, 2)],
+        i[(1, 2)],
+        i[(2, 2)],
+    ]);
+    let props = MassProperties::with_inertia_matrix(Vector::ZERO, vehicle.mass_kg, inertia);
+    let q = quat_to_glam(&vehicle.initial_attitude);
+    RigidBodyBuilder::dynamic()
+        .pose(Pose::from_parts(to_glam(&vehicle.initial_position_m), q))
+        .additional_mass_properties(props)
+        .can_sleep(false)
+        .allow_fast_rotation(true)
+        .linvel(to_glam(&vehicle.initial_velocity_m_s))
+        .angvel(to_glam(
+            &(vehicle.initial_attitude * vehicle.initial_angular_velocity_rad_s),
+        ))
+}
+
+/// The state of a rapier body in the wing set's terms: the body origin's position and
+/// velocity (world), its attitude, its angular velocity in the body frame.
+pub fn body_state(rb: &RigidBody) -> State {
+    let q = quat_from_glam(rb.rotation());
+    let origin = from_glam(rb.translation());
+    let w_world = from_glam(rb.angvel());
+    // rapier's linear velocity is its centre of mass's.
+    let mut velocity_m_s = from_glam(rb.linvel());
+    if let Some(arm) = origin_from_com_world(rb) {
+        velocity_m_s += w_world.cross(&arm);
+    }
+    State {
+        position_m: origin,
+        world_from_body: q,
+        velocity_m_s,
+        angular_velocity_body_rad_s: q.inverse() * w_world,
+    }
+}
+
+/// The body origin relative to rapier's centre of mass, world frame, or `None` where they
+/// coincide (every body [`vehicle_body`] builds). Taken from the local centre of mass and the
+/// pose, not `RigidBody::center_of_mass`, which rapier updates only when it steps.
+fn origin_from_com_world(rb: &RigidBody) -> Option<Vector3<f64>> {
+    let local_com = from_glam(rb.local_center_of_mass());
+    (local_com != Vector3::zeros()).then(|| quat_from_glam(rb.rotation()) * -local_com)
+}
+
+/// A wing set attached to a body of the user's rapier world (see the module documentation).
+#[derive(Debug, Clone)]
+pub struct RapierWings {
+    body: RigidBodyHandle,
+    wings: WingSet,
+}
+
+impl RapierWings {
+    /// Attaches `wings` to `body`, which must be in `bodies` and dynamic.
+    pub fn attach(bodies: &RigidBodySet, body: RigidBodyHandle, wings: WingSet) -> Result<Self> {
+        match bodies.get(body) {
+            None => Err(Error::Input(format!(
+                "rapier host: body handle {:?} is not in the rigid-body set; allowed: a handle returned by RigidBodySet::insert that was not removed",
+                body.into_raw_parts()
+            ))),
+            Some(rb) if !rb.is_dynamic() => Err(Error::Input(format!(
+                "rapier host: body handle {:?} is {:?}; allowed: a dynamic body (the wings push it)",
+                body.into_raw_parts(),
+                rb.body_type()
+            ))),
+            Some(_) => Ok(Self { body, wings }),
+        }
+    }
+
+    /// The body the wings push.
+    pub fn body(&self) -> RigidBodyHandle {
+        self.body
+    }
+    /// The wing set.
+    pub fn wings(&self) -> &WingSet {
+        &self.wings
+    }
+    /// The wing set, to set controls, wind or kinematics.
+    pub fn wings_mut(&mut self) -> &mut WingSet {
+        &mut self.wings
+    }
+
+    /// Steps the wings from the body's state now and sets the body's user force and torque
+    /// to their loads (replacing the body's user force: add your own after this call). Call
+    /// once before every pipeline step, with `IntegrationParameters::dt` equal to the wing
+    /// set's [`WingSet::dt_s`].
+    pub fn apply(&mut self, bodies: &mut RigidBodySet) -> Result<&WingSetOutput> {
+        let Some(rb) = bodies.get_mut(self.body) else {
+            return Err(Error::Input(format!(
+                "rapier host: body handle {:?} is no longer in the rigid-body set (removed?)",
+                self.body.into_raw_parts()
+            )));
+        };
+        let state = body_state(rb);
+        let out = self.wings.step(&state)?;
+        let q = state.world_from_body;
+        let force_world = q * out.total.force_n;
+        // Moment about the body origin (the model's CoM) moved to rapier's centre of mass.
+        let mut moment_world: Vector3<f64> = q * out.total.moment_nm;
+        if let Some(arm) = origin_from_com_world(rb) {
+            moment_world += arm.cross(&force_world);
+        }
+        rb.reset_forces(false);
+        rb.reset_torques(false);
+        rb.add_force(to_glam(&force_world), false);
+        rb.add_torque(to_glam(&moment_world), false);
+        Ok(out)
+    }
+}
