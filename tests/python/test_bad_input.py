@@ -1,12 +1,16 @@
 """Bad input never kills or hangs the interpreter (issue 23).
 
 A corpus of bad arguments across the whole API (Wing, Vehicle, HoverController, Simulation,
-HoverTask, VecHoverTask and the Gymnasium environments), each run in its own Python process
-with a timeout. A case fails on a crash (a negative return code: SIGABRT, SIGSEGV, ...), a
-hang (the timeout) or a silent acceptance: it must raise the expected exception type with a
-message that names the argument. Long calls must stop on Ctrl-C: those cases start the call
-in a process, send SIGINT once it runs and expect KeyboardInterrupt within a generous
-liveness bound. The processes run in parallel (a thread pool of subprocesses).
+HoverTask, VecHoverTask and the Gymnasium environments), run in child Python processes with a
+timeout. A case fails on a crash (the child dies: SIGABRT, SIGSEGV, ...), a hang (the timeout)
+or a silent acceptance: it must raise the expected exception type with a message that names the
+argument. A child runs a batch of cases one after another, each in a fresh namespace, and
+reports each case as it finishes; a child that dies or hangs is charged to the case it was
+running, and the rest of its batch goes on in a new child (so every case is still seen to end
+in its own exception, and the corpus costs a few interpreter starts instead of one per case).
+Long calls must stop on Ctrl-C: those cases start the call in a process, send SIGINT once it
+runs and expect KeyboardInterrupt within a generous liveness bound. The batches run in
+parallel (a thread pool of subprocesses).
 """
 
 from __future__ import annotations
@@ -312,45 +316,84 @@ import flapwing
 from flapwing import *
 """
 
-RUNNER = """
-try:
-    exec(compile({setup!r}, "setup", "exec"))
-except BaseException as e:
-    print(json.dumps({{"stage": "setup", "type": type(e).__name__, "msg": str(e)}}))
-    sys.exit(0)
-try:
-    exec(compile({call!r}, "call", "exec"))
-except BaseException as e:
-    # pyo3 names a typed argument it cannot convert in a note ("while processing 'x'"),
-    # which the traceback shows after the message (Python 3.11+).
-    msg = "\\n".join([str(e), *getattr(e, "__notes__", [])])
-    print(json.dumps({{"stage": "call", "type": type(e).__name__,
-                       "mro": [c.__name__ for c in type(e).__mro__], "msg": msg}}))
-else:
-    print(json.dumps({{"stage": "call", "type": None}}))
+BATCH_RUNNER = """
+for case_id, setup, call in json.loads(sys.stdin.read()):
+    print(json.dumps({"start": case_id}), flush=True)
+    ns = {k: v for k, v in globals().items() if not k.startswith("__")}
+    try:
+        exec(compile(setup, "setup", "exec"), ns)
+    except BaseException as e:
+        print(json.dumps({"id": case_id, "stage": "setup", "type": type(e).__name__,
+                          "msg": str(e)}), flush=True)
+        continue
+    try:
+        exec(compile(call, "call", "exec"), ns)
+    except BaseException as e:
+        # pyo3 names a typed argument it cannot convert in a note ("while processing 'x'"),
+        # which the traceback shows after the message (Python 3.11+).
+        msg = "\\n".join([str(e), *getattr(e, "__notes__", [])])
+        print(json.dumps({"id": case_id, "stage": "call", "type": type(e).__name__,
+                          "mro": [c.__name__ for c in type(e).__mro__], "msg": msg}),
+              flush=True)
+    else:
+        print(json.dumps({"id": case_id, "stage": "call", "type": None}), flush=True)
 """
 
 
-def _run_case(case: Case) -> dict:
-    code = PRELUDE + RUNNER.format(setup=case.setup, call=case.call)
-    t0 = time.monotonic()
-    try:
-        proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                              timeout=TIMEOUT_S)
-    except subprocess.TimeoutExpired:
-        return {"hang": True, "elapsed": time.monotonic() - t0}
-    out = {"returncode": proc.returncode, "stderr": proc.stderr[-2000:],
-           "elapsed": time.monotonic() - t0}
-    lines = [line for line in proc.stdout.splitlines() if line.startswith("{")]
-    if lines:
-        out.update(json.loads(lines[-1]))
-    return out
+def _run_batch(cases: list) -> dict:
+    """Runs `cases` in as few children as crashes and hangs allow: {case id: result}."""
+    results: dict = {}
+    pending = list(cases)
+    while pending:
+        payload = json.dumps([[c.id, c.setup, c.call] for c in pending])
+        t0 = time.monotonic()
+        hang = False
+        try:
+            proc = subprocess.run([sys.executable, "-c", PRELUDE + BATCH_RUNNER], input=payload,
+                                  capture_output=True, text=True,
+                                  timeout=TIMEOUT_S * len(pending))
+            stdout, stderr, code = proc.stdout, proc.stderr, proc.returncode
+        except subprocess.TimeoutExpired as e:
+            hang = True
+            stdout = e.stdout.decode() if isinstance(e.stdout, bytes) else (e.stdout or "")
+            stderr = e.stderr.decode() if isinstance(e.stderr, bytes) else (e.stderr or "")
+            code = None
+        running = None
+        for line in stdout.splitlines():
+            if not line.startswith("{"):
+                continue
+            msg = json.loads(line)
+            if "start" in msg:
+                running = msg["start"]
+            else:
+                results[msg["id"]] = {"returncode": 0, "stderr": "", **msg}
+                running = None
+        done = {c.id for c in pending if c.id in results}
+        if running is not None and running not in results:
+            # The child died or hung inside this case.
+            results[running] = ({"hang": True} if hang else
+                                {"returncode": code if code is not None else -1,
+                                 "stderr": stderr[-2000:]})
+            results[running]["elapsed"] = time.monotonic() - t0
+            done.add(running)
+        elif len(done) == 0:
+            # Died before the first case started (the prelude itself): charge them all.
+            for c in pending:
+                results[c.id] = {"returncode": code if code is not None else -1,
+                                 "stderr": stderr[-2000:], "hang": hang}
+            break
+        pending = [c for c in pending if c.id not in done]
+    return results
 
 
 @pytest.fixture(scope="module")
 def results() -> dict:
+    batches = [CASES[i::WORKERS] for i in range(WORKERS)]
+    out: dict = {}
     with ThreadPoolExecutor(WORKERS) as pool:
-        return dict(zip((c.id for c in CASES), pool.map(_run_case, CASES)))
+        for r in pool.map(_run_batch, batches):
+            out.update(r)
+    return out
 
 
 def test_the_corpus_is_large_and_unique():
