@@ -14,6 +14,7 @@ mod logs;
 mod sim;
 mod vehicle;
 mod wing;
+mod wings;
 
 use pyo3::create_exception;
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
@@ -82,6 +83,7 @@ fn _flapwing(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<vehicle::Vehicle>()?;
     m.add_class::<vehicle::HoverController>()?;
     m.add_class::<sim::Simulation>()?;
+    m.add_class::<wings::WingSet>()?;
     m.add_class::<env::HoverTask>()?;
     m.add_class::<env::VecHoverTask>()?;
     m.add_function(wrap_pyfunction!(logs::log_topics, m)?)?;

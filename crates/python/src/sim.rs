@@ -261,18 +261,7 @@ impl Simulation {
         #[pyo3(from_py_with = log_rate)] log_rate_hz: Option<f64>,
         force: bool,
     ) -> PyResult<Self> {
-        let v = match vehicle {
-            None => Vehicle::load("drosophila")?,
-            Some(obj) => match obj.cast::<Vehicle>() {
-                Ok(v) => v.get().clone(),
-                Err(_) => Vehicle::load(&obj.extract::<String>().map_err(|_| {
-                    PyValueError::new_err(format!(
-                        "`vehicle` must be a flapwing.Vehicle or a model name/path, got {}",
-                        crate::convert::describe(obj)
-                    ))
-                })?)?,
-            },
-        };
+        let v = Vehicle::from_arg(vehicle)?;
         if let Some(path) = &mcap {
             if path.is_dir() {
                 return Err(PyValueError::new_err(format!(

@@ -49,6 +49,22 @@ impl Vehicle {
         })
     }
 
+    /// A `Vehicle`, or a built-in name or model path, given as an argument (None: the fly).
+    pub fn from_arg(vehicle: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        match vehicle {
+            None => Self::load("drosophila"),
+            Some(obj) => match obj.cast::<Vehicle>() {
+                Ok(v) => Ok(v.get().clone()),
+                Err(_) => Self::load(&obj.extract::<String>().map_err(|_| {
+                    PyValueError::new_err(format!(
+                        "`vehicle` must be a flapwing.Vehicle or a model name/path, got {}",
+                        crate::convert::describe(obj)
+                    ))
+                })?),
+            },
+        }
+    }
+
     fn trim_value(&self) -> PyResult<flapsim::trim::Trim> {
         flapsim::trim::trim(&self.vehicle).map_err(sim_err)
     }

@@ -8,6 +8,8 @@ body x forward, y left, z up, origin at the centre of mass).
   and their total at a phase, or over many phases in one call.
 - `Vehicle`: a vehicle model (built-in name or file): trim, stability, LQR design.
 - `Simulation`: the vehicle on rapier3d-f64, stepped one step or many per call.
+- `WingSet`: the wings alone as a force element for your own simulator (PyBullet, Isaac, a
+  numpy integrator): give it the body's state each step, apply the wrench it returns.
 - `HoverTask`, `VecHoverTask`: flapsim's control tasks (sensors, reward, termination).
 - `read_log`, `read_channel`: a flapwing MCAP log, each channel as a dict of numpy arrays
   (or a pandas DataFrame when pandas is installed); `Simulation(..., mcap=PATH)` writes one.
@@ -34,6 +36,7 @@ from ._flapwing import (
     VecHoverTask,
     Vehicle,
     Wing,
+    WingSet,
     builtin_models,
     log_damage,
     log_topics,
@@ -58,6 +61,7 @@ __all__ = [
     "VecHoverTask",
     "Vehicle",
     "Wing",
+    "WingSet",
     "builtin_models",
     "builtin_wings",
     "log_damage",

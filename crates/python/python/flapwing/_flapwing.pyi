@@ -210,6 +210,34 @@ class Simulation:
         amplitude_change_deg} over the last complete drive period."""
     def close_log(self) -> Optional[dict[str, int]]: ...
 
+class WingSet:
+    """The wings of a vehicle model as a force element for a Python host (PyBullet, Isaac,
+    your own integrator): step it with the body's state, apply the wrench it returns."""
+
+    def __init__(self, vehicle: "Vehicle | str | None" = None,
+                 dt_s: Optional[float] = None) -> None:
+        """dt_s: the host's step (None: the model's own, 1 / (f steps_per_wingbeat))."""
+    @property
+    def dt_s(self) -> float: ...
+    @property
+    def time_s(self) -> float: ...
+    @property
+    def phase(self) -> float: ...
+    @property
+    def steps(self) -> int: ...
+    def __len__(self) -> int: ...
+    @property
+    def controls(self) -> dict[str, float]: ...
+    def set_controls(self, **controls: float) -> None:
+        """From the start of the next wingbeat."""
+    def set_wind(self, wind_world_m_s: Vec3) -> None: ...
+    def step(self, position_m: Vec3, world_from_body_wxyz: npt.ArrayLike,
+             velocity_m_s: Vec3, angular_velocity_body_rad_s: Vec3) -> dict[str, Any]:
+        """The loads over [t_k, t_k + dt_s] from the body's state at t_k: force_body_n,
+        moment_body_nm (about the CoM, body frame), terms, wing_inertia,
+        wing_forces_body_n (n_wings x 3), t_s, phase."""
+
+
 class HoverTask:
     """flapsim's hover or recovery task (see flapwing.envs)."""
 

@@ -1,0 +1,145 @@
+//! `flapwing.WingSet`: the wings as a force element for a Python host (PyBullet, Isaac, your
+//! own integrator): give it the body's state each step, apply the wrench it returns.
+
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert::{arg_vec3, finite, merge_record, record, vec3, vector};
+use crate::sim_err;
+use crate::vehicle::Vehicle;
+
+/// The wings of a vehicle model as a force element: `step(...)` takes the body's state at
+/// t_k and returns the force and moment (about the centre of mass, body frame) to apply over
+/// [t_k, t_k + dt_s]; the host integrates the body with that step.
+#[pyclass(module = "flapwing")]
+pub struct WingSet {
+    set: flapsim::WingSet,
+}
+
+fn load_dict<'py>(py: Python<'py>, l: &flapsim::BodyLoad) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("force_body_n", vec3(py, &l.force_n))?;
+    d.set_item("moment_body_nm", vec3(py, &l.moment_nm))?;
+    Ok(d)
+}
+
+#[pymethods]
+impl WingSet {
+    /// The wings of `vehicle` (a `Vehicle`, a built-in name or a model path; default the
+    /// fly) stepped by `dt_s` (None: the model's own step, 1 / (f steps_per_wingbeat)).
+    #[new]
+    #[pyo3(signature = (vehicle = None, dt_s = None))]
+    fn new(vehicle: Option<&Bound<'_, PyAny>>, dt_s: Option<f64>) -> PyResult<Self> {
+        let v = Vehicle::from_arg(vehicle)?;
+        let set = match dt_s {
+            None => flapsim::WingSet::from_vehicle_sized(&v.vehicle),
+            Some(dt) => flapsim::WingSet::from_vehicle(&v.vehicle, dt),
+        }
+        .map_err(sim_err)?;
+        Ok(Self { set })
+    }
+
+    /// The host's step, s.
+    #[getter]
+    fn dt_s(&self) -> f64 {
+        self.set.dt_s()
+    }
+    /// Time of the next step, s.
+    #[getter]
+    fn time_s(&self) -> f64 {
+        self.set.time_s()
+    }
+    /// Wingbeat phase now, cycles.
+    #[getter]
+    fn phase(&self) -> f64 {
+        self.set.phase()
+    }
+    /// Steps taken.
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.set.steps()
+    }
+    /// Number of wings.
+    fn __len__(&self) -> usize {
+        self.set.len()
+    }
+    /// The controls in force (a dict of SI fields).
+    #[getter]
+    fn controls<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        record(py, &self.set.controls())
+    }
+    /// Sets the named control fields (the rest keep their values) from the next wingbeat on.
+    #[pyo3(signature = (**controls))]
+    fn set_controls(&mut self, controls: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        let c = merge_record(&self.set.controls(), controls, "controls")?;
+        if let Some(v) = self.set.vehicle() {
+            // Refused now, not at the wingbeat boundary.
+            v.clone().apply_controls(&c).map_err(sim_err)?;
+        }
+        self.set.set_controls(c).map_err(sim_err)
+    }
+    /// Uniform wind, world frame, m/s.
+    fn set_wind(&mut self, wind_world_m_s: &Bound<'_, PyAny>) -> PyResult<()> {
+        let w = arg_vec3("wind_world_m_s", Some(wind_world_m_s))?;
+        finite("wind_world_m_s", w.as_slice())?;
+        self.set.set_wind(w);
+        Ok(())
+    }
+
+    /// One step from the body's state at t_k: `position_m` (world), `world_from_body_wxyz`
+    /// (a unit quaternion), `velocity_m_s` (the CoM's, world) and
+    /// `angular_velocity_body_rad_s`. Returns a dict: `force_body_n`, `moment_body_nm` (the
+    /// total about the CoM, body frame), `terms` (each term's load), `wing_inertia`,
+    /// `wing_forces_body_n` (one row per wing), `t_s` and `phase`.
+    #[pyo3(signature = (position_m, world_from_body_wxyz, velocity_m_s, angular_velocity_body_rad_s))]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        position_m: &Bound<'py, PyAny>,
+        world_from_body_wxyz: &Bound<'py, PyAny>,
+        velocity_m_s: &Bound<'py, PyAny>,
+        angular_velocity_body_rad_s: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let v3 = |name: &str, o: &Bound<'py, PyAny>| -> PyResult<Vector3<f64>> {
+            let a = vector(name, o, Some(3))?;
+            finite(name, &a)?;
+            Ok(Vector3::new(a[0], a[1], a[2]))
+        };
+        let q = vector("world_from_body_wxyz", world_from_body_wxyz, Some(4))?;
+        finite("world_from_body_wxyz", &q)?;
+        let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if (norm - 1.0).abs() > 1e-6 {
+            return Err(PyValueError::new_err(format!(
+                "`world_from_body_wxyz` must be a unit quaternion (w, x, y, z), got norm {norm}; allowed: |q| within 1e-6 of 1"
+            )));
+        }
+        let state = flapsim::State {
+            position_m: v3("position_m", position_m)?,
+            world_from_body: UnitQuaternion::new_normalize(Quaternion::new(q[0], q[1], q[2], q[3])),
+            velocity_m_s: v3("velocity_m_s", velocity_m_s)?,
+            angular_velocity_body_rad_s: v3(
+                "angular_velocity_body_rad_s",
+                angular_velocity_body_rad_s,
+            )?,
+        };
+        let out = self.set.step(&state).map_err(sim_err)?;
+        let d = load_dict(py, &out.total)?;
+        let terms = PyDict::new(py);
+        for term in wingforce::Term::ALL {
+            terms.set_item(term.name(), load_dict(py, &out.terms[term as usize])?)?;
+        }
+        d.set_item("terms", terms)?;
+        d.set_item("wing_inertia", load_dict(py, &out.wing_inertia)?)?;
+        let rows: Vec<Vec<f64>> = out
+            .wings
+            .iter()
+            .map(|w| w.total.force_n.iter().copied().collect())
+            .collect();
+        d.set_item("wing_forces_body_n", numpy::PyArray2::from_vec2(py, &rows)?)?;
+        d.set_item("t_s", out.t_s)?;
+        d.set_item("phase", out.phase)?;
+        Ok(d)
+    }
+}

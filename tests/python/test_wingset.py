@@ -1,0 +1,72 @@
+"""flapwing.WingSet: the wings as a force element for a Python host.
+
+Physics: the wing set's loads depend on the body's state and the wings' own state alone, so
+fed the states of flapwing's own Simulation it returns the Simulation's loads exactly; and a
+host that integrates the body with the same scheme (semi-implicit Euler, rapier's) follows the
+Simulation to the difference of the two attitude updates, first order in the step.
+"""
+
+import importlib.util
+import pathlib
+
+import numpy as np
+import pytest
+
+import flapwing
+
+EXAMPLE = pathlib.Path(__file__).resolve().parents[2] / "examples/python/wings_in_your_loop.py"
+
+
+def test_loads_equal_the_simulations_step_by_step():
+    sim = flapwing.Simulation("drosophila", mode="free")
+    wings = flapwing.WingSet("drosophila")
+    assert wings.dt_s == sim.dt_s and len(wings) == 2
+    for _ in range(2 * sim.steps_per_wingbeat):
+        s = sim.state
+        mine = wings.step(s["position_m"], s["world_from_body_wxyz"], s["velocity_m_s"],
+                          s["angular_velocity_body_rad_s"])
+        theirs = sim.step()
+        assert np.array_equal(mine["force_body_n"], theirs["total"]["force_n"])
+        assert np.array_equal(mine["moment_body_nm"], theirs["total"]["moment_nm"])
+        assert mine["t_s"] == theirs["t_s"] and mine["phase"] == theirs["phase"]
+    assert mine["wing_forces_body_n"].shape == (2, 3)
+    assert set(mine["terms"]) == {"translational", "rotational", "added_mass", "wake_capture"}
+
+
+def test_the_example_loop_follows_the_simulation():
+    spec = importlib.util.spec_from_file_location("wings_in_your_loop", EXAMPLE)
+    ex = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ex)
+    p, q, v, w = ex.fly(wingbeats=10)
+    sim = flapwing.Simulation("drosophila", mode="free")
+    p0 = np.asarray(sim.state["position_m"])
+    sim.run_wingbeats(10, record=False)
+    s = sim.state
+    excursion = np.linalg.norm(np.asarray(s["position_m"]) - p0)
+    # First order in the step: the two attitude updates differ by O(|w| dt) per step, so
+    # over the run the paths differ by a few per cent of dt * f = 1/steps_per_wingbeat of
+    # the excursion at most.
+    bound = excursion / sim.steps_per_wingbeat
+    assert np.linalg.norm(p - np.asarray(s["position_m"])) < bound, (p, s["position_m"], bound)
+
+
+def test_bad_input_is_a_value_error_naming_it():
+    wings = flapwing.WingSet()
+    good = dict(position_m=[0, 0, 0], world_from_body_wxyz=[1, 0, 0, 0], velocity_m_s=[0, 0, 0],
+                angular_velocity_body_rad_s=[0, 0, 0])
+    with pytest.raises(ValueError, match=r"velocity_m_s\[1\]"):
+        wings.step(**{**good, "velocity_m_s": [0, float("nan"), 0]})
+    with pytest.raises(ValueError, match="unit quaternion"):
+        wings.step(**{**good, "world_from_body_wxyz": [2, 0, 0, 0]})
+    with pytest.raises(ValueError, match="position_m"):
+        wings.step(**{**good, "position_m": [0, 0]})
+    assert wings.steps == 0
+    with pytest.raises(ValueError, match="dt_s"):
+        flapwing.WingSet("drosophila", dt_s=-1.0)
+    with pytest.raises(ValueError, match="no_such_field"):
+        wings.set_controls(no_such_field=1.0)
+    # Controls the model refuses: as Simulation.set_controls, an AnalysisError naming them.
+    with pytest.raises(flapwing.AnalysisError, match="amplitude"):
+        wings.set_controls(amplitude_rad=-10.0)
+    out = wings.step(**good)
+    assert np.all(np.isfinite(out["force_body_n"])) and wings.steps == 1
