@@ -33,7 +33,10 @@ fn staticlib() -> PathBuf {
         .current_dir(crate_dir())
         .status()
         .expect("run cargo build");
-    assert!(status.success(), "cargo build --release -p flapwing-ffi failed");
+    assert!(
+        status.success(),
+        "cargo build --release -p flapwing-ffi failed"
+    );
     let lib = deps.parent().expect("target/release").join("libflapwing.a");
     assert!(lib.exists(), "no staticlib at {}", lib.display());
     lib
@@ -45,7 +48,14 @@ fn build(source: &str, compiler_env: &str, default: &str, std_flag: &str) -> Pat
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join(source.replace('.', "_"));
     let output = Command::new(&compiler)
         .arg(std_flag)
-        .args(["-Wall", "-Wextra", "-Werror", "-O2", "-ffp-contract=off", "-I"])
+        .args([
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-O2",
+            "-ffp-contract=off",
+            "-I",
+        ])
         .arg(crate_dir().join("include"))
         .arg(crate_dir().join("tests/c").join(source))
         .arg(staticlib())
@@ -96,7 +106,10 @@ fn parse(output: &str) -> Vec<Line> {
             let what = parts.next().expect("a name");
             let k = parts.next().expect("a step");
             let values = parts
-                .map(|v| v.parse::<f64>().unwrap_or_else(|e| panic!("{v:?} in {l:?}: {e}")))
+                .map(|v| {
+                    v.parse::<f64>()
+                        .unwrap_or_else(|e| panic!("{v:?} in {l:?}: {e}"))
+                })
                 .collect();
             (format!("{what} {k}"), values)
         })
@@ -125,7 +138,11 @@ fn vehicle(name: &str) -> Vehicle {
 }
 
 fn load_values(l: &flapsim::BodyLoad) -> Vec<f64> {
-    l.force_n.iter().chain(l.moment_nm.iter()).copied().collect()
+    l.force_n
+        .iter()
+        .chain(l.moment_nm.iter())
+        .copied()
+        .collect()
 }
 
 /// What the programs print, computed with the Rust `WingSet` directly.
@@ -198,7 +215,13 @@ fn rust_lines(scenario: &str, n: u64) -> Vec<Line> {
 fn assert_bit_identical(program: &str, got: &[Line], want: &[Line]) {
     for (g, w) in got.iter().zip(want) {
         assert_eq!(g.0, w.0, "{program}: line order");
-        assert_eq!(g.1.len(), w.1.len(), "{program}: {} has {} values", g.0, g.1.len());
+        assert_eq!(
+            g.1.len(),
+            w.1.len(),
+            "{program}: {} has {} values",
+            g.0,
+            g.1.len()
+        );
         for (i, (a, b)) in g.1.iter().zip(&w.1).enumerate() {
             assert!(
                 a.to_bits() == b.to_bits(),
@@ -264,14 +287,26 @@ fn bad_input_from_c_gives_codes_and_messages() {
         })
         .collect();
     let expect: [(&str, i32, &[&str]); 14] = [
-        ("unknown_builtin", 3, &["no_such_fly", "drosophila, bumblebee"]),
+        (
+            "unknown_builtin",
+            3,
+            &["no_such_fly", "drosophila, bumblebee"],
+        ),
         ("missing_file", 4, &["/nonexistent/flapwing/fly.toml"]),
         ("null_name", 1, &["`name` is NULL"]),
         ("null_out", 1, &["`out` is NULL"]),
         ("negative_dt", 2, &["dt_s = -0.00001", "allowed"]),
         ("nan_dt", 2, &["dt_s = NaN", "allowed"]),
-        ("null_handle_step", 1, &["flapwing_wings_step", "`wings` is NULL"]),
-        ("null_handle_count", 1, &["flapwing_wings_count", "`wings` is NULL"]),
+        (
+            "null_handle_step",
+            1,
+            &["flapwing_wings_step", "`wings` is NULL"],
+        ),
+        (
+            "null_handle_count",
+            1,
+            &["flapwing_wings_count", "`wings` is NULL"],
+        ),
         ("nan_state", 2, &["velocity_world_m_s[1] = NaN", "finite"]),
         ("null_state", 1, &["`body` is NULL"]),
         ("null_total", 1, &["`total_out` is NULL"]),
