@@ -325,6 +325,22 @@ enum FlapwingStatus flapwing_wings_dt_s(const struct FlapwingWings *wings, doubl
 enum FlapwingStatus flapwing_wings_time_s(const struct FlapwingWings *wings, double *out);
 
 /**
+ * The wingbeat frequency now (the model's, with the controls' offset in force), Hz.
+ *
+ * # Safety
+ * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+ */
+enum FlapwingStatus flapwing_wings_freq_hz(const struct FlapwingWings *wings, double *out);
+
+/**
+ * The wingbeat phase at the next step's start, cycles (0 before the first step).
+ *
+ * # Safety
+ * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+ */
+enum FlapwingStatus flapwing_wings_phase(const struct FlapwingWings *wings, double *out);
+
+/**
  * The model's body: mass, inertia, gravity, initial pose.
  *
  * # Safety

@@ -549,6 +549,42 @@ pub unsafe extern "C" fn flapwing_wings_time_s(
     })
 }
 
+/// The wingbeat frequency now (the model's, with the controls' offset in force), Hz.
+///
+/// # Safety
+/// `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn flapwing_wings_freq_hz(
+    wings: *const FlapwingWings,
+    out: *mut f64,
+) -> FlapwingStatus {
+    const F: &str = "flapwing_wings_freq_hz";
+    guard(F, || {
+        // SAFETY: forwarded from this function's contract.
+        let w = unsafe { handle(F, wings) }?;
+        // SAFETY: forwarded from this function's contract.
+        unsafe { put(F, out, w.set.freq_hz()) }
+    })
+}
+
+/// The wingbeat phase at the next step's start, cycles (0 before the first step).
+///
+/// # Safety
+/// `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn flapwing_wings_phase(
+    wings: *const FlapwingWings,
+    out: *mut f64,
+) -> FlapwingStatus {
+    const F: &str = "flapwing_wings_phase";
+    guard(F, || {
+        // SAFETY: forwarded from this function's contract.
+        let w = unsafe { handle(F, wings) }?;
+        // SAFETY: forwarded from this function's contract.
+        unsafe { put(F, out, w.set.phase()) }
+    })
+}
+
 /// The model's body: mass, inertia, gravity, initial pose.
 ///
 /// # Safety

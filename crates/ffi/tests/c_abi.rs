@@ -338,3 +338,48 @@ fn cpp_wrapper_reports_an_error_as_an_exception() {
     assert!(line.starts_with("error unknown_builtin 3 "), "{line}");
     assert!(line.contains("no_such_fly"), "{line}");
 }
+
+#[test]
+fn the_hover_loads_example_builds_and_reports_the_wingbeat_mean() {
+    let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hover_loads");
+    let output = Command::new(std::env::var("CC").unwrap_or_else(|_| "cc".into()))
+        .args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-O2", "-I"])
+        .arg(crate_dir().join("include"))
+        .arg(crate_dir().join("examples/c/hover_loads.c"))
+        .arg(staticlib())
+        .args(["-lm", "-lpthread", "-ldl", "-o"])
+        .arg(&exe)
+        .output()
+        .expect("run cc");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let out = run(&exe, &[]);
+    // The wingbeat mean from Rust: the fly's tethered mean force.
+    let mut set = WingSet::from_vehicle_sized(&vehicle("drosophila")).unwrap();
+    let v = set.vehicle().unwrap().clone();
+    let state = State {
+        position_m: v.initial_position_m,
+        world_from_body: v.initial_attitude,
+        ..State::at_rest()
+    };
+    let n = v.sim.steps_per_wingbeat;
+    let mut fz = 0.0;
+    for _ in 0..n {
+        fz += set.step(&state).unwrap().total.force_n[2];
+    }
+    fz /= n as f64;
+    assert!(out.contains(&format!("{n} steps")), "{out}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("mean force"))
+        .expect("a mean force line");
+    let inside = line.split(['[', ']']).nth(1).expect("[x, y, z]");
+    let z: f64 = inside.split(',').nth(2).unwrap().trim().parse().unwrap();
+    assert!(
+        (z - fz).abs() <= 1e-3 * fz.abs(),
+        "{line}: Rust mean {fz:e}"
+    );
+}
