@@ -223,7 +223,8 @@ impl FlapwingBodyState {
         let [w, x, y, z] = self.world_from_body_wxyz;
         let q = Quaternion::new(w, x, y, z);
         let norm = q.norm();
-        if !((norm - 1.0).abs() <= FLAPWING_QUATERNION_NORM_TOLERANCE) {
+        // NaN cannot reach here (the components are finite), but a norm that overflowed can.
+        if (norm - 1.0).abs() > FLAPWING_QUATERNION_NORM_TOLERANCE || !norm.is_finite() {
             return Err(format!(
                 "body state: world_from_body_wxyz = [{w}, {x}, {y}, {z}] has norm {norm}; allowed: a unit quaternion (norm within {FLAPWING_QUATERNION_NORM_TOLERANCE:e} of 1)"
             ));
@@ -752,11 +753,9 @@ pub unsafe extern "C" fn flapwing_wings_set_controls(
         }
         let c = Controls::from(c);
         // Checked on a copy of the model now, rather than failing the step that applies them.
-        if let Some(v) = w.set.vehicle() {
-            if v.controls != c {
-                let mut v = v.clone();
-                v.apply_controls(&c).map_err(|e| Failure::sim(F, e))?;
-            }
+        if let Some(v) = w.set.vehicle().filter(|v| v.controls != c) {
+            let mut v = v.clone();
+            v.apply_controls(&c).map_err(|e| Failure::sim(F, e))?;
         }
         w.set.set_controls(c).map_err(|e| Failure::sim(F, e))
     })

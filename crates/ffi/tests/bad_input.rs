@@ -45,7 +45,7 @@ fn builtin(name: &str, dt_s: f64) -> Handle {
 }
 
 fn from_toml(text: &str, origin: &str) -> (FlapwingStatus, *mut FlapwingWings) {
-    let mut out = 1usize as *mut FlapwingWings;
+    let mut out = ptr::dangling_mut::<FlapwingWings>();
     // SAFETY: NUL-terminated strings, valid out pointer.
     let s = unsafe {
         flapwing_wings_from_toml(cstr(text).as_ptr(), cstr(origin).as_ptr(), 0.0, &mut out)
@@ -116,7 +116,7 @@ fn a_toml_syntax_error_and_an_unknown_field_are_model_errors() {
 
 #[test]
 fn a_missing_file_is_an_io_error_naming_the_path() {
-    let mut out = 1usize as *mut FlapwingWings;
+    let mut out = ptr::dangling_mut::<FlapwingWings>();
     let path = cstr("/nonexistent/dir/fly.toml");
     // SAFETY: NUL-terminated path, valid out pointer.
     let s = unsafe { flapwing_wings_from_file(path.as_ptr(), 0.0, &mut out) };
@@ -146,7 +146,7 @@ fn a_model_file_gives_the_builtin_s_wings() {
 
 #[test]
 fn an_unknown_builtin_and_non_utf8_text_are_refused() {
-    let mut out = 1usize as *mut FlapwingWings;
+    let mut out = ptr::dangling_mut::<FlapwingWings>();
     // SAFETY: NUL-terminated name, valid out pointer.
     let s = unsafe { flapwing_wings_from_builtin(cstr("housefly").as_ptr(), 0.0, &mut out) };
     expect(
@@ -164,7 +164,7 @@ fn an_unknown_builtin_and_non_utf8_text_are_refused() {
 #[test]
 fn a_step_that_is_negative_nan_or_infinite_is_refused() {
     for dt in [-1e-5, f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-        let mut out = 1usize as *mut FlapwingWings;
+        let mut out = ptr::dangling_mut::<FlapwingWings>();
         // SAFETY: NUL-terminated name, valid out pointer.
         let s = unsafe { flapwing_wings_from_builtin(cstr("drosophila").as_ptr(), dt, &mut out) };
         expect(
@@ -191,7 +191,8 @@ fn a_step_that_is_negative_nan_or_infinite_is_refused() {
 fn a_non_finite_body_state_names_the_field_and_changes_nothing() {
     let h = builtin("drosophila", 0.0);
     let fresh = builtin("drosophila", 0.0);
-    let setters: [(&str, fn(&mut FlapwingBodyState)); 4] = [
+    type Setter = fn(&mut FlapwingBodyState);
+    let setters: [(&str, Setter); 4] = [
         ("position_m[2]", |b| b.position_m[2] = f64::NAN),
         ("world_from_body_wxyz[0]", |b| {
             b.world_from_body_wxyz[0] = f64::INFINITY
