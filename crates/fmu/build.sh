@@ -10,8 +10,9 @@
 #   FMI2_HEADERS        directory of the FMI 2.0 headers (fmi2Functions.h ...), default the
 #                       copy fmpy ships (fmpy/c-code), found with ${PYTHON:-python3}
 #   CC                  default gcc
-# Output: OUT_DIR/flapwing_wings.fmu, its unpacked tree OUT_DIR/fmu/ and OUT_DIR/gen (the
-# modelDescription.xml generator). The .so holds libflapwing.a; it exports the fmi2* functions
+# Output: OUT_DIR/flapwing_wings.fmu, its unpacked tree OUT_DIR/fmu/, OUT_DIR/gen (the
+# modelDescription.xml generator) and OUT_DIR/reference (the C ABI stepped without FMI, for
+# the tests; see reference.c). The .so holds libflapwing.a; it exports the fmi2* functions
 # only.
 set -euo pipefail
 
@@ -45,6 +46,10 @@ mkdir -p "$out/fmu/binaries/linux64"
   -Wl,--exclude-libs,ALL -Wl,--gc-sections -Wl,--no-undefined \
   -lpthread -ldl -lm -lrt \
   -o "$out/fmu/binaries/linux64/flapwing_wings.so"
+
+# The C ABI's own numbers, stepped as fmi2DoStep steps (for tests/python/test_fmu.py).
+"$cc" -std=c11 -O2 -Wall -Wextra -Werror -I"$include" "$here/reference.c" "$staticlib" \
+  -lpthread -ldl -lm -lrt -o "$out/reference"
 
 (cd "$out/fmu" && zip -q -r -X "$out/flapwing_wings.fmu" modelDescription.xml binaries)
 echo "$out/flapwing_wings.fmu"

@@ -50,6 +50,7 @@ typedef struct {
   fmi2Integer element_steps;
   FlapwingWings *wings;             /* created at the end of initialization (or on demand) */
   FlapwingControls applied;         /* the controls last passed to the wing set */
+  fmi2Boolean discarded;            /* the last doStep was discarded (a bad input) */
   double start_time_s;
 } Fmu;
 
@@ -115,6 +116,7 @@ static char *dup_string(const char *s) {
 static void reset_values(Fmu *f) {
   memcpy(f->real, real_start, sizeof f->real);
   f->element_steps = 0;
+  f->discarded = fmi2False;
   memset(&f->applied, 0, sizeof f->applied);
   flapwing_wings_free(f->wings);
   f->wings = NULL;
@@ -392,6 +394,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
   Fmu *f = c;
   if (!f) return fmi2Error;
   if (f->phase != STEPPING) return fail(f, fmi2Error, "fmi2DoStep: not initialized (or terminated, or failed)");
+  f->discarded = fmi2False;
   const double dt_s = f->real[VR_element_dt_s];
   const double h = communicationStepSize;
   /* Whole element steps covering h. */
@@ -412,6 +415,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
   FlapwingControls controls = controls_from_inputs(f->real);
   if (memcmp(&controls, &f->applied, sizeof controls) != 0) {
     FlapwingStatus s = flapwing_wings_set_controls(f->wings, &controls);
+    f->discarded = s == FLAPWING_INVALID_ARGUMENT;
     if (s != FLAPWING_OK)
       return fail(f, s == FLAPWING_INVALID_ARGUMENT ? fmi2Discard : fmi2Error, "controls at t = %.17g s: %s: %s",
                   currentCommunicationPoint, status_name(s), flapwing_last_error());
@@ -426,6 +430,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
     FlapwingWrench w;
     FlapwingStatus s = flapwing_wings_step(f->wings, &body, &w);
     if (s != FLAPWING_OK) {
+      f->discarded = s == FLAPWING_INVALID_ARGUMENT;
       /* A bad input (NaN, a zero quaternion) leaves the element where it was: discard the
        * step; anything else (divergence, a bug) ends the simulation. */
       return fail(f, s == FLAPWING_INVALID_ARGUMENT ? fmi2Discard : fmi2Error,
@@ -468,9 +473,14 @@ fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Int
   return c ? fail(c, fmi2Discard, "fmi2GetIntegerStatus: no integer status") : fmi2Error;
 }
 
+/* fmi2Terminated, asked after a discarded step: the FMU cannot go on from a bad input (a
+ * NaN body state), so it asks the master to end the simulation at the last good time. */
 fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
-  (void)s, (void)value;
-  return c ? fail(c, fmi2Discard, "fmi2GetBooleanStatus: no boolean status (steps are never terminated early)") : fmi2Error;
+  Fmu *f = c;
+  if (!f) return fmi2Error;
+  if (s != fmi2Terminated || !value) return fail(f, fmi2Discard, "fmi2GetBooleanStatus: only fmi2Terminated");
+  *value = f->discarded;
+  return fmi2OK;
 }
 
 fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
