@@ -113,8 +113,11 @@ static char *dup_string(const char *s) {
   return d;
 }
 
+/* Start values; the outputs are zero until the first doStep, the element step is NaN until
+ * the model is loaded. */
 static void reset_values(Fmu *f) {
   memcpy(f->real, real_start, sizeof f->real);
+  for (int i = 0; i < 3; i++) f->real[VR_force_body_n_x + i] = f->real[VR_moment_body_nm_x + i] = 0.0;
   f->element_steps = 0;
   f->discarded = fmi2False;
   memset(&f->applied, 0, sizeof f->applied);

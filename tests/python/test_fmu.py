@@ -86,6 +86,11 @@ def test_fmpy_finds_no_problem(built):
     assert validate_fmu(built["fmu"]) == []
     md = fmpy.read_model_description(built["fmu"])
     assert md.fmiVersion == "2.0" and md.coSimulation.modelIdentifier == "flapwing_wings"
+    # The default experiment steps the default model by its element step, 218 times.
+    dt_s = reference(built, 1, 1)["dt_s"]
+    assert float(md.defaultExperiment.stepSize) == dt_s
+    result = fmpy.simulate_fmu(built["fmu"])  # fmpy's defaults: the default experiment
+    assert list(result["element_steps"]) == list(range(219))
 
 
 @pytest.mark.parametrize("steps_per_comm, n_comm", [(1, 250), (7, 40)])
@@ -173,9 +178,11 @@ def test_a_nan_body_state_discards_the_step_and_ends_the_run(built):
                       start_values=tethered_start(ref, velocity_world_m_s_z=float("nan")))
     # fmi2Discard, then fmi2Terminated: fmpy stops at the last good time, t = 0, no step taken.
     assert result["time"][-1] == 0.0 and result["element_steps"][-1] == 0
+    assert [result[n][-1] for n in FORCE + MOMENT] == [0.0] * 6  # outputs before any step
     discards = [m for s, m in log.messages if s == 2]
-    assert discards and "invalid argument" in discards[0], log.messages
-    assert len(discards[0]) > len("element step 1 of 1 at t = 0 s: invalid argument: ")
+    # The C ABI's message, passed on: which field, its value, what is allowed.
+    assert discards and "velocity_world_m_s[2] = NaN" in discards[0], log.messages
+    assert "allowed: finite numbers" in discards[0]
 
 
 def test_a_step_that_is_no_whole_number_of_element_steps_is_an_error(built):
