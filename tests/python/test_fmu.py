@@ -49,9 +49,9 @@ def built(tmp_path_factory):
     return {"fmu": str(out / "flapwing_wings.fmu"), "reference": out / "reference"}
 
 
-def reference(built, steps_per_comm, n_comm, model="drosophila"):
+def reference(built, steps_per_comm, n_comm, model="drosophila", dt_s=0.0):
     """The C ABI's mean wrench per communication step (rows of force xyz, moment xyz)."""
-    proc = subprocess.run([str(built["reference"]), model, "0", str(steps_per_comm), str(n_comm)],
+    proc = subprocess.run([str(built["reference"]), model, repr(dt_s), str(steps_per_comm), str(n_comm)],
                           capture_output=True, text=True, check=True)
     lines = proc.stdout.splitlines()
     val = lambda s: float.fromhex(s)  # noqa: E731
@@ -104,6 +104,17 @@ def test_outputs_equal_the_c_abi_bit_for_bit(built, steps_per_comm, n_comm):
         f"first difference at row {np.argwhere(out != ref['wrench'])[0]}")
     assert list(result["element_steps"][1:]) == [steps_per_comm * (k + 1) for k in range(n_comm)]
     assert np.abs(out[:, 2]).max() > 1e-6  # the fly's wings do load the body (N)
+
+
+@pytest.mark.parametrize("model, dt_s", [
+    ("robobee", 0.0),          # actuated: the wings' stroke and pitch dynamics in the FMU
+    ("drosophila", 1.0e-5),    # a host's step that does not divide the wingbeat
+])
+def test_other_models_and_steps_equal_the_c_abi_bit_for_bit(built, model, dt_s):
+    ref = reference(built, 3, 60, model=model, dt_s=dt_s)
+    assert dt_s == 0.0 or ref["dt_s"] == dt_s
+    result = simulate(built, ref, 3, 60, start_values=tethered_start(ref, model=model, dt_s=dt_s))
+    assert np.array_equal(wrench(result).view(np.uint64), ref["wrench"].view(np.uint64))
 
 
 def test_cycle_means_equal_flapwings_tethered_run(built, run_flapwing, tmp_path):
