@@ -49,9 +49,11 @@ def built(tmp_path_factory):
     return {"fmu": str(out / "flapwing_wings.fmu"), "reference": out / "reference"}
 
 
-def reference(built, steps_per_comm, n_comm, model="drosophila", dt_s=0.0):
-    """The C ABI's mean wrench per communication step (rows of force xyz, moment xyz)."""
-    proc = subprocess.run([str(built["reference"]), model, repr(dt_s), str(steps_per_comm), str(n_comm)],
+def reference(built, steps_per_comm, n_comm, model="drosophila", dt_s=0.0, attitude=()):
+    """The C ABI's mean wrench per communication step (rows of force xyz, moment xyz), the
+    body at rest at `attitude` (w, x, y, z; default the model's initial attitude)."""
+    proc = subprocess.run([str(built["reference"]), model, repr(dt_s), str(steps_per_comm), str(n_comm),
+                           *map(repr, attitude)],
                           capture_output=True, text=True, check=True)
     lines = proc.stdout.splitlines()
     val = lambda s: float.fromhex(s)  # noqa: E731
@@ -204,3 +206,28 @@ def test_a_step_that_is_no_whole_number_of_element_steps_is_an_error(built):
         fmpy.simulate_fmu(built["fmu"], stop_time=4 * h, output_interval=h, logger=log)
     assert e.value.function == "fmi2DoStep" and e.value.status == 3
     assert any("not a whole number of element steps" in m for _, m in log.messages), log.messages
+
+
+def test_a_c_host_runs_good_and_bad_instances_cleanly(built, tmp_path):
+    """crates/fmu/tests/c_host.c loads the FMU's .so with dlopen, as a C master would: a good
+    run, a bad model and a NaN input in turn, each freed; under valgrind when the machine has
+    it (no invalid access, no definite leak)."""
+    fmi2 = pathlib.Path(fmpy.__file__).parent / "c-code"
+    host = tmp_path / "c_host"
+    subprocess.run([os.environ.get("CC", "gcc"), "-std=c11", "-Wall", "-Wextra", "-Werror",
+                    f"-I{fmi2}", str(ROOT / "crates" / "fmu" / "tests" / "c_host.c"), "-o",
+                    str(host), "-ldl"], check=True)
+    so = pathlib.Path(built["fmu"]).parent / "fmu" / "binaries" / "linux64" / "flapwing_wings.so"
+    guid = fmpy.read_model_description(built["fmu"]).guid
+    valgrind = shutil.which("valgrind")
+    wrap = [valgrind, "-q", "--leak-check=full", "--errors-for-leak-kinds=definite",
+            "--error-exitcode=9"] if valgrind else []
+    proc = subprocess.run([*wrap, str(host), str(so), guid], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    lines = proc.stdout.splitlines()
+    good = [line for line in lines if line.startswith("run 0 steps")][0].split()
+    assert good[3:6] == ["50", "status", "0"]  # fz printed with %.17g: exact
+    assert float(good[-1]) == reference(built, 2, 50, attitude=(1.0, 0.0, 0.0, 0.0))["wrench"][-1, 2]
+    assert "run 1 init 3" in lines and any('no built-in model named "no_such_fly"' in x for x in lines)
+    assert "run 2 steps 0 status 2 fz 0" in lines
+    assert any("velocity_world_m_s[2] = NaN" in x for x in lines)
