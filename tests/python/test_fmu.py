@@ -1,0 +1,233 @@
+"""The FMU (crates/fmu): flapwing's wing set as an FMI 2.0 co-simulation FMU, built with
+crates/fmu/build.sh from the C ABI's staticlib, validated and simulated by fmpy.
+
+Reference numbers: `reference` (crates/fmu/reference.c, built by the same script) steps the
+C ABI exactly as fmi2DoStep does, without FMI, and prints hex floats; the FMU's outputs must
+equal them bit for bit (same library, same inputs, same arithmetic: nothing may differ).
+flapwing's own tethered run (`flapwing simulate --tethered --json`) gives the cycle means:
+the body-frame mean is the same sums in the same order as flapsim's SummaryBuilder, so it is
+compared exactly too; the mean vertical force turns each step's force into the world with
+numpy instead of nalgebra (a few ulp per step), so it is compared to 1e-9 relative.
+
+Skipped (with the reason) only when gcc or the staticlib is missing: FLAPWING_STATICLIB, else
+${CARGO_TARGET_DIR:-target}/release/libflapwing.a (`cargo build --release -p flapwing-ffi`).
+"""
+
+import json
+import math
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import fmpy
+import numpy as np
+import pytest
+from fmpy.fmi1 import FMICallException
+from fmpy.validation import validate_fmu
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+FORCE = [f"force_body_n_{a}" for a in "xyz"]
+MOMENT = [f"moment_body_nm_{a}" for a in "xyz"]
+TETHERED_S = 0.1  # the CLI run: 21 complete wingbeats of the fruit fly's 218 Hz
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    if shutil.which(os.environ.get("CC", "gcc")) is None:
+        pytest.skip("no C compiler (gcc, or CC) to build the FMU")
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    lib = pathlib.Path(os.environ.get("FLAPWING_STATICLIB", target / "release" / "libflapwing.a"))
+    if not lib.is_file():
+        pytest.skip(f"no C ABI staticlib at {lib}: build it with `cargo build --release -p flapwing-ffi`")
+    out = tmp_path_factory.mktemp("fmu")
+    env = dict(os.environ, FLAPWING_STATICLIB=str(lib), PYTHON=sys.executable)
+    proc = subprocess.run(["bash", str(ROOT / "crates" / "fmu" / "build.sh"), str(out)],
+                          capture_output=True, text=True, env=env)
+    assert proc.returncode == 0, f"build.sh failed:\n{proc.stdout}\n{proc.stderr}"
+    return {"fmu": str(out / "flapwing_wings.fmu"), "reference": out / "reference"}
+
+
+def reference(built, steps_per_comm, n_comm, model="drosophila", dt_s=0.0, attitude=()):
+    """The C ABI's mean wrench per communication step (rows of force xyz, moment xyz), the
+    body at rest at `attitude` (w, x, y, z; default the model's initial attitude)."""
+    proc = subprocess.run([str(built["reference"]), model, repr(dt_s), str(steps_per_comm), str(n_comm),
+                           *map(repr, attitude)],
+                          capture_output=True, text=True, check=True)
+    lines = proc.stdout.splitlines()
+    val = lambda s: float.fromhex(s)  # noqa: E731
+    return {
+        "dt_s": val(lines[0].split()[1]),
+        "attitude": [val(s) for s in lines[1].split()[1:]],
+        "weight_n": val(lines[2].split()[1]),
+        "wrench": np.array([[val(s) for s in line.split()] for line in lines[3:]]),
+    }
+
+
+def tethered_start(ref, **extra):
+    """Start values: the body at rest at the model's initial attitude (as `--tethered`)."""
+    w, x, y, z = ref["attitude"]
+    return {"world_from_body_w": w, "world_from_body_x": x, "world_from_body_y": y,
+            "world_from_body_z": z, **extra}
+
+
+def simulate(built, ref, steps_per_comm, n_comm, **kw):
+    h = steps_per_comm * ref["dt_s"]
+    return fmpy.simulate_fmu(built["fmu"], start_time=0.0, stop_time=n_comm * h, output_interval=h,
+                             start_values=kw.pop("start_values", tethered_start(ref)),
+                             output=FORCE + MOMENT + ["element_steps"], **kw)
+
+
+def wrench(result):
+    """Outputs after each doStep (row 0 is the time-0 sample, before any step)."""
+    return np.column_stack([result[n] for n in FORCE + MOMENT])[1:]
+
+
+def test_fmpy_finds_no_problem(built):
+    assert validate_fmu(built["fmu"]) == []
+    md = fmpy.read_model_description(built["fmu"])
+    assert md.fmiVersion == "2.0" and md.coSimulation.modelIdentifier == "flapwing_wings"
+    # The default experiment steps the default model by its element step, 218 times.
+    dt_s = reference(built, 1, 1)["dt_s"]
+    assert float(md.defaultExperiment.stepSize) == dt_s
+    result = fmpy.simulate_fmu(built["fmu"])  # fmpy's defaults: the default experiment
+    assert list(result["element_steps"]) == list(range(219))
+
+
+@pytest.mark.parametrize("steps_per_comm, n_comm", [(1, 250), (7, 40)])
+def test_outputs_equal_the_c_abi_bit_for_bit(built, steps_per_comm, n_comm):
+    ref = reference(built, steps_per_comm, n_comm)
+    result = simulate(built, ref, steps_per_comm, n_comm)
+    out = wrench(result)
+    assert out.shape == ref["wrench"].shape
+    # Bit for bit: the same library stepped from the same inputs in the same order.
+    assert np.array_equal(out.view(np.uint64), ref["wrench"].view(np.uint64)), (
+        f"first difference at row {np.argwhere(out != ref['wrench'])[0]}")
+    assert list(result["element_steps"][1:]) == [steps_per_comm * (k + 1) for k in range(n_comm)]
+    assert np.abs(out[:, 2]).max() > 1e-6  # the fly's wings do load the body (N)
+
+
+@pytest.mark.parametrize("model, dt_s", [
+    ("robobee", 0.0),          # actuated: the wings' stroke and pitch dynamics in the FMU
+    ("drosophila", 1.0e-5),    # a host's step that does not divide the wingbeat
+])
+def test_other_models_and_steps_equal_the_c_abi_bit_for_bit(built, model, dt_s):
+    ref = reference(built, 3, 60, model=model, dt_s=dt_s)
+    assert dt_s == 0.0 or ref["dt_s"] == dt_s
+    result = simulate(built, ref, 3, 60, start_values=tethered_start(ref, model=model, dt_s=dt_s))
+    assert np.array_equal(wrench(result).view(np.uint64), ref["wrench"].view(np.uint64))
+
+
+def test_cycle_means_equal_flapwings_tethered_run(built, run_flapwing, tmp_path):
+    cli = json.loads(run_flapwing("simulate", "--model", "drosophila", "--tethered", "--json",
+                                  "--duration-s", TETHERED_S, "--no-log", cwd=tmp_path).stdout)
+    per_cycle = cli["steps_per_wingbeat"]
+    cycles = cli["summary"]["wingbeats_averaged"]
+    ref = reference(built, 1, 1)
+    assert ref["dt_s"] == cli["dt_s"]
+    out = wrench(simulate(built, ref, 1, cycles * per_cycle))
+
+    # flapsim's SummaryBuilder: each wingbeat's sum from 0.0 in step order, weighted by
+    # 1/steps and added up, then divided by the number of wingbeats.
+    total = [0.0] * 6
+    for c in range(cycles):
+        s = [0.0] * 6
+        for row in out[c * per_cycle:(c + 1) * per_cycle]:
+            s = [a + float(b) for a, b in zip(s, row)]
+        total = [t + (1.0 / per_cycle) * a for t, a in zip(total, s)]
+    mean = [t / cycles for t in total]
+    want = cli["summary"]["mean_total"]
+    assert mean[:3] == want["force_n"] and mean[3:] == want["moment_nm"]
+
+    # Mean vertical (world z) force: the body force turned by world_from_body.
+    w, x, y, z = ref["attitude"]
+    row_z = np.array([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)])
+    vertical = (out[:, :3] @ row_z).reshape(cycles, per_cycle).mean(axis=1).mean()
+    want_vertical = cli["summary"]["mean_lift_over_weight"] * cli["weight_n"]
+    assert math.isclose(vertical, want_vertical, rel_tol=1e-9), (vertical, want_vertical)
+
+
+def test_a_model_file_flies_like_its_built_in(built):
+    ref = reference(built, 1, 100)
+    result = simulate(built, ref, 1, 100, start_values=tethered_start(
+        ref, model=str(ROOT / "models" / "drosophila.toml")))
+    assert np.array_equal(wrench(result), ref["wrench"])
+
+
+def test_the_amplitude_control_moves_the_lift(built):
+    ref = reference(built, 1, 200)
+    more = wrench(simulate(built, ref, 1, 200,
+                           start_values=tethered_start(ref, control_amplitude_rad=0.1)))
+    # A larger stroke amplitude lifts more: the mean body-z force over the two wingbeats grows.
+    assert more[:, 2].mean() > 1.05 * ref["wrench"][:, 2].mean()
+
+
+class Log:
+    """An fmpy logger that keeps (status, message) pairs."""
+
+    def __init__(self):
+        self.messages = []
+
+    def __call__(self, component, instance, status, category, message):
+        self.messages.append((status, message.decode()))
+
+
+def test_a_bad_model_name_is_an_fmi_error_with_the_c_abis_message(built):
+    ref = reference(built, 1, 1)
+    log = Log()
+    with pytest.raises(FMICallException) as e:
+        simulate(built, ref, 1, 10, start_values={"model": "no_such_fly"}, logger=log)
+    assert e.value.function == "fmi2ExitInitializationMode" and e.value.status == 3  # fmi2Error
+    errors = [m for s, m in log.messages if s == 3]
+    assert errors and 'no built-in model named "no_such_fly"' in errors[0], log.messages
+    assert "drosophila" in errors[0]  # names what is allowed
+
+
+def test_a_nan_body_state_discards_the_step_and_ends_the_run(built):
+    ref = reference(built, 1, 1)
+    log = Log()
+    result = simulate(built, ref, 1, 10, logger=log,
+                      start_values=tethered_start(ref, velocity_world_m_s_z=float("nan")))
+    # fmi2Discard, then fmi2Terminated: fmpy stops at the last good time, t = 0, no step taken.
+    assert result["time"][-1] == 0.0 and result["element_steps"][-1] == 0
+    assert [result[n][-1] for n in FORCE + MOMENT] == [0.0] * 6  # outputs before any step
+    discards = [m for s, m in log.messages if s == 2]
+    # The C ABI's message, passed on: which field, its value, what is allowed.
+    assert discards and "velocity_world_m_s[2] = NaN" in discards[0], log.messages
+    assert "allowed: finite numbers" in discards[0]
+
+
+def test_a_step_that_is_no_whole_number_of_element_steps_is_an_error(built):
+    ref = reference(built, 1, 1)
+    log = Log()
+    h = 1.5 * ref["dt_s"]
+    with pytest.raises(FMICallException) as e:
+        fmpy.simulate_fmu(built["fmu"], stop_time=4 * h, output_interval=h, logger=log)
+    assert e.value.function == "fmi2DoStep" and e.value.status == 3
+    assert any("not a whole number of element steps" in m for _, m in log.messages), log.messages
+
+
+def test_a_c_host_runs_good_and_bad_instances_cleanly(built, tmp_path):
+    """crates/fmu/tests/c_host.c loads the FMU's .so with dlopen, as a C master would: a good
+    run, a bad model and a NaN input in turn, each freed; under valgrind when the machine has
+    it (no invalid access, no definite leak)."""
+    fmi2 = pathlib.Path(fmpy.__file__).parent / "c-code"
+    host = tmp_path / "c_host"
+    subprocess.run([os.environ.get("CC", "gcc"), "-std=c11", "-Wall", "-Wextra", "-Werror",
+                    f"-I{fmi2}", str(ROOT / "crates" / "fmu" / "tests" / "c_host.c"), "-o",
+                    str(host), "-ldl"], check=True)
+    so = pathlib.Path(built["fmu"]).parent / "fmu" / "binaries" / "linux64" / "flapwing_wings.so"
+    guid = fmpy.read_model_description(built["fmu"]).guid
+    valgrind = shutil.which("valgrind")
+    wrap = [valgrind, "-q", "--leak-check=full", "--errors-for-leak-kinds=definite",
+            "--error-exitcode=9"] if valgrind else []
+    proc = subprocess.run([*wrap, str(host), str(so), guid], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    lines = proc.stdout.splitlines()
+    good = [line for line in lines if line.startswith("run 0 steps")][0].split()
+    assert good[3:6] == ["50", "status", "0"]  # fz printed with %.17g: exact
+    assert float(good[-1]) == reference(built, 2, 50, attitude=(1.0, 0.0, 0.0, 0.0))["wrench"][-1, 2]
+    assert "run 1 init 3" in lines and any('no built-in model named "no_such_fly"' in x for x in lines)
+    assert "run 2 steps 0 status 2 fz 0" in lines
+    assert any("velocity_world_m_s[2] = NaN" in x for x in lines)
