@@ -27,7 +27,7 @@ fi
 # The C ABI as a static library (a no-op when it is current).
 (cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build --release --quiet -p flapwing-ffi >&2)
 staticlib="$target_dir/release/libflapwing.a"
-header_dir="$root/crates/ffi/include"
+header_dir="${FLAPWING_INCLUDE_DIR:-$root/crates/ffi/include}"
 [[ -f $staticlib && -f $header_dir/flapwing.h ]] || {
     echo "crates/mujoco/build.sh: missing $staticlib or $header_dir/flapwing.h" >&2
     exit 1
@@ -44,7 +44,7 @@ out="$target_dir/release/libflapwing_mujoco.so"
     "$root/crates/mujoco/flapwing_mujoco.c" \
     "$staticlib" \
     -L"$mj" -l:"$libmujoco" -Wl,-rpath,"$mj" \
-    -Wl,--exclude-libs,ALL -Wl,--gc-sections -Wl,--no-undefined \
+    -Wl,--exclude-libs,ALL -Wl,--gc-sections -Wl,--strip-debug -Wl,--no-undefined \
     -lpthread -ldl -lm -lgcc_s -lc \
     -o "$out"
 echo "$out"

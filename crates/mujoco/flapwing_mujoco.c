@@ -211,19 +211,6 @@ static FlapwingWings *create_wings(const Config *c, char *msg, size_t nmsg) {
   return w;
 }
 
-/* Checks at load that the configured wings take a step (controls are applied at the first
- * step, so a control the model rejects shows there): a throwaway set steps once from rest. */
-static int probe_wings(const Config *c, char *msg, size_t nmsg) {
-  FlapwingWings *w = create_wings(c, msg, nmsg);
-  if (!w) return -1;
-  FlapwingBodyState rest = {{0, 0, 0}, {1, 0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-  FlapwingWrench wrench;
-  int ok = flapwing_wings_step(w, &rest, &wrench) == FLAPWING_OK;
-  if (!ok) snprintf(msg, nmsg, "the configured wings cannot step: %s", flapwing_last_error());
-  flapwing_wings_free(w);
-  return ok ? 0 : -1;
-}
-
 /*---------------------------------- the body ---------------------------------------------*/
 
 /* The body's state for flapwing: position and velocity of the centre of mass (world),
@@ -317,7 +304,6 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
   }
   in->body_id = body_id;
   if (read_config(m, instance, &in->config, msg, sizeof(msg)) != 0 ||
-      probe_wings(&in->config, msg, sizeof(msg)) != 0 ||
       !(in->wings = create_wings(&in->config, msg, sizeof(msg)))) {
     mju_warning("%s instance %d (body `%s`): %s", PLUGIN_NAME, instance,
                 mj_id2name(m, mjOBJ_BODY, body_id), msg);
