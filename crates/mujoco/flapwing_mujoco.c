@@ -1,0 +1,393 @@
+/* flapwing_mujoco.c: flapwing's wing set as a MuJoCo engine plugin, `flapwing.wings`.
+ *
+ * A passive-force plugin attached to one body (`<body><plugin instance="..."/></body>`). At
+ * every mj_step it hands the body's state at t_k to a flapwing wing set (the C ABI of
+ * crates/ffi, linked statically) and applies the wrench the wings return for [t_k, t_k + dt]
+ * to the body, at its centre of mass, through qfrc_passive (mj_applyFT).
+ *
+ * Frames and units (SI): flapwing's body frame is the MuJoCo body's frame (xquat) moved to
+ * the body's centre of mass (xipos): x forward, y left, z up; world z up (MuJoCo's default
+ * gravity axis). The model's body mass and inertia are the MJCF's business (see
+ * examples/mujoco/fly.xml); the plugin reads neither.
+ *
+ * Stepping: the wings advance once per mj_step, at the first passive-force evaluation of the
+ * step (the state at t_k); later evaluations within the same step (RK4's stages, a user's
+ * mj_forward) apply the same wrench, held over the step as flapwing's own host does; the
+ * `advance` callback (after MuJoCo's time integration) marks the next evaluation as a new
+ * step. mj_resetData restarts the wings from t = 0.
+ *
+ * Errors through MuJoCo's own channels: a bad attribute or model makes `init` fail after a
+ * mju_warning naming what is wrong (the compiler reports it as the load error, the Python
+ * bindings raise it); at run time a non-finite body state, a failed or diverged step or a
+ * non-finite wrench is a mju_warning (once per run of failures) and the wrench is zero.
+ * Nothing here calls mju_error.
+ *
+ * Plugin state (m->plugin_statenum = 6): the wrench applied in the last step, body frame:
+ * force_body_n[3], moment_body_nm[3] (zero before the first step and after a failure).
+ */
+
+#include <errno.h>
+#include <stddef.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <mujoco/mujoco.h>
+
+#include "flapwing.h"
+
+#define PLUGIN_NAME "flapwing.wings"
+#define NSTATE 6
+#define MESSAGE_CHARS 1024
+
+/* Config attributes. Controls are offsets on the model's base kinematics (flapsim::Controls);
+ * angles in degrees here, converted to radians as the TOML models' [controls] are. */
+enum {
+  ATTR_MODEL = 0,
+  ATTR_WIND,
+  ATTR_FIRST_CONTROL, /* the controls, in the order of kControls below */
+};
+
+typedef struct ControlAttribute {
+  const char *name;
+  size_t offset;      /* of the double in FlapwingControls */
+  double to_si;       /* factor to SI (rad per degree, or 1) */
+} ControlAttribute;
+
+/* Rust's f64::to_radians factor (core::f64::consts::PI / 180), so values match flapwing's. */
+#define PI_RAD 3.14159265358979323846
+#define DEG_TO_RAD (PI_RAD / 180.0)
+
+static const ControlAttribute kControls[] = {
+  {"mean_stroke_deg", offsetof(FlapwingControls, mean_stroke_rad), DEG_TO_RAD},
+  {"amplitude_deg", offsetof(FlapwingControls, amplitude_rad), DEG_TO_RAD},
+  {"pitch_bias_deg", offsetof(FlapwingControls, pitch_bias_rad), DEG_TO_RAD},
+  {"aoa_deg", offsetof(FlapwingControls, aoa_rad), DEG_TO_RAD},
+  {"freq_hz", offsetof(FlapwingControls, freq_hz), 1.0},
+  {"diff_amplitude_deg", offsetof(FlapwingControls, diff_amplitude_rad), DEG_TO_RAD},
+  {"diff_pitch_bias_deg", offsetof(FlapwingControls, diff_pitch_bias_rad), DEG_TO_RAD},
+  {"diff_mean_stroke_deg", offsetof(FlapwingControls, diff_mean_stroke_rad), DEG_TO_RAD},
+  {"bias_v", offsetof(FlapwingControls, bias_v), 1.0},
+  {"amplitude_v", offsetof(FlapwingControls, amplitude_v), 1.0},
+  {"diff_amplitude_v", offsetof(FlapwingControls, diff_amplitude_v), 1.0},
+  {"diff_bias_v", offsetof(FlapwingControls, diff_bias_v), 1.0},
+  {"diff_second_harmonic", offsetof(FlapwingControls, diff_second_harmonic), 1.0},
+};
+#define NCONTROL ((int)(sizeof(kControls) / sizeof(kControls[0])))
+
+static const char *kAttributes[ATTR_FIRST_CONTROL + NCONTROL];
+
+/* What an instance was configured with (kept to rebuild the wings on reset). */
+typedef struct Config {
+  char *model;                  /* built-in name or TOML path */
+  int has_controls;             /* any control attribute given */
+  FlapwingControls controls;    /* SI; unset fields 0 (no offset) */
+  int has_wind;
+  double wind_world_m_s[3];
+  double dt_s;                  /* m->opt.timestep */
+} Config;
+
+/* One plugin instance in one mjData. */
+typedef struct Instance {
+  Config config;
+  int body_id;                  /* the body the plugin is attached to */
+  FlapwingWings *wings;         /* NULL if a rebuild on reset failed (warned) */
+  int stepped;                  /* the wings have stepped for the current mj_step */
+  uint64_t steps;               /* wing steps since creation */
+  int failing;                  /* the last step failed (warned once per run of failures) */
+  FlapwingWrench wrench;        /* applied in the current step, body frame */
+} Instance;
+
+/*---------------------------------- configuration -----------------------------------------*/
+
+/* The attribute's text, or NULL if absent or empty. */
+static const char *attribute(const mjModel *m, int instance, const char *name) {
+  const char *s = mj_getPluginConfig(m, instance, name);
+  return (s && s[0]) ? s : NULL;
+}
+
+/* Parses `n` finite numbers separated by white space; 0 on success. */
+static int parse_numbers(const char *text, double *out, int n) {
+  const char *p = text;
+  for (int i = 0; i < n; i++) {
+    char *end;
+    errno = 0;
+    double x = strtod(p, &end);
+    if (end == p || errno == ERANGE || !isfinite(x)) return -1;
+    out[i] = x;
+    p = end;
+  }
+  while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') p++;
+  return *p ? -1 : 0;
+}
+
+static void free_config(Config *c) {
+  free(c->model);
+  c->model = NULL;
+}
+
+/* Reads the instance's attributes; on failure writes a message and returns -1. */
+static int read_config(const mjModel *m, int instance, Config *c, char *msg, size_t nmsg) {
+  memset(c, 0, sizeof(*c));
+  c->dt_s = m->opt.timestep;
+  const char *model = attribute(m, instance, "model");
+  if (!model) {
+    snprintf(msg, nmsg,
+             "attribute `model` is missing or empty; allowed: a built-in model name "
+             "(drosophila, bumblebee, robobee_kinematic, robobee, hummingbird) or a TOML file path");
+    return -1;
+  }
+  c->model = malloc(strlen(model) + 1);
+  if (!c->model) {
+    snprintf(msg, nmsg, "out of memory copying attribute `model`");
+    return -1;
+  }
+  strcpy(c->model, model);
+
+  const char *wind = attribute(m, instance, "wind");
+  if (wind) {
+    if (parse_numbers(wind, c->wind_world_m_s, 3) != 0) {
+      snprintf(msg, nmsg,
+               "attribute `wind` = \"%s\"; allowed: three finite numbers, the world-frame wind in m/s",
+               wind);
+      return -1;
+    }
+    c->has_wind = 1;
+  }
+
+  for (int i = 0; i < NCONTROL; i++) {
+    const char *text = attribute(m, instance, kControls[i].name);
+    if (!text) continue;
+    double x;
+    if (parse_numbers(text, &x, 1) != 0) {
+      snprintf(msg, nmsg, "attribute `%s` = \"%s\"; allowed: one finite number", kControls[i].name,
+               text);
+      return -1;
+    }
+    *(double *)((char *)&c->controls + kControls[i].offset) = x * kControls[i].to_si;
+    c->has_controls = 1;
+  }
+  return 0;
+}
+
+/*---------------------------------- the wing set ------------------------------------------*/
+
+/* Whether the model names a built-in (letters, digits and '_' only) rather than a file. */
+static int is_builtin_name(const char *s) {
+  for (; *s; s++) {
+    char ch = *s;
+    if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
+          ch == '_')) {
+      return 0;
+    }
+  }
+  return 1;
+}
+
+/* A wing set from the config, with its controls and wind; on failure NULL and a message. */
+static FlapwingWings *create_wings(const Config *c, char *msg, size_t nmsg) {
+  FlapwingWings *w = NULL;
+  FlapwingStatus st = is_builtin_name(c->model)
+                          ? flapwing_wings_from_builtin(c->model, c->dt_s, &w)
+                          : flapwing_wings_from_file(c->model, c->dt_s, &w);
+  if (st != FLAPWING_OK) {
+    snprintf(msg, nmsg, "model `%s` (as %s, step %.17g s): %s", c->model,
+             is_builtin_name(c->model) ? "a built-in name" : "a TOML file", c->dt_s,
+             flapwing_last_error());
+    return NULL;
+  }
+  if (c->has_controls && flapwing_wings_set_controls(w, &c->controls) != FLAPWING_OK) {
+    snprintf(msg, nmsg, "control attributes: %s", flapwing_last_error());
+    flapwing_wings_free(w);
+    return NULL;
+  }
+  if (c->has_wind && flapwing_wings_set_wind(w, c->wind_world_m_s) != FLAPWING_OK) {
+    snprintf(msg, nmsg, "attribute `wind`: %s", flapwing_last_error());
+    flapwing_wings_free(w);
+    return NULL;
+  }
+  return w;
+}
+
+/*---------------------------------- the body ---------------------------------------------*/
+
+/* The body's state for flapwing: position and velocity of the centre of mass (world),
+ * attitude world_from_body (the body frame's xquat), angular velocity in the body frame. */
+static void body_state(const mjModel *m, const mjData *d, int b, FlapwingBodyState *s) {
+  mjtNum vel[6]; /* [angular; linear] at the centre of mass, world frame */
+  mj_objectVelocity(m, d, mjOBJ_BODY, b, vel, 0);
+  const mjtNum *q = d->xquat + 4 * b;
+  mjtNum body_from_world[4];
+  mju_negQuat(body_from_world, q);
+  mjtNum w_body[3];
+  mju_rotVecQuat(w_body, vel, body_from_world);
+  for (int i = 0; i < 3; i++) {
+    s->position_m[i] = d->xipos[3 * b + i];
+    s->velocity_world_m_s[i] = vel[3 + i];
+    s->angular_velocity_body_rad_s[i] = w_body[i];
+  }
+  for (int i = 0; i < 4; i++) s->world_from_body_wxyz[i] = q[i];
+}
+
+static int wrench_finite(const FlapwingWrench *w) {
+  for (int i = 0; i < 3; i++) {
+    if (!isfinite(w->force_body_n[i]) || !isfinite(w->moment_body_nm[i])) return 0;
+  }
+  return 1;
+}
+
+/* Steps the wings from the body's state at t_k; on any failure warns (once per run of
+ * failures) and leaves a zero wrench. */
+static void step_wings(const mjModel *m, mjData *d, int instance, Instance *in) {
+  memset(&in->wrench, 0, sizeof(in->wrench));
+  if (!in->wings) return; /* the rebuild on reset failed and was warned */
+  FlapwingBodyState s;
+  body_state(m, d, in->body_id, &s);
+  FlapwingWrench w;
+  FlapwingStatus st = flapwing_wings_step(in->wings, &s, &w);
+  in->steps++;
+  const char *why = NULL;
+  if (st != FLAPWING_OK) {
+    why = flapwing_last_error();
+  } else if (!wrench_finite(&w)) {
+    why = "the wings' wrench is not finite";
+  }
+  if (why) {
+    if (!in->failing) {
+      mju_warning("%s (instance %d, body `%s`, t = %.9g s): %s; the wings apply no force while "
+                  "this lasts",
+                  PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time, why);
+    }
+    in->failing = 1;
+    return;
+  }
+  in->failing = 0;
+  in->wrench = w;
+}
+
+/*---------------------------------- callbacks --------------------------------------------*/
+
+static int plugin_nstate(const mjModel *m, int instance) {
+  (void)m;
+  (void)instance;
+  return NSTATE;
+}
+
+/* Fails (after a mju_warning the compiler appends to its error) on a bad configuration. */
+static int plugin_init(const mjModel *m, mjData *d, int instance) {
+  char msg[MESSAGE_CHARS];
+  int body_id = -1, nbody = 0;
+  for (int b = 0; b < m->nbody; b++) {
+    if (m->body_plugin[b] == instance) {
+      if (body_id < 0) body_id = b;
+      nbody++;
+    }
+  }
+  if (nbody != 1) {
+    mju_warning("%s instance %d is attached to %d bodies; allowed: exactly one "
+                "(<body><plugin instance=\"...\"/></body>)",
+                PLUGIN_NAME, instance, nbody);
+    return -1;
+  }
+  if (body_id == 0 || m->body_dofnum[body_id] == 0) {
+    mju_warning("%s instance %d: body `%s` has no degrees of freedom (the world or a body welded "
+                "to it); allowed: a body with joints (e.g. <freejoint/>)",
+                PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, body_id));
+    return -1;
+  }
+  Instance *in = calloc(1, sizeof(Instance));
+  if (!in) {
+    mju_warning("%s instance %d: out of memory", PLUGIN_NAME, instance);
+    return -1;
+  }
+  in->body_id = body_id;
+  if (read_config(m, instance, &in->config, msg, sizeof(msg)) != 0 ||
+      !(in->wings = create_wings(&in->config, msg, sizeof(msg)))) {
+    mju_warning("%s instance %d (body `%s`): %s", PLUGIN_NAME, instance,
+                mj_id2name(m, mjOBJ_BODY, body_id), msg);
+    free_config(&in->config);
+    free(in);
+    return -1;
+  }
+  d->plugin_data[instance] = (uintptr_t)in;
+  return 0;
+}
+
+static void plugin_destroy(mjData *d, int instance) {
+  Instance *in = (Instance *)d->plugin_data[instance];
+  if (!in) return;
+  flapwing_wings_free(in->wings);
+  free_config(&in->config);
+  free(in);
+  d->plugin_data[instance] = 0;
+}
+
+/* mj_resetData: the wings restart from t = 0 (rebuilt if they have stepped). */
+static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_data, int instance) {
+  (void)m;
+  mju_zero(plugin_state, NSTATE);
+  Instance *in = (Instance *)plugin_data;
+  if (!in) return;
+  in->stepped = 0;
+  in->failing = 0;
+  memset(&in->wrench, 0, sizeof(in->wrench));
+  if (in->wings && in->steps == 0) return; /* still at t = 0 */
+  char msg[MESSAGE_CHARS];
+  flapwing_wings_free(in->wings);
+  in->steps = 0;
+  in->wings = create_wings(&in->config, msg, sizeof(msg));
+  if (!in->wings) {
+    mju_warning("%s instance %d: rebuilding the wings on reset failed: %s; the wings apply no "
+                "force", PLUGIN_NAME, instance, msg);
+  }
+}
+
+/* Passive forces: the wings' wrench on the body at its centre of mass. */
+static void plugin_compute(const mjModel *m, mjData *d, int instance, int capability_bit) {
+  (void)capability_bit;
+  Instance *in = (Instance *)d->plugin_data[instance];
+  if (!in) return;
+  if (!in->stepped) {
+    step_wings(m, d, instance, in);
+    in->stepped = 1;
+    mjtNum *state = d->plugin_state + m->plugin_stateadr[instance];
+    mju_copy3(state, in->wrench.force_body_n);
+    mju_copy3(state + 3, in->wrench.moment_body_nm);
+  }
+  /* body frame -> world, applied at the centre of mass */
+  const int b = in->body_id;
+  const mjtNum *q = d->xquat + 4 * b;
+  mjtNum force_world_n[3], moment_world_nm[3];
+  mju_rotVecQuat(force_world_n, in->wrench.force_body_n, q);
+  mju_rotVecQuat(moment_world_nm, in->wrench.moment_body_nm, q);
+  mj_applyFT(m, d, force_world_n, moment_world_nm, d->xipos + 3 * b, b, d->qfrc_passive);
+}
+
+/* After MuJoCo's time integration: the next evaluation belongs to a new step. */
+static void plugin_advance(const mjModel *m, mjData *d, int instance) {
+  (void)m;
+  Instance *in = (Instance *)d->plugin_data[instance];
+  if (in) in->stepped = 0;
+}
+
+mjPLUGIN_LIB_INIT(flapwing_wings) {
+  kAttributes[ATTR_MODEL] = "model";
+  kAttributes[ATTR_WIND] = "wind";
+  for (int i = 0; i < NCONTROL; i++) kAttributes[ATTR_FIRST_CONTROL + i] = kControls[i].name;
+
+  mjpPlugin plugin;
+  mjp_defaultPlugin(&plugin);
+  plugin.name = PLUGIN_NAME;
+  plugin.capabilityflags |= mjPLUGIN_PASSIVE;
+  plugin.nattribute = ATTR_FIRST_CONTROL + NCONTROL;
+  plugin.attributes = kAttributes;
+  plugin.nstate = plugin_nstate;
+  plugin.init = plugin_init;
+  plugin.destroy = plugin_destroy;
+  plugin.reset = plugin_reset;
+  plugin.compute = plugin_compute;
+  plugin.advance = plugin_advance;
+  mjp_registerPlugin(&plugin);
+}
