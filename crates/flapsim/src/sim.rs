@@ -310,15 +310,19 @@ impl Simulation {
             .out
             .take()
             .unwrap_or_else(|| Box::new(StepOutput::empty()));
-        out.state = state;
-        out.step = self.wings.steps();
-        out.t_s = self.wings.time_s();
-        if let Err(e) = self.check_state(&out) {
-            self.out = Some(out);
-            return Err(e);
-        }
-        let r = self.wings.step(&state).map(|o| out.fill(o, &state));
-        let r = r.and_then(|_| self.check(&out));
+        let r = match self.wings.step(&state) {
+            Ok(o) => {
+                out.fill(o, &state);
+                self.check(&out)
+            }
+            // The wing set refuses a non-finite state: here that is the run diverging.
+            Err(Error::Input(_)) if state.first_non_finite().is_some() => Err(Error::Diverged {
+                t_s: self.wings.time_s(),
+                step: self.wings.steps(),
+                reason: "the body state is not finite".into(),
+            }),
+            Err(e) => Err(e),
+        };
         if let Err(e) = r {
             // What the wings computed before the failure stays readable.
             out.fill(self.wings.output(), &state);
@@ -338,20 +342,6 @@ impl Simulation {
         rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
         self.world.step();
         self.out.insert(out)
-    }
-
-    /// The body state's finiteness (the first of [`Simulation::check`]'s checks, made before
-    /// the wings are stepped).
-    fn check_state(&self, out: &StepOutput) -> Result<()> {
-        let s = &out.state;
-        if s.first_non_finite().is_some() {
-            return Err(Error::Diverged {
-                t_s: out.t_s,
-                step: out.step,
-                reason: "the body state is not finite".into(),
-            });
-        }
-        Ok(())
     }
 
     fn check(&self, out: &StepOutput) -> Result<()> {

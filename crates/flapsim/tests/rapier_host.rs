@@ -35,10 +35,12 @@ struct UserWorld {
 
 impl UserWorld {
     fn new(v: &Vehicle, dt_s: f64) -> Self {
-        let mut params = IntegrationParameters::default();
-        params.dt = dt_s;
-        params.length_unit = 1.0;
-        params.num_solver_iterations = v.sim.solver_iterations;
+        let params = IntegrationParameters {
+            dt: dt_s,
+            length_unit: 1.0,
+            num_solver_iterations: v.sim.solver_iterations,
+            ..IntegrationParameters::default()
+        };
         Self {
             bodies: RigidBodySet::new(),
             colliders: ColliderSet::new(),

@@ -22,10 +22,12 @@ pub struct World {
 impl World {
     /// An empty world stepping by `dt_s` under gravity `g_m_s2` (metres: length_unit 1).
     pub fn new(dt_s: f64, g_m_s2: f64, solver_iterations: usize) -> Self {
-        let mut params = IntegrationParameters::default();
-        params.dt = dt_s;
-        params.length_unit = 1.0;
-        params.num_solver_iterations = solver_iterations;
+        let params = IntegrationParameters {
+            dt: dt_s,
+            length_unit: 1.0,
+            num_solver_iterations: solver_iterations,
+            ..IntegrationParameters::default()
+        };
         Self {
             bodies: RigidBodySet::new(),
             colliders: ColliderSet::new(),

@@ -18,7 +18,7 @@ use crate::error::{Error, Result};
 use crate::model::Controls;
 
 /// What one step of a [`WingSet`] computed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct WingSetOutput {
     /// Step index k.
     pub step: u64,
@@ -98,21 +98,20 @@ impl WingSet {
     pub fn step(&mut self, body: &State) -> Result<&WingSetOutput> {
         self.check_input(body)?;
         let cycle = self.phase().floor() as i64;
-        if self.pending.is_some() && (self.step == 0 || cycle != self.last_cycle) {
-            if let Some(c) = self.pending.take() {
-                self.apply_controls(&c)?;
-            }
+        if (self.step == 0 || cycle != self.last_cycle)
+            && let Some(c) = self.pending.take()
+        {
+            self.apply_controls(&c)?;
         }
         self.last_cycle = cycle;
-        let mut out = std::mem::replace(&mut self.out, WingSetOutput::empty(0));
-        let r = if self.dynamic.is_some() {
-            self.actuated_into(body, &mut out)
+        if self.dynamic.is_some() {
+            let mut out = std::mem::take(&mut self.out);
+            let r = self.actuated_into(body, &mut out);
+            self.out = out;
+            r?;
         } else {
-            self.prescribed_step_into(body, &mut out);
-            Ok(())
-        };
-        self.out = out;
-        r?;
+            self.prescribed_step(body);
+        }
         self.step += 1;
         Ok(&self.out)
     }
@@ -135,8 +134,25 @@ impl WingSet {
             Some(j) => self.table[j * n..(j + 1) * n].to_vec(),
             None => self.kinematic_loads(table_phase),
         };
-        self.loads_into(body, &kin, cycles, table_phase, &mut out);
+        let sums = self.sums(body, cycles, table_phase);
+        sums.loads_into(&kin, &mut out);
         Ok(out)
+    }
+
+    /// What the prescribed loads at a body state need besides the kinematic loads.
+    fn sums(&self, body: &State, cycles: u64, table_phase: f64) -> PrescribedLoads<'_> {
+        PrescribedLoads {
+            wings: &self.wings,
+            centroid_r_m: &self.centroid_r_m,
+            wing_mass_kg: self.wing_mass_kg,
+            still: self.still,
+            motion: self.motion(body),
+            cycles,
+            table_phase,
+            step: self.step,
+            t_s: self.time_s(),
+            controls: self.controls,
+        }
     }
 
     /// Every wing's kinematic loads at a phase (mirror-symmetric pairs together).
@@ -164,38 +180,67 @@ impl WingSet {
         }
     }
 
-    fn prescribed_step_into(&mut self, body: &State, out: &mut WingSetOutput) {
+    /// A prescribed step: the kinematic loads from the wingbeat's table (filled the first
+    /// time a step of the wingbeat comes round) or computed, then the sums, written straight
+    /// into the set's output.
+    fn prescribed_step(&mut self, body: &State) {
         let (cycles, table_phase, j) = self.phase_parts();
         let n = self.wings.len();
-        match j {
+        let fresh = match j {
             Some(j) if j < self.table_gen.len() => {
                 if self.table_gen[j] != self.generation {
                     let kin = self.kinematic_loads(table_phase);
                     self.table[j * n..(j + 1) * n].copy_from_slice(&kin);
                     self.table_gen[j] = self.generation;
                 }
-                let kin = &self.table[j * n..(j + 1) * n];
-                self.loads_into(body, kin, cycles, table_phase, out);
+                None
             }
-            _ => {
-                let kin = self.kinematic_loads(table_phase);
-                self.loads_into(body, &kin, cycles, table_phase, out);
-            }
-        }
+            _ => Some(self.kinematic_loads(table_phase)),
+        };
+        let sums = PrescribedLoads {
+            wings: &self.wings,
+            centroid_r_m: &self.centroid_r_m,
+            wing_mass_kg: self.wing_mass_kg,
+            still: self.still,
+            motion: self.motion(body),
+            cycles,
+            table_phase,
+            step: self.step,
+            t_s: self.time_s(),
+            controls: self.controls,
+        };
+        let kin = match (&fresh, j) {
+            (Some(k), _) => k.as_slice(),
+            (None, Some(j)) => &self.table[j * n..(j + 1) * n],
+            (None, None) => &[],
+        };
+        sums.loads_into(kin, &mut self.out);
     }
+}
 
+/// The prescribed wings' loads at one body state (borrowing the set's wings while the
+/// output is written).
+struct PrescribedLoads<'a> {
+    wings: &'a [Wing],
+    centroid_r_m: &'a [f64],
+    wing_mass_kg: f64,
+    still: bool,
+    motion: BodyMotion,
+    cycles: u64,
+    table_phase: f64,
+    step: u64,
+    t_s: f64,
+    controls: Controls,
+}
+
+impl PrescribedLoads<'_> {
     /// The loads of prescribed wings at a body state from their kinematic loads.
-    fn loads_into(
-        &self,
-        body: &State,
-        kin: &[KinematicLoads],
-        cycles: u64,
-        table_phase: f64,
-        out: &mut WingSetOutput,
-    ) {
-        let motion = self.motion(body);
+    fn loads_into(&self, kin: &[KinematicLoads], out: &mut WingSetOutput) {
+        let (motion, cycles, table_phase) = (self.motion, self.cycles, self.table_phase);
         let n = self.wings.len();
-        out.wings.resize(n, zero_forces());
+        if out.wings.len() != n {
+            out.wings.resize(n, zero_forces());
+        }
         let mut i = 0;
         while i < n {
             match (
@@ -234,7 +279,7 @@ impl WingSet {
         let mut wing_inertia = BodyLoad::default();
         let m_w = self.wing_mass_kg;
         if m_w > 0.0 && !self.still {
-            for ((w, k), r_c) in self.wings.iter().zip(kin).zip(&self.centroid_r_m) {
+            for ((w, k), r_c) in self.wings.iter().zip(kin).zip(self.centroid_r_m) {
                 // Reaction of the wing's centre of mass (on the pitch axis at its centroid
                 // radius) accelerating with the kinematics: -m a, applied at the hinge.
                 let fr = &k.frame;
@@ -249,7 +294,7 @@ impl WingSet {
             }
         }
         out.step = self.step;
-        out.t_s = self.time_s();
+        out.t_s = self.t_s;
         out.phase = table_phase + cycles as f64;
         out.terms = terms;
         out.wing_inertia = wing_inertia;
@@ -257,7 +302,9 @@ impl WingSet {
         out.controls = self.controls;
         out.actuated.clear();
     }
+}
 
+impl WingSet {
     /// The loads of actuated wings, advancing their dynamics by one step. The inertial
     /// reaction of the wings and actuators is reported in `wing_inertia`, apart from the
     /// aerodynamic terms, and both enter `total`.
@@ -272,8 +319,10 @@ impl WingSet {
         let mut terms = [BodyLoad::default(); 4];
         let mut total = BodyLoad::default();
         let mut wing_inertia = BodyLoad::default();
-        out.wings.resize(n, zero_forces());
-        out.actuated.resize(n, ActuatedWingOutput::default());
+        if out.wings.len() != n || out.actuated.len() != n {
+            out.wings.resize(n, zero_forces());
+            out.actuated.resize(n, ActuatedWingOutput::default());
+        }
         for i in 0..n {
             let s = dynamic[i]
                 .step(&mut self.wings[i], &motion, dt_s)
