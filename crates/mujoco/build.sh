@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the MuJoCo engine plugin `flapwing.wings`: target/release/libflapwing_mujoco.so.
 #
-# Usage: crates/mujoco/build.sh [PYTHON]
+# Usage: crates/mujoco/build.sh [PYTHON]   (FLAPWING_STATICLIB: a libflapwing.a to link)
 #   PYTHON (default: $FLAPWING_PYTHON, else python3) is a Python with the `mujoco` package from
 #   PyPI: the plugin is compiled against the headers (include/mujoco/*.h) and linked against the
 #   libmujoco.so.* that this package ships. The flapwing C ABI (crates/ffi) is built with cargo
@@ -24,9 +24,14 @@ if [[ -z $libmujoco || ! -f $mj/include/mujoco/mjplugin.h ]]; then
     exit 1
 fi
 
-# The C ABI as a static library (a no-op when it is current).
-(cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build --release --quiet -p flapwing-ffi >&2)
-staticlib="$target_dir/release/libflapwing.a"
+# The C ABI as a static library: FLAPWING_STATICLIB if given (scripts/test passes the one
+# `cargo test` built), else built with cargo (a no-op when it is current).
+if [[ -n ${FLAPWING_STATICLIB:-} ]]; then
+    staticlib=$FLAPWING_STATICLIB
+else
+    (cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build --release --quiet -p flapwing-ffi >&2)
+    staticlib="$target_dir/release/libflapwing.a"
+fi
 header_dir="${FLAPWING_INCLUDE_DIR:-$root/crates/ffi/include}"
 [[ -f $staticlib && -f $header_dir/flapwing.h ]] || {
     echo "crates/mujoco/build.sh: missing $staticlib or $header_dir/flapwing.h" >&2

@@ -22,6 +22,12 @@
  * non-finite wrench is a mju_warning (once per run of failures) and the wrench is zero.
  * Nothing here calls mju_error.
  *
+ * Controls: the model's `[controls]`, with the control attributes in place of theirs, set at
+ * load. At run time, actuators named `<plugin instance name>:<field>` (the field's SI name,
+ * e.g. `wings:diff_amplitude_rad`; give them zero gear so that they push nothing themselves)
+ * drive those fields: their ctrl values (SI) go to the wings when they change and take effect
+ * at the next wingbeat, as in flapwing's own hosts.
+ *
  * Plugin state (m->plugin_statenum = 6): the wrench applied in the last step, body frame:
  * force_body_n[3], moment_body_nm[3] (zero before the first step and after a failure).
  */
@@ -51,7 +57,8 @@ enum {
 };
 
 typedef struct ControlAttribute {
-  const char *name;
+  const char *name;   /* the config attribute (degrees for angles) */
+  const char *si;     /* the field's SI name: an actuator `<instance>:<si>` drives it */
   size_t offset;      /* of the double in FlapwingControls */
   double to_si;       /* factor to SI (rad per degree, or 1) */
 } ControlAttribute;
@@ -61,19 +68,19 @@ typedef struct ControlAttribute {
 #define DEG_TO_RAD (PI_RAD / 180.0)
 
 static const ControlAttribute kControls[] = {
-  {"mean_stroke_deg", offsetof(FlapwingControls, mean_stroke_rad), DEG_TO_RAD},
-  {"amplitude_deg", offsetof(FlapwingControls, amplitude_rad), DEG_TO_RAD},
-  {"pitch_bias_deg", offsetof(FlapwingControls, pitch_bias_rad), DEG_TO_RAD},
-  {"aoa_deg", offsetof(FlapwingControls, aoa_rad), DEG_TO_RAD},
-  {"freq_hz", offsetof(FlapwingControls, freq_hz), 1.0},
-  {"diff_amplitude_deg", offsetof(FlapwingControls, diff_amplitude_rad), DEG_TO_RAD},
-  {"diff_pitch_bias_deg", offsetof(FlapwingControls, diff_pitch_bias_rad), DEG_TO_RAD},
-  {"diff_mean_stroke_deg", offsetof(FlapwingControls, diff_mean_stroke_rad), DEG_TO_RAD},
-  {"bias_v", offsetof(FlapwingControls, bias_v), 1.0},
-  {"amplitude_v", offsetof(FlapwingControls, amplitude_v), 1.0},
-  {"diff_amplitude_v", offsetof(FlapwingControls, diff_amplitude_v), 1.0},
-  {"diff_bias_v", offsetof(FlapwingControls, diff_bias_v), 1.0},
-  {"diff_second_harmonic", offsetof(FlapwingControls, diff_second_harmonic), 1.0},
+  {"mean_stroke_deg", "mean_stroke_rad", offsetof(FlapwingControls, mean_stroke_rad), DEG_TO_RAD},
+  {"amplitude_deg", "amplitude_rad", offsetof(FlapwingControls, amplitude_rad), DEG_TO_RAD},
+  {"pitch_bias_deg", "pitch_bias_rad", offsetof(FlapwingControls, pitch_bias_rad), DEG_TO_RAD},
+  {"aoa_deg", "aoa_rad", offsetof(FlapwingControls, aoa_rad), DEG_TO_RAD},
+  {"freq_hz", "freq_hz", offsetof(FlapwingControls, freq_hz), 1.0},
+  {"diff_amplitude_deg", "diff_amplitude_rad", offsetof(FlapwingControls, diff_amplitude_rad), DEG_TO_RAD},
+  {"diff_pitch_bias_deg", "diff_pitch_bias_rad", offsetof(FlapwingControls, diff_pitch_bias_rad), DEG_TO_RAD},
+  {"diff_mean_stroke_deg", "diff_mean_stroke_rad", offsetof(FlapwingControls, diff_mean_stroke_rad), DEG_TO_RAD},
+  {"bias_v", "bias_v", offsetof(FlapwingControls, bias_v), 1.0},
+  {"amplitude_v", "amplitude_v", offsetof(FlapwingControls, amplitude_v), 1.0},
+  {"diff_amplitude_v", "diff_amplitude_v", offsetof(FlapwingControls, diff_amplitude_v), 1.0},
+  {"diff_bias_v", "diff_bias_v", offsetof(FlapwingControls, diff_bias_v), 1.0},
+  {"diff_second_harmonic", "diff_second_harmonic", offsetof(FlapwingControls, diff_second_harmonic), 1.0},
 };
 #define NCONTROL ((int)(sizeof(kControls) / sizeof(kControls[0])))
 
@@ -82,8 +89,8 @@ static const char *kAttributes[ATTR_FIRST_CONTROL + NCONTROL];
 /* What an instance was configured with (kept to rebuild the wings on reset). */
 typedef struct Config {
   char *model;                  /* built-in name or TOML path */
-  int has_controls;             /* any control attribute given */
-  FlapwingControls controls;    /* SI; unset fields 0 (no offset) */
+  int has_control[NCONTROL];    /* which control attributes were given */
+  FlapwingControls controls;    /* SI; the given fields (the rest keep the model's) */
   int has_wind;
   double wind_world_m_s[3];
   double dt_s;                  /* m->opt.timestep */
@@ -98,6 +105,13 @@ typedef struct Instance {
   uint64_t steps;               /* wing steps since creation */
   int failing;                  /* the last step failed (warned once per run of failures) */
   FlapwingWrench wrench;        /* applied in the current step, body frame */
+  /* Controls driven by actuators named `<instance name>:<field>` (ctrl in SI). */
+  int nactuated;
+  int actuator_id[NCONTROL];
+  int actuator_control[NCONTROL]; /* index into kControls */
+  FlapwingControls base;        /* the model's controls with the attributes applied */
+  FlapwingControls sent;        /* the controls last handed to the wings */
+  int control_failing;          /* the last actuator controls were refused (warned once) */
 } Instance;
 
 /*---------------------------------- configuration -----------------------------------------*/
@@ -167,7 +181,7 @@ static int read_config(const mjModel *m, int instance, Config *c, char *msg, siz
       return -1;
     }
     *(double *)((char *)&c->controls + kControls[i].offset) = x * kControls[i].to_si;
-    c->has_controls = 1;
+    c->has_control[i] = 1;
   }
   return 0;
 }
@@ -186,8 +200,10 @@ static int is_builtin_name(const char *s) {
   return 1;
 }
 
-/* A wing set from the config, with its controls and wind; on failure NULL and a message. */
-static FlapwingWings *create_wings(const Config *c, char *msg, size_t nmsg) {
+/* A wing set from the config, with its controls (the model's, with the control attributes
+ * in place of theirs: written to *base) and wind; on failure NULL and a message. */
+static FlapwingWings *create_wings(const Config *c, FlapwingControls *base, char *msg,
+                                   size_t nmsg) {
   FlapwingWings *w = NULL;
   FlapwingStatus st = is_builtin_name(c->model)
                           ? flapwing_wings_from_builtin(c->model, c->dt_s, &w)
@@ -198,7 +214,19 @@ static FlapwingWings *create_wings(const Config *c, char *msg, size_t nmsg) {
              flapwing_last_error());
     return NULL;
   }
-  if (c->has_controls && flapwing_wings_set_controls(w, &c->controls) != FLAPWING_OK) {
+  int any = 0;
+  if (flapwing_wings_controls(w, base) != FLAPWING_OK) {
+    snprintf(msg, nmsg, "reading the model's controls: %s", flapwing_last_error());
+    flapwing_wings_free(w);
+    return NULL;
+  }
+  for (int i = 0; i < NCONTROL; i++) {
+    if (!c->has_control[i]) continue;
+    size_t off = kControls[i].offset;
+    *(double *)((char *)base + off) = *(const double *)((const char *)&c->controls + off);
+    any = 1;
+  }
+  if (any && flapwing_wings_set_controls(w, base) != FLAPWING_OK) {
     snprintf(msg, nmsg, "control attributes: %s", flapwing_last_error());
     flapwing_wings_free(w);
     return NULL;
@@ -238,11 +266,73 @@ static int wrench_finite(const FlapwingWrench *w) {
   return 1;
 }
 
+/* The controls from the instance's actuators (`<instance>:<field>`, ctrl in SI) on top of
+ * the base controls, handed to the wings when they change (they take effect at the next
+ * wingbeat); controls the model refuses are warned about once and the previous ones stay. */
+static void actuator_controls(const mjModel *m, const mjData *d, int instance, Instance *in) {
+  FlapwingControls c = in->base;
+  for (int k = 0; k < in->nactuated; k++) {
+    size_t off = kControls[in->actuator_control[k]].offset;
+    *(double *)((char *)&c + off) = d->ctrl[in->actuator_id[k]];
+  }
+  if (memcmp(&c, &in->sent, sizeof(c)) == 0) return;
+  if (flapwing_wings_set_controls(in->wings, &c) != FLAPWING_OK) {
+    if (!in->control_failing) {
+      mju_warning("%s (instance %d, body `%s`, t = %.9g s): actuator controls refused: %s; the "
+                  "previous controls stay in force",
+                  PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time,
+                  flapwing_last_error());
+    }
+    in->control_failing = 1;
+    return;
+  }
+  in->control_failing = 0;
+  in->sent = c;
+}
+
+/* Maps the actuators named `<instance name>:<field>` to control fields; -1 and a message
+ * for a name with an unknown field. */
+static int map_actuators(const mjModel *m, int instance, Instance *in, char *msg, size_t nmsg) {
+  const char *iname = mj_id2name(m, mjOBJ_PLUGIN, instance);
+  in->nactuated = 0;
+  if (!iname || !iname[0]) return 0;
+  size_t n = strlen(iname);
+  for (int a = 0; a < m->nu; a++) {
+    const char *name = mj_id2name(m, mjOBJ_ACTUATOR, a);
+    if (!name || strncmp(name, iname, n) != 0 || name[n] != ':') continue;
+    const char *field = name + n + 1;
+    int found = -1;
+    for (int i = 0; i < NCONTROL; i++) {
+      if (strcmp(field, kControls[i].si) == 0) found = i;
+    }
+    if (found < 0) {
+      int len = snprintf(msg, nmsg, "actuator `%s` names no control field `%s`; allowed:", name,
+                         field);
+      for (int i = 0; i < NCONTROL && len > 0 && (size_t)len < nmsg; i++) {
+        len += snprintf(msg + len, nmsg - (size_t)len, " %s:%s", iname, kControls[i].si);
+      }
+      return -1;
+    }
+    for (int k = 0; k < in->nactuated; k++) {
+      if (in->actuator_control[k] == found) {
+        snprintf(msg, nmsg, "actuators `%s` and `%s` both drive `%s`; allowed: one each",
+                 mj_id2name(m, mjOBJ_ACTUATOR, in->actuator_id[k]), name, kControls[found].si);
+        return -1;
+      }
+    }
+    in->actuator_id[in->nactuated] = a;
+    in->actuator_control[in->nactuated] = found;
+    in->nactuated++;
+  }
+  return 0;
+}
+
 /* Steps the wings from the body's state at t_k; on any failure warns (once per run of
  * failures) and leaves a zero wrench. */
 static void step_wings(const mjModel *m, mjData *d, int instance, Instance *in) {
   memset(&in->wrench, 0, sizeof(in->wrench));
   if (!in->wings) return; /* the rebuild on reset failed and was warned */
+  if (in->nactuated > 0) actuator_controls(m, d, instance, in);
   FlapwingBodyState s;
   body_state(m, d, in->body_id, &s);
   FlapwingWrench w;
@@ -304,13 +394,15 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
   }
   in->body_id = body_id;
   if (read_config(m, instance, &in->config, msg, sizeof(msg)) != 0 ||
-      !(in->wings = create_wings(&in->config, msg, sizeof(msg)))) {
+      map_actuators(m, instance, in, msg, sizeof(msg)) != 0 ||
+      !(in->wings = create_wings(&in->config, &in->base, msg, sizeof(msg)))) {
     mju_warning("%s instance %d (body `%s`): %s", PLUGIN_NAME, instance,
                 mj_id2name(m, mjOBJ_BODY, body_id), msg);
     free_config(&in->config);
     free(in);
     return -1;
   }
+  in->sent = in->base;
   d->plugin_data[instance] = (uintptr_t)in;
   return 0;
 }
@@ -337,7 +429,9 @@ static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_da
   char msg[MESSAGE_CHARS];
   flapwing_wings_free(in->wings);
   in->steps = 0;
-  in->wings = create_wings(&in->config, msg, sizeof(msg));
+  in->wings = create_wings(&in->config, &in->base, msg, sizeof(msg));
+  in->sent = in->base;
+  in->control_failing = 0;
   if (!in->wings) {
     mju_warning("%s instance %d: rebuilding the wings on reset failed: %s; the wings apply no "
                 "force", PLUGIN_NAME, instance, msg);

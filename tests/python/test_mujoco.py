@@ -243,3 +243,49 @@ def test_callback_before_the_roll_the_trajectories_agree_to_round_off(flight):
     dp = np.linalg.norm(r["p_ref"][:k] - r["p_mj"][:k], axis=1)
     scale = np.linalg.norm(r["p_ref"][:k], axis=1).max()
     assert dp.max() <= 1e-6 * scale
+
+
+# ------------------------------------------------------------------ controls from actuators
+
+def with_actuators(*names):
+    """fly.xml with ctrl-only actuators (zero gear: they push nothing) of the given names."""
+    xml = plugin.FLY_XML.read_text()
+    acts = "".join(f'<motor name="{n}" joint="fly" gear="0 0 0 0 0 0"/>' for n in names)
+    return mujoco.MjModel.from_xml_string(
+        xml.replace("</worldbody>", f"</worldbody><actuator>{acts}</actuator>"))
+
+
+def test_actuator_controls_drive_the_wings_as_flapwing_does(native):
+    """An actuator `wings:diff_amplitude_rad` sets that control (SI) from its ctrl; the wings
+    take it at the next wingbeat, exactly as flapwing.WingSet's set_controls does: the
+    applied wrench equals the WingSet's bit for bit, step by step, across two changes."""
+    import flapwing
+
+    m = with_actuators("wings:diff_amplitude_rad")
+    m.opt.gravity[:] = 0
+    d = mujoco.MjData(m)
+    mujoco.mj_kinematics(m, d)  # poses only: no force evaluation, so the wings do not step
+    qpos0, quat, pos = d.qpos.copy(), d.xquat[1].copy(), d.xipos[1].copy()
+    ref = flapwing.WingSet("drosophila", dt_s=m.opt.timestep)
+    schedule = {0: 0.05, 150: -0.05}  # step -> ctrl (rad); the second mid-wingbeat
+    got, want = [], []
+    for k in range(3 * N):
+        if k in schedule:
+            d.ctrl[0] = schedule[k]
+            ref.set_controls(diff_amplitude_rad=schedule[k])
+        mujoco.mj_step(m, d)
+        got.append(d.plugin_state[:6].copy())
+        out = ref.step(pos, quat, [0, 0, 0], [0, 0, 0])
+        want.append(np.concatenate([out["force_body_n"], out["moment_body_nm"]]))
+        d.qpos[:], d.qvel[:] = qpos0, 0
+    got, want = np.array(got), np.array(want)
+    assert np.array_equal(got, want), np.abs(got - want).max()
+    # The roll moment follows the differential amplitude: positive, then (from the third
+    # wingbeat, the first after the change at step 150) negative on the wingbeat mean.
+    roll = got[:, 3]
+    assert roll[:N].mean() > 0 and roll[2 * N:].mean() < 0, (roll[:N].mean(), roll[2 * N:].mean())
+
+
+def test_an_actuator_naming_no_control_fails_the_load(native):
+    with pytest.raises(ValueError, match=r"wings:no_such.*allowed:.*wings:diff_amplitude_rad"):
+        with_actuators("wings:no_such")

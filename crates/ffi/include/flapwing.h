@@ -91,6 +91,65 @@ typedef enum FlapwingStatus {
 typedef struct FlapwingWings FlapwingWings;
 
 /**
+ * Control inputs (flapsim::Controls), SI (rad, Hz, V): offsets on the model's kinematics
+ * (prescribed wings) or on its drive (actuated wings).
+ */
+typedef struct FlapwingControls {
+  /**
+   * Mean stroke angle offset, rad.
+   */
+  double mean_stroke_rad;
+  /**
+   * Stroke amplitude offset, rad.
+   */
+  double amplitude_rad;
+  /**
+   * Pitch bias offset, rad.
+   */
+  double pitch_bias_rad;
+  /**
+   * Mid-stroke angle-of-attack offset, rad.
+   */
+  double aoa_rad;
+  /**
+   * Wingbeat frequency offset, Hz.
+   */
+  double freq_hz;
+  /**
+   * Left-minus-right amplitude, rad.
+   */
+  double diff_amplitude_rad;
+  /**
+   * Left-minus-right pitch bias, rad.
+   */
+  double diff_pitch_bias_rad;
+  /**
+   * Left-minus-right mean stroke angle, rad.
+   */
+  double diff_mean_stroke_rad;
+  /**
+   * Drive bias offset, V (actuated wings).
+   */
+  double bias_v;
+  /**
+   * Drive amplitude offset, V (actuated wings).
+   */
+  double amplitude_v;
+  /**
+   * Left-minus-right drive amplitude, V (actuated wings).
+   */
+  double diff_amplitude_v;
+  /**
+   * Left-minus-right drive bias, V (actuated wings).
+   */
+  double diff_bias_v;
+  /**
+   * Left-minus-right second-harmonic fraction (actuated wings).
+   */
+  double diff_second_harmonic;
+} FlapwingControls;
+
+/**
  * The model's body, for hosts that build it.
  */
 typedef struct FlapwingBodyProperties {
@@ -191,65 +250,6 @@ typedef struct FlapwingWingState {
   double hinge_moment_nm;
 } FlapwingWingState;
 
-/**
- * Control inputs (flapsim::Controls), SI (rad, Hz, V): offsets on the model's kinematics
- * (prescribed wings) or on its drive (actuated wings).
- */
-typedef struct FlapwingControls {
-  /**
-   * Mean stroke angle offset, rad.
-   */
-  double mean_stroke_rad;
-  /**
-   * Stroke amplitude offset, rad.
-   */
-  double amplitude_rad;
-  /**
-   * Pitch bias offset, rad.
-   */
-  double pitch_bias_rad;
-  /**
-   * Mid-stroke angle-of-attack offset, rad.
-   */
-  double aoa_rad;
-  /**
-   * Wingbeat frequency offset, Hz.
-   */
-  double freq_hz;
-  /**
-   * Left-minus-right amplitude, rad.
-   */
-  double diff_amplitude_rad;
-  /**
-   * Left-minus-right pitch bias, rad.
-   */
-  double diff_pitch_bias_rad;
-  /**
-   * Left-minus-right mean stroke angle, rad.
-   */
-  double diff_mean_stroke_rad;
-  /**
-   * Drive bias offset, V (actuated wings).
-   */
-  double bias_v;
-  /**
-   * Drive amplitude offset, V (actuated wings).
-   */
-  double amplitude_v;
-  /**
-   * Left-minus-right drive amplitude, V (actuated wings).
-   */
-  double diff_amplitude_v;
-  /**
-   * Left-minus-right drive bias, V (actuated wings).
-   */
-  double diff_bias_v;
-  /**
-   * Left-minus-right second-harmonic fraction (actuated wings).
-   */
-  double diff_second_harmonic;
-} FlapwingControls;
-
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -315,6 +315,17 @@ enum FlapwingStatus flapwing_wings_count(const struct FlapwingWings *wings, size
  * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
  */
 enum FlapwingStatus flapwing_wings_dt_s(const struct FlapwingWings *wings, double *out);
+
+/**
+ * The controls last set (`flapwing_wings_set_controls`, or the model's `[controls]` for a
+ * new handle): those waiting for the next wingbeat, else those in force. A host that sets
+ * some fields reads these first and changes only its own.
+ *
+ * # Safety
+ * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+ */
+enum FlapwingStatus flapwing_wings_controls(const struct FlapwingWings *wings,
+                                            struct FlapwingControls *out);
 
 /**
  * Time of the next step's start, t_k = k dt, s (0 before the first step).

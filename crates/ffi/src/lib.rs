@@ -272,6 +272,26 @@ pub unsafe extern "C" fn flapwing_wings_dt_s(
     })
 }
 
+/// The controls last set (`flapwing_wings_set_controls`, or the model's `[controls]` for a
+/// new handle): those waiting for the next wingbeat, else those in force. A host that sets
+/// some fields reads these first and changes only its own.
+///
+/// # Safety
+/// `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn flapwing_wings_controls(
+    wings: *const FlapwingWings,
+    out: *mut FlapwingControls,
+) -> FlapwingStatus {
+    const F: &str = "flapwing_wings_controls";
+    guard(F, || {
+        // SAFETY: forwarded from this function's contract.
+        let w = unsafe { handle(F, wings) }?;
+        // SAFETY: forwarded from this function's contract.
+        unsafe { put(F, out, FlapwingControls::from(&w.set.requested_controls())) }
+    })
+}
+
 /// Time of the next step's start, t_k = k dt, s (0 before the first step).
 ///
 /// # Safety

@@ -143,6 +143,26 @@ impl From<&FlapwingControls> for Controls {
     }
 }
 
+impl From<&Controls> for FlapwingControls {
+    fn from(c: &Controls) -> Self {
+        FlapwingControls {
+            mean_stroke_rad: c.mean_stroke_rad,
+            amplitude_rad: c.amplitude_rad,
+            pitch_bias_rad: c.pitch_bias_rad,
+            aoa_rad: c.aoa_rad,
+            freq_hz: c.freq_hz,
+            diff_amplitude_rad: c.diff_amplitude_rad,
+            diff_pitch_bias_rad: c.diff_pitch_bias_rad,
+            diff_mean_stroke_rad: c.diff_mean_stroke_rad,
+            bias_v: c.bias_v,
+            amplitude_v: c.amplitude_v,
+            diff_amplitude_v: c.diff_amplitude_v,
+            diff_bias_v: c.diff_bias_v,
+            diff_second_harmonic: c.diff_second_harmonic,
+        }
+    }
+}
+
 impl FlapwingControls {
     /// The name of the first field that is not finite, if any.
     pub(crate) fn first_non_finite(&self) -> Option<&'static str> {

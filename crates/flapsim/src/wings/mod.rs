@@ -275,6 +275,10 @@ impl WingSet {
     pub fn controls(&self) -> Controls {
         self.controls
     }
+    /// The controls last set: those waiting for the next wingbeat, else those in force.
+    pub fn requested_controls(&self) -> Controls {
+        self.pending.unwrap_or(self.controls)
+    }
     /// Whether the wings are actuated (their angles integrated in time).
     pub fn is_actuated(&self) -> bool {
         self.dynamic.is_some()
