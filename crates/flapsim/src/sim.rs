@@ -93,16 +93,7 @@ impl StepOutput {
 
     /// All zeros, at rest, at t = 0.
     fn empty() -> Self {
-        let wing = WingForces {
-            terms: Default::default(),
-            total: Default::default(),
-            angles: Default::default(),
-            phase: wingforce::StrokePhase {
-                half_stroke: 0,
-                t_star: 0.0,
-                downstroke: true,
-            },
-        };
+        let wing = crate::wings::zero_forces();
         Self {
             step: 0,
             t_s: 0.0,

@@ -17,63 +17,10 @@ fn fly() -> Vehicle {
     Vehicle::from_toml(flapsim::builtin_model("drosophila").unwrap(), "drosophila").unwrap()
 }
 
-/// A user's world with nothing but the vehicle, stepped with the vehicle's step.
-struct UserWorld {
-    bodies: RigidBodySet,
-    colliders: ColliderSet,
-    params: IntegrationParameters,
-    gravity: Vector,
-    pipeline: PhysicsPipeline,
-    islands: IslandManager,
-    broad: BroadPhaseBvh,
-    narrow: NarrowPhase,
-    joints: ImpulseJointSet,
-    multibody: MultibodyJointSet,
-    soft: SoftBodySet,
-    ccd: CCDSolver,
-}
-
-impl UserWorld {
-    fn new(v: &Vehicle, dt_s: f64) -> Self {
-        let params = IntegrationParameters {
-            dt: dt_s,
-            length_unit: 1.0,
-            num_solver_iterations: v.sim.solver_iterations,
-            ..IntegrationParameters::default()
-        };
-        Self {
-            bodies: RigidBodySet::new(),
-            colliders: ColliderSet::new(),
-            params,
-            gravity: Vector::new(0.0, 0.0, -v.gravity_m_s2),
-            pipeline: PhysicsPipeline::new(),
-            islands: IslandManager::new(),
-            broad: BroadPhaseBvh::new(),
-            narrow: NarrowPhase::new(),
-            joints: ImpulseJointSet::new(),
-            multibody: MultibodyJointSet::new(),
-            soft: SoftBodySet::new(),
-            ccd: CCDSolver::new(),
-        }
-    }
-    fn step(&mut self) {
-        self.pipeline.step(
-            self.gravity,
-            &self.params,
-            &mut self.islands,
-            &mut self.broad,
-            &mut self.narrow,
-            &mut self.bodies,
-            &mut self.colliders,
-            &mut self.joints,
-            &mut self.multibody,
-            &mut self.soft,
-            &mut self.ccd,
-            &(),
-            &(),
-        );
-    }
-}
+// The user's world of the examples (the same rapier sets, pipeline and parameters).
+#[path = "../examples/common/mod.rs"]
+mod common;
+use common::World as UserWorld;
 
 fn disturbed(mut v: Vehicle) -> Vehicle {
     v.initial_position_m = Vector3::new(0.0, 0.0, 0.1);
@@ -96,7 +43,7 @@ fn max_state_difference(a: &State, b: &State) -> f64 {
 fn compare_with_simulation(v: Vehicle, wingbeats: u64) {
     let mut sim = Simulation::new(v.clone(), Mode::Free);
     let wings = WingSet::from_vehicle_sized(&v).unwrap();
-    let mut world = UserWorld::new(&v, wings.dt_s());
+    let mut world = UserWorld::new(wings.dt_s(), v.gravity_m_s2, v.sim.solver_iterations);
     let body = world.bodies.insert(vehicle_body(&v));
     let mut host = RapierWings::attach(&world.bodies, body, wings).unwrap();
     let n = wingbeats * v.sim.steps_per_wingbeat as u64;

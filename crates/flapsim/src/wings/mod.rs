@@ -30,6 +30,7 @@ use wingforce::{KinematicLoads, Kinematics, Side, Wing};
 
 pub use body::{BodyLoad, State};
 pub use step::WingSetOutput;
+pub(crate) use step::zero_forces;
 
 use crate::actuated::{Drive, DynamicWing};
 use crate::error::{Error, Result};
