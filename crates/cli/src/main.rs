@@ -15,6 +15,7 @@ mod progress;
 mod sensing;
 mod slurm;
 mod vehicle;
+mod wind;
 
 use std::io::Write;
 use std::process::ExitCode;

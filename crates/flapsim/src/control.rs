@@ -324,7 +324,9 @@ pub struct HoverOutcome {
 
 /// Flies a hover from the trim with a disturbance, closed loop (with `controller`) or open
 /// loop (trim controls held), calling `observer` after every step; the run ends early when
-/// the observer returns false (e.g. on Ctrl-C).
+/// the observer returns false (e.g. on Ctrl-C). A vehicle with a `[wind]` flies in that wind
+/// field (evaluated at each wing's hinge, reference point the start), plus the disturbance's
+/// gust.
 pub fn run_hover(
     vehicle: &Vehicle,
     trim: &Trim,
@@ -350,7 +352,14 @@ pub fn run_hover(
     v.initial_angular_velocity_rad_s = Vector3::zeros();
     let reference = v.initial_position_m;
     let length = v.length_m;
+    let wind = vehicle
+        .wind
+        .as_ref()
+        .map(|w| crate::wind::Wind::from_spec(w, &vehicle.name, reference))
+        .transpose()?;
     let mut sim = Simulation::new(v, Mode::Free);
+    // The model's `[wind]` (field at each hinge) adds to the disturbance's uniform gust.
+    sim.set_wind_model(wind);
     if let Some(p) = &periodic {
         sim.start_wings_from(p);
     }

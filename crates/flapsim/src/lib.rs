@@ -30,12 +30,14 @@ pub mod summary;
 pub mod task;
 pub mod trim;
 pub mod vehicle_validation;
+pub mod wind;
 pub mod wings;
 
 pub use error::{Error, Result};
 pub use model::{Controls, Vehicle, VehicleSpec};
 pub use sim::{BodyLoad, Mode, Simulation, State, StepOutput};
 pub use summary::{RunSummary, SummaryBuilder};
+pub use wind::{Wind, WindSpec};
 pub use wings::{WingSet, WingSetBuilder, WingSetOutput};
 
 /// The built-in default vehicle (a hovering fruit fly).

@@ -169,6 +169,10 @@ pub struct VehicleSpec {
     /// the model has none.
     #[serde(default)]
     pub sensors: Option<crate::sensors::SensorSpec>,
+    /// `[wind]`: steady wind, Dryden turbulence and 1 - cosine gusts (see [`crate::wind`]);
+    /// absent for still air.
+    #[serde(default)]
+    pub wind: Option<crate::wind::WindSpec>,
 }
 
 fn default_gravity() -> f64 {
@@ -213,6 +217,9 @@ pub struct Vehicle {
     pub trim_lift: crate::trim::LiftVariable,
     /// The sensors, validated, in SI units (`[sensors]`).
     pub sensors: Option<crate::sensors::SensorParams>,
+    /// The wind (`[wind]`), validated; the runs that fly in it (`simulate`, `hover`) build a
+    /// [`crate::Wind`] from it.
+    pub wind: Option<crate::wind::WindSpec>,
 }
 
 impl VehicleSpec {
@@ -409,6 +416,13 @@ impl VehicleSpec {
                 .transpose()?,
             trim_lift: self.trim.lift_variable,
             sensors: self.sensors.as_ref().map(|x| x.build(&v)).transpose()?,
+            wind: match &self.wind {
+                Some(w) => {
+                    w.build(&v, "wind")?;
+                    Some(w.clone())
+                }
+                None => None,
+            },
         };
         if vehicle.actuation.is_some() && vehicle.trim_lift != crate::trim::LiftVariable::Amplitude
         {

@@ -17,6 +17,7 @@ use crate::actuated::ActuatedWingOutput;
 use crate::error::{Error, Result};
 use crate::frames::{quat_to_glam, to_glam};
 use crate::model::{Controls, Vehicle};
+use crate::wind::Wind;
 pub use crate::wings::{BodyLoad, State};
 use crate::wings::{WingSet, WingSetOutput};
 
@@ -126,6 +127,12 @@ pub struct Simulation {
     wings: WingSet,
     /// What the last step computed (boxed so that it moves cheaply).
     out: Option<Box<StepOutput>>,
+    /// The uniform wind of [`Simulation::set_wind`], world, m/s.
+    uniform_wind_m_s: Vector3<f64>,
+    /// A wind field evaluated at each wing's hinge every step ([`Simulation::set_wind_model`]).
+    wind: Option<Box<Wind>>,
+    /// Each wing's wind at the last step, world, m/s (with a wind field).
+    wing_winds_m_s: Vec<Vector3<f64>>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -200,6 +207,9 @@ impl Simulation {
             body,
             wings,
             out: None,
+            uniform_wind_m_s: Vector3::zeros(),
+            wind: None,
+            wing_winds_m_s: Vec::new(),
         };
         // Zero the velocities on locked axes (rapier leaves them as given).
         if let Mode::Locked {
@@ -257,9 +267,49 @@ impl Simulation {
         self.wings.set_still(still);
     }
 
-    /// Uniform wind, world frame, m/s (a gust is a wind that changes with time).
+    /// Uniform wind, world frame, m/s (a gust is a wind that changes with time). With a
+    /// wind field ([`Simulation::set_wind_model`]) it adds to the field.
     pub fn set_wind(&mut self, wind_world_m_s: Vector3<f64>) {
+        self.uniform_wind_m_s = wind_world_m_s;
         self.wings.set_wind(wind_world_m_s);
+    }
+
+    /// A wind field (steady wind, gusts, turbulence: [`crate::wind`]) evaluated every step
+    /// at each wing's hinge, body position + attitude * hinge_in_body_m, at t_k, plus the
+    /// uniform wind of [`Simulation::set_wind`]; `None` returns to the uniform wind alone.
+    pub fn set_wind_model(&mut self, wind: Option<Wind>) {
+        self.wind = wind.map(Box::new);
+        if self.wind.is_none() {
+            self.wings.set_wind(self.uniform_wind_m_s);
+            self.wing_winds_m_s.clear();
+        }
+    }
+
+    /// The wind field, if one is set.
+    pub fn wind_model(&self) -> Option<&Wind> {
+        self.wind.as_deref()
+    }
+
+    /// Each wing's wind at the last step's t_k, world frame, m/s (empty before the first
+    /// step or without a wind field).
+    pub fn wing_winds_m_s(&self) -> &[Vector3<f64>] {
+        &self.wing_winds_m_s
+    }
+
+    /// Evaluates the wind field at each wing's hinge at the state's time and hands the
+    /// winds to the wing set.
+    fn update_wing_winds(&mut self, state: &State) -> Result<()> {
+        let Some(wind) = &mut self.wind else {
+            return Ok(());
+        };
+        let t = self.wings.time_s();
+        self.wing_winds_m_s.clear();
+        for w in self.wings.wings() {
+            let p = state.position_m + state.world_from_body * w.mount().hinge_in_body_m;
+            self.wing_winds_m_s
+                .push(self.uniform_wind_m_s + wind.velocity_world_m_s(&p, t));
+        }
+        self.wings.set_wing_winds(&self.wing_winds_m_s)
     }
 
     /// The body's state now.
@@ -297,6 +347,9 @@ impl Simulation {
     /// Advances one step; returns what was applied during it.
     pub fn step(&mut self) -> Result<&StepOutput> {
         let state = self.state();
+        if self.wind.is_some() && state.first_non_finite().is_none() {
+            self.update_wing_winds(&state)?;
+        }
         let mut out = self
             .out
             .take()

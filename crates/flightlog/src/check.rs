@@ -2,7 +2,8 @@
 //!
 //! [`check_log`] rebuilds the vehicle from the embedded model text
 //! (`flapsim::Vehicle::from_toml(model_toml, model_origin)`), runs
-//! `flapsim::Simulation::new(vehicle, mode)` with `set_wind(wind_world_m_s)` for
+//! `flapsim::Simulation::new(vehicle, mode)` with `set_wind(wind_world_m_s)` and the model's
+//! `[wind]` field, if any (`set_wind_model`), for
 //! `round(duration_s / dt)` steps with no controller (exactly what `flapwing simulate`
 //! does), picks samples with the same [`crate::Decimator`], and compares every logged
 //! `/vehicle/state` sample: position, velocity, attitude quaternion and body rates, as f64
@@ -172,8 +173,17 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
         });
     }
 
+    // The model's own `[wind]` field, as `flapwing simulate` flies it (wind flags are not
+    // in the log: such runs do not re-run).
+    let wind = vehicle
+        .wind
+        .as_ref()
+        .map(|w| flapsim::Wind::from_spec(w, origin, vehicle.initial_position_m))
+        .transpose()
+        .map_err(embedded)?;
     let mut sim = flapsim::Simulation::new(vehicle, mode);
     sim.set_wind(Vector3::from(settings.wind_world_m_s));
+    sim.set_wind_model(wind);
     let n = (settings.duration_s / sim.dt_s()).round() as u64;
     let mut decimator = Decimator::new(rate);
     let mut idx = 0usize;

@@ -43,6 +43,9 @@ pub struct HoverArgs {
     /// Sensors.
     #[command(flatten)]
     pub sensors: crate::sensing::SensorArgs,
+    /// Wind (the model's `[wind]` unless changed here), on top of the disturbance's gust.
+    #[command(flatten)]
+    pub wind: crate::wind::WindArgs,
 }
 
 /// Parses `--disturbance`.
@@ -104,6 +107,9 @@ struct Report<'a> {
     outcome: &'a HoverOutcome,
     /// What the model's sensors sampled (`None` without sensors).
     sensors: Option<&'a flapsim::sensor_run::SensorSummary>,
+    /// The run's `[wind]` (absent: still air).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    wind: Option<&'a flapsim::WindSpec>,
 }
 
 /// Runs the command.
@@ -114,7 +120,12 @@ pub fn run(args: HoverArgs) -> Result<()> {
     let mut pacer = crate::pacing::check(&args.pace)?;
     let disturbance = parse_disturbance(&args.disturbance)?;
     let trim = flapsim::trim::trim(&vehicle).map_err(sim_error)?;
-    let trimmed = flapsim::trim::trimmed_vehicle(&vehicle, &trim).map_err(sim_error)?;
+    let mut trimmed = flapsim::trim::trimmed_vehicle(&vehicle, &trim).map_err(sim_error)?;
+    // The wind (checked against the run) goes to run_hover in the vehicle's `[wind]`.
+    let wind_text = crate::wind::start(&args.wind, &trimmed, &src.origin, duration_s)?
+        .as_ref()
+        .map(crate::wind::describe);
+    trimmed.wind = crate::wind::spec(&args.wind, &trimmed)?;
     let controller = if args.open_loop {
         None
     } else {
@@ -128,14 +139,17 @@ pub fn run(args: HoverArgs) -> Result<()> {
             .map_err(sim_error)?,
         )
     };
-    let settings = serde_json::json!({
+    let mut settings = serde_json::json!({
         "duration_s": duration_s,
         "disturbance": disturbance,
         "open_loop": args.open_loop,
         "delay_wingbeats": args.delay_wingbeats,
         "trim": trim,
-    })
-    .to_string();
+    });
+    if let Some(w) = &trimmed.wind {
+        settings["wind"] = serde_json::to_value(w)?;
+    }
+    let settings = settings.to_string();
     let mut sensors = crate::sensing::start(&args.sensors, &trimmed)?;
     let mut rec = crate::logging::open(
         &args.log,
@@ -192,12 +206,16 @@ pub fn run(args: HoverArgs) -> Result<()> {
         delay_wingbeats: usize::from(args.delay_wingbeats),
         outcome: &outcome,
         sensors: sensors.as_ref().map(|r| r.summary()),
+        wind: trimmed.wind.as_ref(),
     };
     let interrupted = outcome.interrupted;
     if args.json {
         crate::output::print_json(&report)?;
     } else {
         print_text(&src.origin, &args.disturbance, &report)?;
+        if let Some(w) = &wind_text {
+            crate::output::print_stdout(&format!("{w}\n"))?;
+        }
     }
     if interrupted {
         return Err(anyhow::anyhow!(

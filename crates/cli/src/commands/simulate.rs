@@ -37,6 +37,9 @@ pub struct SimulateArgs {
     /// Sensors.
     #[command(flatten)]
     pub sensors: crate::sensing::SensorArgs,
+    /// Wind (the model's `[wind]` unless changed here).
+    #[command(flatten)]
+    pub wind: crate::wind::WindArgs,
 }
 
 #[derive(Serialize)]
@@ -51,6 +54,9 @@ struct Report<'a> {
     summary: &'a RunSummary,
     /// What the model's sensors sampled (`None` without sensors).
     sensors: Option<&'a SensorSummary>,
+    /// The run's `[wind]` (absent: still air).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    wind: Option<&'a flapsim::WindSpec>,
     error: Option<String>,
 }
 
@@ -83,6 +89,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     } else {
         Some(args.log.log_rate_hz)
     };
+    let wind_spec = crate::wind::spec(&args.wind, &vehicle)?;
+    let wind = crate::wind::start(&args.wind, &vehicle, &src.origin, duration_s)?;
+    let wind_text = wind.as_ref().map(crate::wind::describe);
     let settings = flightlog::SimSettings::new(mode, duration_s, rate, [0.0; 3]).to_json();
     let mut sensors = crate::sensing::start(&args.sensors, &vehicle)?;
     let mut rec = crate::logging::open(
@@ -98,6 +107,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let mut log_error = None;
     let mut flushed_reported = 0;
     let mut sim = Simulation::new(vehicle, mode);
+    sim.set_wind_model(wind);
     let dt = sim.dt_s();
     let n = (duration_s / dt).round() as u64;
     let bar = crate::progress::progress_bar(n, "simulating", "steps");
@@ -138,12 +148,13 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         added_mass_form: added_mass.name(),
         summary: &s,
         sensors: sensors.as_ref().map(|r| r.summary()),
+        wind: wind_spec.as_ref(),
         error: error.clone(),
     };
     if args.json {
         crate::output::print_json(&report)?;
     } else {
-        print_text(&name, &report)?;
+        print_text(&name, &report, wind_text.as_deref())?;
     }
     match result.map_err(sim_error)? {
         true => Ok(()),
@@ -154,7 +165,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     }
 }
 
-fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
+fn print_text(name: &str, r: &Report<'_>, wind: Option<&str>) -> Result<()> {
     let s = r.summary;
     let mut o = String::new();
     writeln!(
@@ -162,6 +173,9 @@ fn print_text(name: &str, r: &Report<'_>) -> Result<()> {
         "{name} ({}), {} flight, {:.4} s = {} steps (dt {:.3e} s, {} steps per wingbeat)",
         r.model, r.mode, s.duration_s, s.steps, r.dt_s, r.steps_per_wingbeat
     )?;
+    if let Some(w) = wind {
+        writeln!(o, "{w}")?;
+    }
     writeln!(
         o,
         "cycle means over {} complete wingbeats, body frame (x fwd, y left, z up), about the CoM:",

@@ -75,6 +75,12 @@ pub struct WingSet {
     /// Wingbeat index of the last step taken.
     last_cycle: i64,
     wind_world_m_s: Vector3<f64>,
+    /// Each wing's wind at its hinge, world frame, m/s, replacing the uniform wind when set
+    /// ([`WingSet::set_wing_winds`]).
+    wing_winds_world_m_s: Option<Vec<Vector3<f64>>>,
+    /// Each wing's motion relative to its air (filled by a prescribed step with per-wing
+    /// winds).
+    wing_motions: Vec<wingforce::BodyMotion>,
     still: bool,
     out: WingSetOutput,
 }
@@ -232,6 +238,8 @@ impl WingSet {
             controls: Controls::default(),
             last_cycle: 0,
             wind_world_m_s: Vector3::zeros(),
+            wing_winds_world_m_s: None,
+            wing_motions: Vec::new(),
             still: false,
             out: WingSetOutput::empty(n),
         };
@@ -367,9 +375,49 @@ impl WingSet {
         self.still = still;
     }
 
-    /// Uniform wind, world frame, m/s.
+    /// Uniform wind, world frame, m/s: every wing's air moves at this velocity (replaces
+    /// any per-wing winds).
     pub fn set_wind(&mut self, wind_world_m_s: Vector3<f64>) {
         self.wind_world_m_s = wind_world_m_s;
+        self.wing_winds_world_m_s = None;
+    }
+
+    /// Each wing's own wind, world frame, m/s, in the set's order (the air's velocity at the
+    /// wing, e.g. a wind field evaluated at each hinge, see [`crate::wind`]): each wing's
+    /// forces use the body's velocity relative to its own air, uniform over the wing. In
+    /// force until the next call or [`WingSet::set_wind`]. One wind per wing and finite
+    /// components, or an error that changes nothing.
+    pub fn set_wing_winds(&mut self, winds_world_m_s: &[Vector3<f64>]) -> Result<()> {
+        let n = self.wings.len();
+        if winds_world_m_s.len() != n {
+            return Err(Error::Input(format!(
+                "wing set: {} winds for {n} wings; allowed: one wind per wing",
+                winds_world_m_s.len()
+            )));
+        }
+        if let Some(i) = winds_world_m_s
+            .iter()
+            .position(|w| w.iter().any(|x| !x.is_finite()))
+        {
+            return Err(Error::Input(format!(
+                "wing set: wind of wing {i} = {:?} m/s; allowed: finite components",
+                winds_world_m_s[i].as_slice()
+            )));
+        }
+        match &mut self.wing_winds_world_m_s {
+            Some(w) => w.copy_from_slice(winds_world_m_s),
+            None => self.wing_winds_world_m_s = Some(winds_world_m_s.to_vec()),
+        }
+        Ok(())
+    }
+
+    /// The wind each wing sees now, world frame, m/s (the uniform wind unless per-wing
+    /// winds are set).
+    pub fn wing_winds(&self) -> Vec<Vector3<f64>> {
+        match &self.wing_winds_world_m_s {
+            Some(w) => w.clone(),
+            None => vec![self.wind_world_m_s; self.wings.len()],
+        }
     }
 
     /// The actuated wings' dynamics (`None` for prescribed kinematics).

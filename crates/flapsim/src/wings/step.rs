@@ -5,7 +5,10 @@
 //! the body's air-relative velocity and angular velocity at t_k (pairs of wings side by side,
 //! [`Wing::evaluate_pair_with`]); a wing's mass, lumped on its pitch axis at the centroid
 //! radius, reacts on the body with -m a. Actuated wings: each wing's dynamics advanced by the
-//! step ([`DynamicWing::step`]) with its aerodynamic and inertial reaction. Sums are taken in
+//! step ([`DynamicWing::step`]) with its aerodynamic and inertial reaction. The air's velocity
+//! is the uniform wind ([`WingSet::set_wind`]) or each wing's own wind at its hinge
+//! ([`WingSet::set_wing_winds`]); a pair whose two motions differ is evaluated wing by wing
+//! (bit for bit what the pair evaluation gives for equal motions). Sums are taken in
 //! a fixed order (aerodynamic terms wing by wing, then the wings' inertia; actuated: wing by
 //! wing), so a run is bit for bit reproducible.
 
@@ -71,14 +74,25 @@ impl WingSetOutput {
     }
 }
 
+/// The body's motion relative to air moving at `wind_world_m_s`, body frame.
+fn air_motion(body: &State, wind_world_m_s: &Vector3<f64>) -> BodyMotion {
+    let body_from_world = body.world_from_body.inverse();
+    BodyMotion {
+        velocity_m_s: body_from_world * (body.velocity_m_s - wind_world_m_s),
+        angular_velocity_rad_s: body.angular_velocity_body_rad_s,
+    }
+}
+
+/// Each wing's motion relative to its own air (per-wing winds), written into `out`.
+fn wing_motions_into(body: &State, winds: &[Vector3<f64>], out: &mut Vec<BodyMotion>) {
+    out.clear();
+    out.extend(winds.iter().map(|w| air_motion(body, w)));
+}
+
 impl WingSet {
-    /// The body's motion relative to the air, body frame.
+    /// The body's motion relative to the uniform wind's air, body frame.
     fn motion(&self, body: &State) -> BodyMotion {
-        let body_from_world = body.world_from_body.inverse();
-        BodyMotion {
-            velocity_m_s: body_from_world * (body.velocity_m_s - self.wind_world_m_s),
-            angular_velocity_rad_s: body.angular_velocity_body_rad_s,
-        }
+        air_motion(body, &self.wind_world_m_s)
     }
 
     fn check_input(&self, body: &State) -> Result<()> {
@@ -134,19 +148,30 @@ impl WingSet {
             Some(j) => self.table[j * n..(j + 1) * n].to_vec(),
             None => self.kinematic_loads(table_phase),
         };
-        let sums = self.sums(body, cycles, table_phase);
+        let mut motions = Vec::new();
+        if let Some(w) = &self.wing_winds_world_m_s {
+            wing_motions_into(body, w, &mut motions);
+        }
+        let sums = self.sums(body, cycles, table_phase, &motions);
         sums.loads_into(&kin, &mut out);
         Ok(out)
     }
 
     /// What the prescribed loads at a body state need besides the kinematic loads.
-    fn sums(&self, body: &State, cycles: u64, table_phase: f64) -> PrescribedLoads<'_> {
+    fn sums<'a>(
+        &'a self,
+        body: &State,
+        cycles: u64,
+        table_phase: f64,
+        wing_motions: &'a [BodyMotion],
+    ) -> PrescribedLoads<'a> {
         PrescribedLoads {
             wings: &self.wings,
             centroid_r_m: &self.centroid_r_m,
             wing_mass_kg: self.wing_mass_kg,
             still: self.still,
             motion: self.motion(body),
+            wing_motions,
             cycles,
             table_phase,
             step: self.step,
@@ -197,12 +222,17 @@ impl WingSet {
             }
             _ => Some(self.kinematic_loads(table_phase)),
         };
+        match &self.wing_winds_world_m_s {
+            Some(w) => wing_motions_into(body, w, &mut self.wing_motions),
+            None => self.wing_motions.clear(),
+        }
         let sums = PrescribedLoads {
             wings: &self.wings,
             centroid_r_m: &self.centroid_r_m,
             wing_mass_kg: self.wing_mass_kg,
             still: self.still,
             motion: self.motion(body),
+            wing_motions: &self.wing_motions,
             cycles,
             table_phase,
             step: self.step,
@@ -225,7 +255,10 @@ struct PrescribedLoads<'a> {
     centroid_r_m: &'a [f64],
     wing_mass_kg: f64,
     still: bool,
+    /// The body's motion relative to the uniform wind's air.
     motion: BodyMotion,
+    /// Each wing's motion relative to its own air (per-wing winds), or empty: `motion`.
+    wing_motions: &'a [BodyMotion],
     cycles: u64,
     table_phase: f64,
     step: u64,
@@ -234,9 +267,14 @@ struct PrescribedLoads<'a> {
 }
 
 impl PrescribedLoads<'_> {
+    /// Wing i's motion relative to its air.
+    fn motion_of(&self, i: usize) -> &BodyMotion {
+        self.wing_motions.get(i).unwrap_or(&self.motion)
+    }
+
     /// The loads of prescribed wings at a body state from their kinematic loads.
     fn loads_into(&self, kin: &[KinematicLoads], out: &mut WingSetOutput) {
-        let (motion, cycles, table_phase) = (self.motion, self.cycles, self.table_phase);
+        let (cycles, table_phase) = (self.cycles, self.table_phase);
         let n = self.wings.len();
         if out.wings.len() != n {
             out.wings.resize(n, zero_forces());
@@ -247,13 +285,13 @@ impl PrescribedLoads<'_> {
                 kin[i..].first_chunk::<2>(),
                 self.wings[i..].first_chunk::<2>(),
             ) {
-                (Some(pair), Some([l, r])) => {
-                    let f = Wing::evaluate_pair_with(l, r, pair, &motion);
+                (Some(pair), Some([l, r])) if self.motion_of(i) == self.motion_of(i + 1) => {
+                    let f = Wing::evaluate_pair_with(l, r, pair, self.motion_of(i));
                     out.wings[i..i + 2].copy_from_slice(&f);
                     i += 2;
                 }
                 _ => {
-                    out.wings[i] = self.wings[i].evaluate_with(&kin[i], &motion);
+                    out.wings[i] = self.wings[i].evaluate_with(&kin[i], self.motion_of(i));
                     i += 1;
                 }
             }
@@ -310,6 +348,7 @@ impl WingSet {
     /// aerodynamic terms, and both enter `total`.
     fn actuated_into(&mut self, body: &State, out: &mut WingSetOutput) -> Result<()> {
         let motion = self.motion(body);
+        let winds = self.wing_winds_world_m_s.as_deref();
         let (t_s, step, dt_s) = (self.time_s(), self.step, self.dt_s);
         let freq_hz = self.freq_hz();
         let Some(dynamic) = &mut self.dynamic else {
@@ -324,8 +363,12 @@ impl WingSet {
             out.actuated.resize(n, ActuatedWingOutput::default());
         }
         for i in 0..n {
+            let motion_i = match winds {
+                Some(w) => air_motion(body, &w[i]),
+                None => motion,
+            };
             let s = dynamic[i]
-                .step(&mut self.wings[i], &motion, dt_s)
+                .step(&mut self.wings[i], &motion_i, dt_s)
                 .map_err(|e| match e {
                     Error::Diverged { reason, .. } => Error::Diverged { t_s, step, reason },
                     e => e,
