@@ -14,6 +14,12 @@
 //! and vertical forms with 2 L_v, 2 L_w and half the length scale; the 8785C form is used
 //! here, so `length_scale_m` is the 8785C L.)
 //!
+//! Sources: MIL-F-8785C (1980) 3.7.2, MIL-HDBK-1797 (1997) appendix A, as tabulated side by
+//! side in MathWorks' "Dryden Wind Turbulence Model (Discrete)" documentation
+//! (<https://www.mathworks.com/help/aeroblks/drydenwindturbulencemodeldiscrete.html>), which
+//! also states the frozen-field caveat: it holds when the mean wind and the intensity are small
+//! against the vehicle's speed, which a hovering insect is not (see [`super`] on convection).
+//!
 //! Shaping filter (per component, in the coordinate xi, m, driven by unit white noise n):
 //! x2' = -a x2 + n, x1' = -a x1 + x2, a = 1/L, so X1 = N/(s+a)^2, X2 = N/(s+a). The output
 //! y = k (c1 x1 + c2 x2) has the transfer function k (c1 + c2 (s + a))/(s + a)^2: the

@@ -6,7 +6,9 @@
 //! 1 - cosine of the certification gust (CS-25.341 / 14 CFR 25.341: U = (U_ds/2)
 //! (1 - cos(pi s / H)) for 0 <= s <= 2H, gust gradient H = half the length); MIL-F-8785C
 //! section 3.7.4.2 uses its first half, v = (v_m/2)(1 - cos(pi x / d_m)), which then holds
-//! v_m (a ramp: use a steady wind with a gust of twice the length to build one).
+//! v_m (a ramp to a new steady wind, which this module does not model).
+//! The same single bump, U = (u_de/2)(1 - cos(2 pi x / S)) over a gust length S, is SHARPy's
+//! `one_minus_cos` gust (<https://ic-sharpy.readthedocs.io/en/latest/includes/generators/gustvelocityfield/one_minus_cos.html>).
 //!
 //! A gust given by its length d (m) is frozen in the air and convected past the vehicle at
 //! the wind's convection speed U_c, so it lasts T = d / U_c; tau counts from the time its

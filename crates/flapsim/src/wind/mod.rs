@@ -102,7 +102,7 @@ pub struct TurbulenceSpec {
     #[serde(default)]
     pub seed: u64,
     /// Spacing of the generated samples along the convected coordinate, m (default the
-    /// smallest length scale / 64).
+    /// smallest length scale / 64; allowed 1e-4 to 1 times it).
     #[serde(default)]
     pub sample_spacing_m: Option<f64>,
 }
@@ -197,13 +197,15 @@ impl WindSpec {
                         v.within_open_low(&format!("{f}.sample_spacing_m"), h, 0.0, l_min)?
                     }
                 };
-                if spacing < l_min * 1e-6 {
+                // Finer spacings lose the reversed process's noise covariance to round-off
+                // (its (1,1) entry is O((h/L)^3) of the stationary one).
+                if spacing < l_min * 1e-4 {
                     return Err(v
                         .invalid(
                             &format!("{f}.sample_spacing_m"),
                             spacing,
                             &format!(
-                                "a spacing of at least 1e-6 of the smallest length scale ({l_min} m)"
+                                "a spacing of at least 1e-4 of the smallest length scale ({l_min} m)"
                             ),
                         )
                         .into());
