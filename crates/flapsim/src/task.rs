@@ -18,6 +18,9 @@
 //!   error in motion capture) instead of zeros.
 //! - Reward per action (from the true state after it): 1 - (e_p / L)^2 - (e_a / 10 deg)^2,
 //!   with e_p the position error, L the body length and e_a the attitude error.
+//! - Wind: a model with a `[wind]` table flies every episode in it, evaluated at each wing's
+//!   hinge ([`crate::wind`]); the episode's turbulence seed is drawn from the episode seed, and
+//!   the table's numbers can be randomised like any real field.
 //! - Termination: position error beyond `max_position_body_lengths` body lengths, attitude
 //!   error beyond `max_attitude_deg`, or a diverged simulation. Truncation: `duration_s`.
 
@@ -259,6 +262,7 @@ impl Task {
         let params = v
             .sensors
             .ok_or_else(|| Error::Analysis(format!("{}: no [sensors] table", self.origin)))?;
+        let wind = v.wind.clone();
         self.sim = Simulation::new(v, Mode::Free);
         if let Some(p) = &periodic {
             self.sim.start_wings_from(p);
@@ -270,6 +274,16 @@ impl Task {
         // accelerometer reads gravity in the tilted body frame, motion capture the pose.
         self.preroll_s = preroll_s(&params);
         let mut sensors = Sensors::new(&params, g, rng.next_seed());
+        // The model's `[wind]` (its numbers randomisable like any real field); the episode's
+        // turbulence comes from the episode seed, drawn after everything else so that a model
+        // without wind draws what it always drew.
+        if let Some(mut w) = wind {
+            if let Some(t) = &mut w.turbulence {
+                t.seed = rng.next_seed();
+            }
+            let field = crate::wind::Wind::from_spec(&w, &self.origin, self.reference_m)?;
+            self.sim.set_wind_model(Some(field));
+        }
         let s0 = self.sim.state();
         sensors.observe(0.0, &s0);
         sensors.observe(self.preroll_s, &s0);
