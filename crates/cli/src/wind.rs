@@ -17,7 +17,7 @@ pub struct WindArgs {
     #[arg(long = "wind-world-m-s", value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub wind_world_m_s: Option<String>,
     /// Dryden turbulence RMS, m/s: one value for u, v and w, or U,V,W (replaces the model's).
-    #[arg(long = "turbulence-intensity-m-s", value_name = "S|U,V,W")]
+    #[arg(long = "turbulence-intensity-m-s", value_name = "S|U,V,W", allow_hyphen_values = true)]
     pub turbulence_intensity_m_s: Option<String>,
     /// Dryden length scales, m: one value or LU,LV,LW (default the model's, else 1 m).
     #[arg(long = "turbulence-length-scale-m", value_name = "L|LU,LV,LW")]

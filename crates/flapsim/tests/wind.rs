@@ -415,3 +415,24 @@ fn bad_wind_input_is_an_error_naming_the_field() {
     assert!(e.contains("wing 1"), "{e}");
     assert_eq!(set.wing_winds(), vec![Vector3::zeros(); 2]);
 }
+
+#[test]
+fn gym_task_episodes_fly_the_models_wind_seeded_per_episode() {
+    use flapsim::task::{Task, TaskSpec};
+    let text = format!(
+        "{}\n[wind]\n[wind.turbulence]\nintensity_m_s = [0.2, 0.2, 0.2]\nlength_scale_m = [0.3, 0.3, 0.3]\n",
+        flapsim::DROSOPHILA_TOML
+    );
+    let mut t = Task::new(&text, "fly+wind", TaskSpec::hover(), None).unwrap();
+    let run = |t: &mut Task, seed: u64| {
+        t.reset(seed).unwrap();
+        for _ in 0..3 {
+            t.step(&[0.0; 4]).unwrap();
+        }
+        (t.simulation().state(), t.simulation().wing_winds_m_s().to_vec())
+    };
+    let (a, b, c) = (run(&mut t, 4), run(&mut t, 4), run(&mut t, 5));
+    assert_eq!(a, b, "same episode seed, same wind and flight");
+    assert_ne!(a.1, c.1, "another episode seed, other turbulence");
+    assert!(a.1.iter().all(|w| w.norm() > 0.0));
+}
