@@ -229,10 +229,9 @@ impl DrydenField {
         if k >= 0 {
             let k = k as usize;
             while self.ahead.len() <= k {
-                for i in 0..3 {
-                    let f = &self.filters[i];
+                for (f, x) in self.filters.iter().zip(&mut self.state_ahead) {
                     let n = Vector2::new(self.noise_ahead.normal(), self.noise_ahead.normal());
-                    self.state_ahead[i] = f.a_fwd * self.state_ahead[i] + f.l_fwd * n;
+                    *x = f.a_fwd * *x + f.l_fwd * n;
                 }
                 let y = self.output(&self.state_ahead);
                 self.ahead.push(y);
@@ -241,10 +240,9 @@ impl DrydenField {
         } else {
             let k = (-k - 1) as usize;
             while self.behind.len() <= k {
-                for i in 0..3 {
-                    let f = &self.filters[i];
+                for (f, x) in self.filters.iter().zip(&mut self.state_behind) {
                     let n = Vector2::new(self.noise_behind.normal(), self.noise_behind.normal());
-                    self.state_behind[i] = f.a_bwd * self.state_behind[i] + f.l_bwd * n;
+                    *x = f.a_bwd * *x + f.l_bwd * n;
                 }
                 let y = self.output(&self.state_behind);
                 self.behind.push(y);

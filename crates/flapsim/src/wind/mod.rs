@@ -145,15 +145,11 @@ const MAX_SPEED: f64 = 100.0;
 impl WindSpec {
     /// Validates the table (`field` is its name in errors, e.g. `wind`).
     pub fn build(&self, v: &Validator<'_>, field: &str) -> Result<WindParams> {
-        let mut steady = Vector3::zeros();
-        for i in 0..3 {
-            steady[i] = v.within(
-                &format!("{field}.steady_world_m_s[{i}]"),
-                self.steady_world_m_s[i],
-                -MAX_SPEED,
-                MAX_SPEED,
-            )?;
-        }
+        let steady = Vector3::from(checked3(
+            &format!("{field}.steady_world_m_s"),
+            self.steady_world_m_s,
+            |f, x| v.within(f, x, -MAX_SPEED, MAX_SPEED),
+        )?);
         let min_c = v.within_open_low(
             &format!("{field}.min_convection_speed_m_s"),
             self.min_convection_speed_m_s,
@@ -172,24 +168,16 @@ impl WindSpec {
             None => None,
             Some(t) => {
                 let f = format!("{field}.turbulence");
-                let mut p = DrydenParams {
-                    sigma_m_s: [0.0; 3],
-                    length_scale_m: [0.0; 3],
+                let p = DrydenParams {
+                    sigma_m_s: checked3(&format!("{f}.intensity_m_s"), t.intensity_m_s, |f, x| {
+                        v.within(f, x, 0.0, MAX_SPEED)
+                    })?,
+                    length_scale_m: checked3(
+                        &format!("{f}.length_scale_m"),
+                        t.length_scale_m,
+                        |f, x| v.within_open_low(f, x, 0.0, 1e5),
+                    )?,
                 };
-                for i in 0..3 {
-                    p.sigma_m_s[i] = v.within(
-                        &format!("{f}.intensity_m_s[{i}]"),
-                        t.intensity_m_s[i],
-                        0.0,
-                        MAX_SPEED,
-                    )?;
-                    p.length_scale_m[i] = v.within_open_low(
-                        &format!("{f}.length_scale_m[{i}]"),
-                        t.length_scale_m[i],
-                        0.0,
-                        1e5,
-                    )?;
-                }
                 let l_min = p.length_scale_m.iter().copied().fold(f64::INFINITY, f64::min);
                 let spacing = match t.sample_spacing_m {
                     None => l_min / 64.0,
@@ -218,10 +206,11 @@ impl WindSpec {
             let f = format!("{field}.gusts[{i}]");
             let amplitude_m_s =
                 v.within(&format!("{f}.amplitude_m_s"), g.amplitude_m_s, 0.0, MAX_SPEED)?;
-            let mut d = Vector3::zeros();
-            for k in 0..3 {
-                d[k] = v.finite(&format!("{f}.direction_world[{k}]"), g.direction_world[k])?;
-            }
+            let d = Vector3::from(checked3(
+                &format!("{f}.direction_world"),
+                g.direction_world,
+                |f, x| v.finite(f, x),
+            )?);
             let n = d.norm();
             if !(n > 0.0 && n.is_finite()) {
                 return Err(v
@@ -263,6 +252,19 @@ impl WindSpec {
             gusts,
         })
     }
+}
+
+/// Each of three numbers checked under its name `field[i]`.
+fn checked3(
+    field: &str,
+    x: [f64; 3],
+    check: impl Fn(&str, f64) -> std::result::Result<f64, wingforce::Error>,
+) -> Result<[f64; 3]> {
+    let mut out = [0.0; 3];
+    for (i, (o, x)) in out.iter_mut().zip(x).enumerate() {
+        *o = check(&format!("{field}[{i}]"), x)?;
+    }
+    Ok(out)
 }
 
 impl WindParams {
