@@ -331,7 +331,8 @@ impl Simulation {
         );
     }
 
-    /// Loads at the current state without stepping.
+    /// Loads at the current state without stepping (with a wind field, in the wings' winds
+    /// of the last step).
     pub fn loads(&self) -> StepOutput {
         let state = self.state();
         let mut out = StepOutput::empty();
