@@ -14,10 +14,18 @@ const DEFAULT_LENGTH_SCALE_M: f64 = 1.0;
 #[derive(Debug, Clone, Default, clap::Args)]
 pub struct WindArgs {
     /// Steady wind, world frame, m/s: X,Y,Z (replaces the model's `[wind]` steady wind).
-    #[arg(long = "wind-world-m-s", value_name = "X,Y,Z", allow_hyphen_values = true)]
+    #[arg(
+        long = "wind-world-m-s",
+        value_name = "X,Y,Z",
+        allow_hyphen_values = true
+    )]
     pub wind_world_m_s: Option<String>,
     /// Dryden turbulence RMS, m/s: one value for u, v and w, or U,V,W (replaces the model's).
-    #[arg(long = "turbulence-intensity-m-s", value_name = "S|U,V,W", allow_hyphen_values = true)]
+    #[arg(
+        long = "turbulence-intensity-m-s",
+        value_name = "S|U,V,W",
+        allow_hyphen_values = true
+    )]
     pub turbulence_intensity_m_s: Option<String>,
     /// Dryden length scales, m: one value or LU,LV,LW (default the model's, else 1 m).
     #[arg(long = "turbulence-length-scale-m", value_name = "L|LU,LV,LW")]
@@ -34,7 +42,12 @@ pub struct WindArgs {
     pub no_wind: bool,
 }
 
-fn numbers(flag: &str, s: &str, min_ok: impl Fn(f64) -> bool, allowed: &str) -> anyhow::Result<Vec<f64>> {
+fn numbers(
+    flag: &str,
+    s: &str,
+    min_ok: impl Fn(f64) -> bool,
+    allowed: &str,
+) -> anyhow::Result<Vec<f64>> {
     s.split(',')
         .map(|p| {
             p.trim()
@@ -42,14 +55,22 @@ fn numbers(flag: &str, s: &str, min_ok: impl Fn(f64) -> bool, allowed: &str) -> 
                 .ok()
                 .filter(|x| x.is_finite() && min_ok(*x))
                 .ok_or_else(|| {
-                    input_error(format!("{flag} `{s}`: `{}` is not allowed: {allowed}", p.trim()))
+                    input_error(format!(
+                        "{flag} `{s}`: `{}` is not allowed: {allowed}",
+                        p.trim()
+                    ))
                 })
         })
         .collect()
 }
 
 /// One value for all three components, or three.
-fn triple(flag: &str, s: &str, min_ok: impl Fn(f64) -> bool, allowed: &str) -> anyhow::Result<[f64; 3]> {
+fn triple(
+    flag: &str,
+    s: &str,
+    min_ok: impl Fn(f64) -> bool,
+    allowed: &str,
+) -> anyhow::Result<[f64; 3]> {
     match numbers(flag, s, min_ok, allowed)?.as_slice() {
         [x] => Ok([*x; 3]),
         [x, y, z] => Ok([*x, *y, *z]),
@@ -79,7 +100,9 @@ pub fn parse_gust(s: &str) -> anyhow::Result<GustSpec> {
                 .parse::<f64>()
                 .ok()
                 .filter(|x| x.is_finite())
-                .ok_or_else(|| input_error(format!("--gust `{s}`: {k} = `{v}` is not a finite number")))
+                .ok_or_else(|| {
+                    input_error(format!("--gust `{s}`: {k} = `{v}` is not a finite number"))
+                })
         };
         match k.trim() {
             "amplitude_m_s" => g.amplitude_m_s = num(v)?,
@@ -125,25 +148,40 @@ pub fn spec(args: &WindArgs, vehicle: &flapsim::Vehicle) -> anyhow::Result<Optio
     }
     let mut w = vehicle.wind.clone().unwrap_or_default();
     if let Some(s) = &args.wind_world_m_s {
-        w.steady_world_m_s = match numbers("--wind-world-m-s", s, |_| true, "a finite number")?.as_slice() {
-            [x, y, z] => [*x, *y, *z],
-            other => {
-                return Err(input_error(format!(
-                    "--wind-world-m-s `{s}`: {} values; allowed: X,Y,Z",
-                    other.len()
-                )));
-            }
-        };
+        w.steady_world_m_s =
+            match numbers("--wind-world-m-s", s, |_| true, "a finite number")?.as_slice() {
+                [x, y, z] => [*x, *y, *z],
+                other => {
+                    return Err(input_error(format!(
+                        "--wind-world-m-s `{s}`: {} values; allowed: X,Y,Z",
+                        other.len()
+                    )));
+                }
+            };
     }
     let sigma = args
         .turbulence_intensity_m_s
         .as_deref()
-        .map(|s| triple("--turbulence-intensity-m-s", s, |x| x >= 0.0, "a finite RMS >= 0 m/s"))
+        .map(|s| {
+            triple(
+                "--turbulence-intensity-m-s",
+                s,
+                |x| x >= 0.0,
+                "a finite RMS >= 0 m/s",
+            )
+        })
         .transpose()?;
     let length = args
         .turbulence_length_scale_m
         .as_deref()
-        .map(|s| triple("--turbulence-length-scale-m", s, |x| x > 0.0, "a finite length > 0 m"))
+        .map(|s| {
+            triple(
+                "--turbulence-length-scale-m",
+                s,
+                |x| x > 0.0,
+                "a finite length > 0 m",
+            )
+        })
         .transpose()?;
     if let Some(t) = &mut w.turbulence {
         if let Some(s) = sigma {
@@ -198,10 +236,7 @@ pub fn start(
 pub fn describe(w: &Wind) -> String {
     let p = w.params();
     let s: Vector3<f64> = p.steady_world_m_s;
-    let mut d = format!(
-        "wind: steady [{:.3}, {:.3}, {:.3}] m/s",
-        s.x, s.y, s.z
-    );
+    let mut d = format!("wind: steady [{:.3}, {:.3}, {:.3}] m/s", s.x, s.y, s.z);
     if let Some((t, _, seed)) = &p.turbulence {
         d += &format!(
             ", Dryden turbulence sigma u,v,w [{:.3}, {:.3}, {:.3}] m/s, L [{:.3}, {:.3}, {:.3}] m, seed {seed}, convected at {:.3} m/s",

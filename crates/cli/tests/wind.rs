@@ -23,7 +23,10 @@ fn simulate(extra: &[&str]) -> common::Run {
 fn turbulence_is_reproducible_per_seed_and_changes_the_loads() {
     let still = simulate(&[]);
     assert_eq!(still.code, 0, "{still:?}");
-    assert!(still.json().get("wind").is_none(), "still air has no wind field");
+    assert!(
+        still.json().get("wind").is_none(),
+        "still air has no wind field"
+    );
     let run = |seed: &str| {
         let r = simulate(&[
             "--turbulence-intensity-m-s",
@@ -80,16 +83,39 @@ fn bad_wind_input_exits_2() {
         r.assert_bad_input();
         assert!(r.stderr.contains(needle), "{needle}: {}", r.stderr);
     };
-    bad(&["--turbulence-intensity-m-s", "-0.1"], "--turbulence-intensity-m-s");
-    bad(&["--turbulence-intensity-m-s", "0.1,0.2"], "one value or three");
-    bad(&["--turbulence-intensity-m-s", "0.1", "--turbulence-length-scale-m", "0"], "--turbulence-length-scale-m");
+    bad(
+        &["--turbulence-intensity-m-s", "-0.1"],
+        "--turbulence-intensity-m-s",
+    );
+    bad(
+        &["--turbulence-intensity-m-s", "0.1,0.2"],
+        "one value or three",
+    );
+    bad(
+        &[
+            "--turbulence-intensity-m-s",
+            "0.1",
+            "--turbulence-length-scale-m",
+            "0",
+        ],
+        "--turbulence-length-scale-m",
+    );
     bad(&["--wind-seed", "3"], "need turbulence");
     bad(&["--gust", "amplitude_m_s=1"], "direction");
     bad(&["--gust", "amplitude_m_s=1,direction=0:0"], "X:Y:Z");
-    bad(&["--gust", "amplitude_m_s=1,direction=0:0:0,duration_s=0.001"], "direction_world");
     bad(
-        &["--gust", "amplitude_m_s=1,direction=0:0:1,start_s=0.005,duration_s=0.01"],
+        &["--gust", "amplitude_m_s=1,direction=0:0:0,duration_s=0.001"],
+        "direction_world",
+    );
+    bad(
+        &[
+            "--gust",
+            "amplitude_m_s=1,direction=0:0:1,start_s=0.005,duration_s=0.01",
+        ],
         "gusts[0]",
     );
-    bad(&["--gust", "amplitude_m_s=1,direction=0:0:1,speed=2"], "unknown key");
+    bad(
+        &["--gust", "amplitude_m_s=1,direction=0:0:1,speed=2"],
+        "unknown key",
+    );
 }

@@ -121,7 +121,10 @@ fn turbulence_autocorrelation_and_psd_are_drydens() {
             println!(
                 "component {i}, Omega L = {omega_l}: PSD {phi:.4e}, Dryden {want:.4e}, rel {rel:+.3} (tol {tol_psd:.3})"
             );
-            assert!(rel.abs() < tol_psd, "component {i} Omega L {omega_l}: {rel}");
+            assert!(
+                rel.abs() < tol_psd,
+                "component {i} Omega L {omega_l}: {rel}"
+            );
         }
     }
 }
@@ -174,7 +177,11 @@ fn low_altitude_forms_at_insect_heights() {
     assert!((p.length_scale_m[2] - 1.0).abs() < 1e-12);
     assert!((p.length_scale_m[0] - 7.84).abs() < 0.01, "{:?}", p);
     assert!((p.sigma_m_s[2] - 0.5).abs() < 1e-12);
-    assert!((p.sigma_m_s[0] / p.sigma_m_s[2] - 1.99).abs() < 0.01, "{:?}", p);
+    assert!(
+        (p.sigma_m_s[0] / p.sigma_m_s[2] - 1.99).abs() < 0.01,
+        "{:?}",
+        p
+    );
     let p3 = DrydenParams::low_altitude(3.0, 5.0);
     assert!((p3.length_scale_m[0] - 22.7).abs() < 0.1, "{:?}", p3);
 }
@@ -212,7 +219,10 @@ fn one_minus_cosine_gust_peaks_at_its_amplitude() {
     let mut w = Wind::from_spec(&spec, "test", Vector3::zeros()).unwrap();
     let t_peak = 0.1 + 0.5 * 0.02 / 0.5;
     let v = w.sample(&Vector3::zeros(), t_peak);
-    assert!((v.gusts_m_s - Vector3::new(0.0, 0.42, 0.56)).norm() < 1e-12, "{v:?}");
+    assert!(
+        (v.gusts_m_s - Vector3::new(0.0, 0.42, 0.56)).norm() < 1e-12,
+        "{v:?}"
+    );
     assert_eq!(v.steady_m_s, Vector3::new(0.5, 0.0, 0.0));
     let v = w.sample(&Vector3::new(0.01, 0.0, 0.0), t_peak + 0.01 / 0.5);
     assert!((v.gusts_m_s.norm() - 0.7).abs() < 1e-12, "{v:?}");
@@ -253,14 +263,20 @@ fn wings_in_wind_feel_what_wings_moving_through_still_air_feel() {
     // pair is then evaluated wing by wing).
     let (wl, wr) = (Vector3::new(0.4, 0.0, 0.1), Vector3::new(-0.2, 0.3, 0.0));
     let both = set_loads(Some(&[wl, wr][..]), &at_rest_in_wind);
-    let left_alone = set_loads(None, &State {
-        velocity_m_s: -wl,
-        ..at_rest_in_wind
-    });
-    let right_alone = set_loads(None, &State {
-        velocity_m_s: -wr,
-        ..at_rest_in_wind
-    });
+    let left_alone = set_loads(
+        None,
+        &State {
+            velocity_m_s: -wl,
+            ..at_rest_in_wind
+        },
+    );
+    let right_alone = set_loads(
+        None,
+        &State {
+            velocity_m_s: -wr,
+            ..at_rest_in_wind
+        },
+    );
     assert_eq!(both.wings[0], left_alone.wings[0]);
     assert_eq!(both.wings[1], right_alone.wings[1]);
     assert_ne!(both.wings[0], both.wings[1]);
@@ -336,7 +352,10 @@ fn each_wing_sees_the_field_at_its_hinge() {
         // The loads are those of a wing set given the same winds at the same state.
         assert!(out.total.is_finite());
     }
-    assert!(differ > 190, "the wings' winds differ at {differ} of 200 steps");
+    assert!(
+        differ > 190,
+        "the wings' winds differ at {differ} of 200 steps"
+    );
 }
 
 #[test]
@@ -374,17 +393,30 @@ fn bad_wind_input_is_an_error_naming_the_field() {
             .map(|e| e.to_string())
             .unwrap_or_default()
     };
-    let e = load("[wind.turbulence]\nintensity_m_s = [-0.1, 0.1, 0.1]\nlength_scale_m = [1.0, 1.0, 1.0]\n");
+    let e = load(
+        "[wind.turbulence]\nintensity_m_s = [-0.1, 0.1, 0.1]\nlength_scale_m = [1.0, 1.0, 1.0]\n",
+    );
     assert!(
-        e.contains("fly.toml") && e.contains("wind.turbulence.intensity_m_s[0]") && e.contains("-0.1"),
+        e.contains("fly.toml")
+            && e.contains("wind.turbulence.intensity_m_s[0]")
+            && e.contains("-0.1"),
         "{e}"
     );
-    let e = load("[wind.turbulence]\nintensity_m_s = [0.1, 0.1, 0.1]\nlength_scale_m = [1.0, 0.0, 1.0]\n");
+    let e = load(
+        "[wind.turbulence]\nintensity_m_s = [0.1, 0.1, 0.1]\nlength_scale_m = [1.0, 0.0, 1.0]\n",
+    );
     assert!(e.contains("wind.turbulence.length_scale_m[1]"), "{e}");
-    let e = load("[[wind.gusts]]\namplitude_m_s = 1.0\ndirection_world = [0.0, 0.0, 0.0]\nstart_s = 0.0\nduration_s = 0.1\n");
+    let e = load(
+        "[[wind.gusts]]\namplitude_m_s = 1.0\ndirection_world = [0.0, 0.0, 0.0]\nstart_s = 0.0\nduration_s = 0.1\n",
+    );
     assert!(e.contains("wind.gusts[0].direction_world"), "{e}");
-    let e = load("[[wind.gusts]]\namplitude_m_s = 1.0\ndirection_world = [0.0, 0.0, 1.0]\nstart_s = 0.0\nduration_s = 0.1\nlength_m = 0.1\n");
-    assert!(e.contains("wind.gusts[0]") && e.contains("exactly one"), "{e}");
+    let e = load(
+        "[[wind.gusts]]\namplitude_m_s = 1.0\ndirection_world = [0.0, 0.0, 1.0]\nstart_s = 0.0\nduration_s = 0.1\nlength_m = 0.1\n",
+    );
+    assert!(
+        e.contains("wind.gusts[0]") && e.contains("exactly one"),
+        "{e}"
+    );
     let e = load("[wind]\nsteady_world_m_s = [0.0, 0.0, 0.0]\ngust = 1\n");
     assert!(e.contains("fly.toml") && e.contains("gust"), "{e}");
     let e = load("[wind]\nmin_convection_speed_m_s = 0.0\n");
@@ -429,7 +461,10 @@ fn gym_task_episodes_fly_the_models_wind_seeded_per_episode() {
         for _ in 0..3 {
             t.step(&[0.0; 4]).unwrap();
         }
-        (t.simulation().state(), t.simulation().wing_winds_m_s().to_vec())
+        (
+            t.simulation().state(),
+            t.simulation().wing_winds_m_s().to_vec(),
+        )
     };
     let (a, b, c) = (run(&mut t, 4), run(&mut t, 4), run(&mut t, 5));
     assert_eq!(a, b, "same episode seed, same wind and flight");

@@ -121,12 +121,7 @@ fn chol2(q: &Matrix2<f64>) -> Matrix2<f64> {
 impl Filter {
     fn new(sigma: f64, length_m: f64, first_order: bool, h: f64) -> Self {
         let a = 1.0 / length_m;
-        let p = Matrix2::new(
-            0.25 / a.powi(3),
-            0.25 / (a * a),
-            0.25 / (a * a),
-            0.5 / a,
-        );
+        let p = Matrix2::new(0.25 / a.powi(3), 0.25 / (a * a), 0.25 / (a * a), 0.5 / a);
         let c0 = if first_order {
             Vector2::new(0.0, 1.0)
         } else {

@@ -178,7 +178,11 @@ impl WindSpec {
                         |f, x| v.within_open_low(f, x, 0.0, 1e5),
                     )?,
                 };
-                let l_min = p.length_scale_m.iter().copied().fold(f64::INFINITY, f64::min);
+                let l_min = p
+                    .length_scale_m
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
                 let spacing = match t.sample_spacing_m {
                     None => l_min / 64.0,
                     Some(h) => {
@@ -204,8 +208,12 @@ impl WindSpec {
         let mut gusts = Vec::with_capacity(self.gusts.len());
         for (i, g) in self.gusts.iter().enumerate() {
             let f = format!("{field}.gusts[{i}]");
-            let amplitude_m_s =
-                v.within(&format!("{f}.amplitude_m_s"), g.amplitude_m_s, 0.0, MAX_SPEED)?;
+            let amplitude_m_s = v.within(
+                &format!("{f}.amplitude_m_s"),
+                g.amplitude_m_s,
+                0.0,
+                MAX_SPEED,
+            )?;
             let d = Vector3::from(checked3(
                 &format!("{f}.direction_world"),
                 g.direction_world,
@@ -224,9 +232,7 @@ impl WindSpec {
             let start_s = v.within(&format!("{f}.start_s"), g.start_s, 0.0, 1e6)?;
             let duration_s = match (g.duration_s, g.length_m) {
                 (Some(t), None) => v.within_open_low(&format!("{f}.duration_s"), t, 0.0, 1e6)?,
-                (None, Some(l)) => {
-                    v.within_open_low(&format!("{f}.length_m"), l, 0.0, 1e6)? / u_c
-                }
+                (None, Some(l)) => v.within_open_low(&format!("{f}.length_m"), l, 0.0, 1e6)? / u_c,
                 (a, b) => {
                     return Err(v
                         .invalid(
@@ -391,8 +397,9 @@ impl Wind {
         }
         if let Some(f) = &mut self.field {
             let [u, v, w] = f.at(eta);
-            s.turbulence_m_s =
-                u * self.params.convection_dir_world + v * self.lateral_dir_world + w * Vector3::z();
+            s.turbulence_m_s = u * self.params.convection_dir_world
+                + v * self.lateral_dir_world
+                + w * Vector3::z();
         }
         s
     }
