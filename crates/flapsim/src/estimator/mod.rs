@@ -28,7 +28,9 @@
 //! This is Sola's nominal kinematics (eq. 260) written semi-implicitly (the attitude and the
 //! velocity first, the position with the new velocity): the integrator of the rigid-body
 //! engine (rapier, semi-implicit Euler), so that a noiseless IMU sampled every simulation
-//! step reproduces the body's motion to rounding.
+//! step reproduces the body's motion to rounding, but for the rotation: rapier turns by the
+//! normalised first-order quaternion (1, w dt / 2) about the same axis, an angle
+//! 2 atan(|w| dt / 2) that differs from the exponential map's |w| dt by (|w| dt)^3 / 12.
 //! The error state moves by the same three sub-steps (the linearisation of eq. 269-270):
 //!
 //! F1: dtheta+ = Exp(w dt)' dtheta - dt dw_b,        Q1 = (sigma_w dt)^2 I on dtheta;
@@ -134,7 +136,7 @@ impl Prior {
             .chain(&self.velocity_world_m_s)
             .all(|x| x.is_finite());
         if !finite {
-            return Err(Error::Analysis(format!(
+            return Err(Error::Input(format!(
                 "estimator prior: position {:?} m and velocity {:?} m/s must be finite",
                 self.position_world_m, self.velocity_world_m_s
             )));
@@ -145,7 +147,7 @@ impl Prior {
             ("attitude_std_rad", self.attitude_std_rad),
         ] {
             if !(x.is_finite() && x >= 0.0) {
-                return Err(Error::Analysis(format!(
+                return Err(Error::Input(format!(
                     "estimator prior: {name} = {x} is not allowed: a finite number >= 0"
                 )));
             }
@@ -198,7 +200,7 @@ impl Estimator {
     /// from `prior`.
     pub fn new(params: &SensorParams, gravity_m_s2: f64, prior: &Prior) -> Result<Self> {
         let mocap = params.mocap.ok_or_else(|| {
-            Error::Analysis(
+            Error::Input(
                 "the estimator needs motion capture ([sensors.mocap]) to observe position and attitude; the model's [sensors] has only an IMU".into(),
             )
         })?;
@@ -242,13 +244,13 @@ impl Estimator {
     /// A filter for `vehicle`'s `[sensors]`; an error names the model and the missing table.
     pub fn for_vehicle(vehicle: &Vehicle, prior: &Prior) -> Result<Self> {
         let params = vehicle.sensors.ok_or_else(|| {
-            Error::Analysis(format!(
+            Error::Input(format!(
                 "the model `{}` has no [sensors] table: the estimator needs [sensors.imu] and [sensors.mocap] (see models/drosophila.toml)",
                 vehicle.name
             ))
         })?;
         Self::new(&params, vehicle.gravity_m_s2, prior).map_err(|e| {
-            Error::Analysis(format!("model `{}`: {e}", vehicle.name))
+            Error::Input(format!("model `{}`: {e}", vehicle.name))
         })
     }
 
