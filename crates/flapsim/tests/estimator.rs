@@ -31,7 +31,7 @@ use flapsim::sensor_run::SensorRun;
 use flapsim::sensors::{Noise, SensorParams};
 use flapsim::trim::{Trim, trim, trimmed_vehicle};
 use flapsim::{Mode, Simulation, State, Vehicle};
-use nalgebra::{Matrix6, UnitQuaternion, Vector3, Vector6};
+use nalgebra::{Matrix6, UnitQuaternion, Vector6};
 
 fn fly() -> (Vehicle, Trim) {
     let v = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "drosophila").unwrap();

@@ -117,7 +117,7 @@ pub struct Prior {
 
 impl Prior {
     /// The hover point of `vehicle` at attitude `world_from_body`, at rest, with standard
-    /// deviations of one body length, one body length per wingbeat and 10 degrees: wide
+    /// deviations of one body length, 0.1 body length per wingbeat and 10 degrees: wide
     /// enough for the disturbances `flapwing hover` takes (a few degrees, velocities well
     /// under a body length per wingbeat), which the first motion-capture frames correct.
     pub fn hover(vehicle: &Vehicle, world_from_body: UnitQuaternion<f64>) -> Self {
@@ -127,7 +127,7 @@ impl Prior {
             velocity_world_m_s: [0.0; 3],
             world_from_body,
             position_std_m: vehicle.length_m,
-            velocity_std_m_s: vehicle.length_m * vehicle.freq_hz(),
+            velocity_std_m_s: 0.1 * vehicle.length_m * vehicle.freq_hz(),
             attitude_std_rad: 10f64.to_radians(),
         }
     }
