@@ -35,7 +35,10 @@ fn hover_on_the_estimate_reports_the_filter() {
     assert_eq!(j["sensors"]["mocap_frames"].as_u64().unwrap(), frames);
     // The readings the filter used are the ones logged.
     assert!(dir.path().join("e.mcap").exists());
-    let t = flapwing_in(dir.path(), &["hover", "--no-log", "--json", "--duration-s", "0.01"]);
+    let t = flapwing_in(
+        dir.path(),
+        &["hover", "--no-log", "--json", "--duration-s", "0.01"],
+    );
     assert_eq!(t.code, 0, "{t:?}");
     assert_eq!(t.json()["feedback"], "true");
     assert!(t.json()["estimator"].is_null());

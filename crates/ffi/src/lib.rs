@@ -36,8 +36,8 @@ use flapsim::Controls;
 use nalgebra::Vector3;
 
 pub use error::FlapwingStatus;
-pub use types::*;
 use error::{Failure, guard};
+pub use types::*;
 
 /// A C string argument as UTF-8.
 ///

@@ -240,7 +240,12 @@ pub(crate) fn body_properties(v: &Vehicle) -> FlapwingBodyProperties {
 
 impl FlapwingWings {
     /// A handle from TOML text: `dt_s > 0` is the host's step, `dt_s == 0` the model's own.
-    pub(crate) fn from_toml(function: &str, text: &str, origin: &str, dt_s: f64) -> Result<Self, Failure> {
+    pub(crate) fn from_toml(
+        function: &str,
+        text: &str,
+        origin: &str,
+        dt_s: f64,
+    ) -> Result<Self, Failure> {
         if !(dt_s >= 0.0 && dt_s.is_finite()) {
             return Err(Failure::invalid(format!(
                 "{function}: dt_s = {dt_s}; allowed: a finite step > 0 s, or 0 for the model's own step (1 / (f sim.steps_per_wingbeat))"
@@ -268,4 +273,3 @@ impl FlapwingWings {
         self.set.output()
     }
 }
-

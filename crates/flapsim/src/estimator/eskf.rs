@@ -184,7 +184,12 @@ pub fn update_pose(
     // Reset: P <- G P G', G = blockdiag(I, I, I - [dtheta/2]x, I, I) (Sola 2017, eq. 287).
     let mut g = Covariance::identity();
     let dth = Vector3::new(dx[ITH], dx[ITH + 1], dx[ITH + 2]);
-    block3(&mut g, ITH, ITH, &(Matrix3::identity() - skew(&(dth * 0.5))));
+    block3(
+        &mut g,
+        ITH,
+        ITH,
+        &(Matrix3::identity() - skew(&(dth * 0.5))),
+    );
     *p = symmetric(&(g * joseph * g.transpose()));
     PoseUpdate {
         innovation: [y[0], y[1], y[2], y[3], y[4], y[5]],
@@ -193,19 +198,22 @@ pub fn update_pose(
 }
 
 /// The inverse of a symmetric positive semi-definite S: by Cholesky when it is positive
-/// definite, else the Moore-Penrose pseudo-inverse (singular values below 1e-14 of the
-/// largest dropped). S is singular only when a measured quantity is known exactly and
-/// measured exactly (zero prior and process noise on it and R = 0); the pseudo-inverse then
-/// gives the minimum-norm gain, which leaves that quantity as it is.
+/// definite. S is singular only when a measured quantity is known exactly and measured
+/// exactly (zero prior and process noise on it and R = 0); S + eps I (eps = 1e-12 of its
+/// largest diagonal entry) is then inverted instead: the columns of P H' that belong to
+/// such a quantity are zero, so its gain stays zero, and the other gains change by a
+/// relative 1e-12 at most.
 fn inverse_psd(s: &SMatrix<f64, 6, 6>) -> SMatrix<f64, 6, 6> {
     if let Some(c) = s.cholesky() {
         return c.inverse();
     }
-    let eps = 1e-14 * s.amax();
-    if eps <= 0.0 {
-        return SMatrix::zeros();
+    let eps = 1e-12 * s.diagonal().max();
+    if eps.is_finite() && eps > 0.0 {
+        if let Some(c) = (s + SMatrix::<f64, 6, 6>::identity() * eps).cholesky() {
+            return c.inverse();
+        }
     }
-    s.pseudo_inverse(eps).unwrap_or_else(|_| SMatrix::zeros())
+    SMatrix::zeros()
 }
 
 /// Adds the error state `dx` to the nominal state (`q <- q (x) Exp(dtheta)`).

@@ -82,8 +82,8 @@
 mod eskf;
 
 pub use eskf::{
-    Covariance, ErrorState, IAB, IP, ITH, IV, IWB, ImuNoise, N_ERR, Nominal, PoseUpdate,
-    inject, predict, propagate, skew, update_pose,
+    Covariance, ErrorState, IAB, IP, ITH, IV, IWB, ImuNoise, N_ERR, Nominal, PoseUpdate, inject,
+    predict, propagate, skew, update_pose,
 };
 
 use std::collections::VecDeque;
@@ -252,9 +252,8 @@ impl Estimator {
                 vehicle.name
             ))
         })?;
-        Self::new(&params, vehicle.gravity_m_s2, prior).map_err(|e| {
-            Error::Input(format!("model `{}`: {e}", vehicle.name))
-        })
+        Self::new(&params, vehicle.gravity_m_s2, prior)
+            .map_err(|e| Error::Input(format!("model `{}`: {e}", vehicle.name)))
     }
 
     fn tol_s(&self) -> f64 {
