@@ -208,10 +208,11 @@ fn inverse_psd(s: &SMatrix<f64, 6, 6>) -> SMatrix<f64, 6, 6> {
         return c.inverse();
     }
     let eps = 1e-12 * s.diagonal().max();
-    if eps.is_finite() && eps > 0.0 {
-        if let Some(c) = (s + SMatrix::<f64, 6, 6>::identity() * eps).cholesky() {
-            return c.inverse();
-        }
+    if eps.is_finite()
+        && eps > 0.0
+        && let Some(c) = (s + SMatrix::<f64, 6, 6>::identity() * eps).cholesky()
+    {
+        return c.inverse();
     }
     SMatrix::zeros()
 }
