@@ -11,6 +11,7 @@ use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
+use crate::estimator::EstimatedFeedback;
 use crate::linear::{AveragedModel, N_CONTROLS, N_STATES};
 use crate::model::{Controls, Vehicle};
 use crate::sim::{Mode, Simulation, State, StepOutput};
@@ -330,10 +331,58 @@ pub struct HoverOutcome {
 pub fn run_hover(
     vehicle: &Vehicle,
     trim: &Trim,
-    mut controller: Option<HoverController>,
+    controller: Option<HoverController>,
     disturbance: &Disturbance,
     duration_s: f64,
     mut observer: impl FnMut(&StepOutput) -> bool,
+) -> Result<HoverOutcome> {
+    run_hover_with(
+        vehicle,
+        trim,
+        controller,
+        disturbance,
+        duration_s,
+        None,
+        |out, _| observer(out),
+    )
+}
+
+/// As [`run_hover`], but the controller flies on the state estimated by `feedback` (the
+/// model's sensors and the error-state Kalman filter of [`crate::estimator`]) instead of the
+/// true state. Each step the sensors are shown the body at the step's start, before the
+/// controller reads the estimate; `observer` receives the step and the feedback (its
+/// readings delivered at that step's start, and the filter).
+pub fn run_hover_estimated(
+    vehicle: &Vehicle,
+    trim: &Trim,
+    controller: Option<HoverController>,
+    disturbance: &Disturbance,
+    duration_s: f64,
+    feedback: &mut EstimatedFeedback,
+    mut observer: impl FnMut(&StepOutput, &EstimatedFeedback) -> bool,
+) -> Result<HoverOutcome> {
+    run_hover_with(
+        vehicle,
+        trim,
+        controller,
+        disturbance,
+        duration_s,
+        Some(feedback),
+        |out, f| match f {
+            Some(f) => observer(out, f),
+            None => true,
+        },
+    )
+}
+
+fn run_hover_with(
+    vehicle: &Vehicle,
+    trim: &Trim,
+    mut controller: Option<HoverController>,
+    disturbance: &Disturbance,
+    duration_s: f64,
+    mut feedback: Option<&mut EstimatedFeedback>,
+    mut observer: impl FnMut(&StepOutput, Option<&EstimatedFeedback>) -> bool,
 ) -> Result<HoverOutcome> {
     let mut v = vehicle.clone();
     v.apply_controls(&trim.controls)?;
@@ -381,11 +430,18 @@ pub fn run_hover(
         } else {
             Vector3::zeros()
         });
+        if let Some(f) = feedback.as_deref_mut() {
+            f.observe(t, &sim.state());
+        }
         let cycle = sim.phase().floor() as i64;
         if cycle != last_cycle {
             last_cycle = cycle;
             if let Some(c) = controller.as_mut() {
-                let u = c.update(&sim.state());
+                let s = match feedback.as_deref() {
+                    Some(f) => f.estimate(t),
+                    None => sim.state(),
+                };
+                let u = c.update(&s);
                 sim.set_controls(u);
             }
         }
@@ -396,7 +452,7 @@ pub fn run_hover(
                 break;
             }
         };
-        if !observer(&out) {
+        if !observer(&out, feedback.as_deref()) {
             interrupted = true;
             break;
         }

@@ -15,6 +15,7 @@ pub mod control;
 pub mod controls;
 pub mod derivatives;
 mod error;
+pub mod estimator;
 pub mod frames;
 pub mod host;
 pub mod linear;

@@ -6,7 +6,10 @@
 use std::fmt::Write;
 
 use anyhow::Result;
-use flapsim::control::{Disturbance, HoverController, HoverOutcome, LqrWeights, run_hover};
+use flapsim::control::{
+    Disturbance, HoverController, HoverOutcome, LqrWeights, run_hover, run_hover_estimated,
+};
+use flapsim::estimator::{EstimatedFeedback, EstimatorStats, Prior};
 use serde::Serialize;
 
 use crate::error::input_error;
@@ -31,6 +34,11 @@ pub struct HoverArgs {
     /// Sensor delay of the controller, whole wingbeats.
     #[arg(long = "delay-wingbeats", default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=1000))]
     pub delay_wingbeats: u16,
+    /// The state the controller flies on: `true` (the simulation's state) or `estimated`
+    /// (the error-state Kalman filter of flapsim::estimator on the model's IMU and motion
+    /// capture, with their noise, biases and latencies).
+    #[arg(long, value_enum, default_value_t = Feedback::True)]
+    pub feedback: Feedback,
     /// Print one JSON document on stdout instead of the text report.
     #[arg(long)]
     pub json: bool,
@@ -46,6 +54,16 @@ pub struct HoverArgs {
     /// Wind (the model's `[wind]` unless changed here), on top of the disturbance's gust.
     #[command(flatten)]
     pub wind: crate::wind::WindArgs,
+}
+
+/// What the controller flies on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Feedback {
+    /// The simulation's true state.
+    True,
+    /// The state estimated from the model's sensors.
+    Estimated,
 }
 
 /// Parses `--disturbance`.
@@ -104,7 +122,11 @@ struct Report<'a> {
     /// vehicle's drive amplitude and bias in V).
     trim_controls: [crate::vehicle::TrimRow; 2],
     delay_wingbeats: usize,
+    /// The state the controller flew on.
+    feedback: Feedback,
     outcome: &'a HoverOutcome,
+    /// What the estimator did (`--feedback estimated` only).
+    estimator: Option<EstimatorStats>,
     /// What the model's sensors sampled (`None` without sensors).
     sensors: Option<&'a flapsim::sensor_run::SensorSummary>,
     /// The run's `[wind]` (absent: still air).
@@ -139,18 +161,28 @@ pub fn run(args: HoverArgs) -> Result<()> {
             .map_err(sim_error)?,
         )
     };
+    let mut feedback = match args.feedback {
+        Feedback::True => None,
+        Feedback::Estimated => Some(estimated_feedback(&args, &trimmed, &trim)?),
+    };
     let mut settings = serde_json::json!({
         "duration_s": duration_s,
         "disturbance": disturbance,
         "open_loop": args.open_loop,
         "delay_wingbeats": args.delay_wingbeats,
+        "feedback": args.feedback,
         "trim": trim,
     });
     if let Some(w) = &trimmed.wind {
         settings["wind"] = serde_json::to_value(w)?;
     }
     let settings = settings.to_string();
-    let mut sensors = crate::sensing::start(&args.sensors, &trimmed)?;
+    // On the estimate the feedback's own sensors are the ones sampled and logged.
+    let mut sensors = match feedback {
+        Some(_) => None,
+        None => crate::sensing::start(&args.sensors, &trimmed)?,
+    };
+    let log_sensors = sensors.is_some() || feedback.is_some();
     let mut rec = crate::logging::open(
         &args.log,
         "hover",
@@ -158,7 +190,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
         &trimmed,
         settings,
         true,
-        sensors.is_some(),
+        log_sensors,
     )?;
     crate::pacing::wait_for_client(&args.pace, args.log.foxglove.as_deref(), rec.as_ref())?;
     let mut log_error = None;
@@ -166,29 +198,43 @@ pub fn run(args: HoverArgs) -> Result<()> {
     let steps =
         (duration_s * vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64).round() as u64;
     let bar = crate::progress::progress_bar(steps, "hovering", "steps");
-    let outcome = run_hover(
-        &trimmed,
-        &trim,
-        controller,
-        &disturbance,
-        duration_s,
-        |out| {
-            crate::pacing::pace(&mut pacer, out.t_s);
-            if out.step % 1024 == 0 {
-                bar.set_position(out.step);
-            }
-            if let Err(e) = crate::logging::record(&mut rec, out)
-                .and_then(|()| crate::sensing::observe(&mut sensors, &mut rec, out))
-            {
-                log_error = Some(e);
-                return false;
-            }
-            if args.log.report_flushed {
-                crate::logging::report_flushed(&rec, &mut flushed_reported);
-            }
-            !crate::interrupt::requested()
-        },
-    )
+    let mut each_step = |out: &flapsim::StepOutput, fb: Option<&EstimatedFeedback>| {
+        crate::pacing::pace(&mut pacer, out.t_s);
+        if out.step % 1024 == 0 {
+            bar.set_position(out.step);
+        }
+        let logged = crate::logging::record(&mut rec, out).and_then(|()| match fb {
+            Some(fb) => log_readings(&mut rec, out.t_s, fb.readings()),
+            None => crate::sensing::observe(&mut sensors, &mut rec, out),
+        });
+        if let Err(e) = logged {
+            log_error = Some(e);
+            return false;
+        }
+        if args.log.report_flushed {
+            crate::logging::report_flushed(&rec, &mut flushed_reported);
+        }
+        !crate::interrupt::requested()
+    };
+    let outcome = match feedback.as_mut() {
+        None => run_hover(
+            &trimmed,
+            &trim,
+            controller,
+            &disturbance,
+            duration_s,
+            |out| each_step(out, None),
+        ),
+        Some(fb) => run_hover_estimated(
+            &trimmed,
+            &trim,
+            controller,
+            &disturbance,
+            duration_s,
+            fb,
+            |out, fb| each_step(out, Some(fb)),
+        ),
+    }
     .map_err(sim_error)?;
     bar.finish_and_clear();
     crate::logging::finish(
@@ -204,8 +250,13 @@ pub fn run(args: HoverArgs) -> Result<()> {
         trim_pitch_deg: trim.pitch_rad.to_degrees(),
         trim_controls: crate::vehicle::trim_rows(&vehicle, &trim),
         delay_wingbeats: usize::from(args.delay_wingbeats),
+        feedback: args.feedback,
         outcome: &outcome,
-        sensors: sensors.as_ref().map(|r| r.summary()),
+        estimator: feedback.as_ref().map(|f| *f.filter().stats()),
+        sensors: match &feedback {
+            Some(f) => Some(f.summary()),
+            None => sensors.as_ref().map(|r| r.summary()),
+        },
         wind: trimmed.wind.as_ref(),
     };
     let interrupted = outcome.interrupted;
@@ -222,6 +273,42 @@ pub fn run(args: HoverArgs) -> Result<()> {
             "interrupted by Ctrl-C after {:.4} s",
             outcome.duration_s
         ));
+    }
+    Ok(())
+}
+
+/// The sensors and filter of `--feedback estimated`: the model's `[sensors]` (seed
+/// `--sensor-seed`, default 0), the filter starting at the trim pose at rest.
+fn estimated_feedback(
+    args: &HoverArgs,
+    vehicle: &flapsim::Vehicle,
+    trim: &flapsim::trim::Trim,
+) -> Result<EstimatedFeedback> {
+    if args.open_loop {
+        return Err(input_error(
+            "--feedback estimated is for the closed loop: drop --open-loop (or use --feedback true)",
+        ));
+    }
+    if args.sensors.no_sensors {
+        return Err(input_error(
+            "--feedback estimated flies on the model's sensors: drop --no-sensors (or use --feedback true)",
+        ));
+    }
+    let seed = args.sensors.sensor_seed.unwrap_or(0);
+    EstimatedFeedback::new(vehicle, seed, &Prior::hover(vehicle, trim.attitude()))
+        .map_err(|e| input_error(format!("--feedback estimated: {e}")))
+}
+
+/// Logs the readings the feedback's sensors delivered at `t_s`.
+fn log_readings(
+    rec: &mut Option<flightlog::Recorder>,
+    t_s: f64,
+    readings: &[flapsim::sensor_run::Reading],
+) -> Result<()> {
+    if let Some(rec) = rec.as_mut() {
+        for r in readings {
+            rec.sensor(t_s, r)?;
+        }
     }
     Ok(())
 }
@@ -270,6 +357,20 @@ fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()
     }
     if let Some(x) = report.sensors {
         writeln!(w, "{}", crate::sensing::describe(x))?;
+    }
+    if let Some(e) = &report.estimator {
+        writeln!(
+            w,
+            "flew on the estimate: {} IMU samples and {} motion-capture frames fused ({} dropped), mean normalised innovation squared {:.2} (6 expected)",
+            e.imu_samples,
+            e.mocap_frames,
+            e.mocap_dropped,
+            if e.mocap_frames > 0 {
+                e.nis_sum / e.mocap_frames as f64
+            } else {
+                f64::NAN
+            }
+        )?;
     }
     crate::output::print_stdout(&w)
 }

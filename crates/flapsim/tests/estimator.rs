@@ -1,0 +1,300 @@
+//! The state estimator (`flapsim::estimator`, an error-state Kalman filter on the IMU and
+//! motion capture) alone and in the hover loop.
+//!
+//! - `nees_within_chi_square_bounds`: consistency. A filter is consistent when its
+//!   covariance P describes its actual errors; the normalised estimation error squared
+//!   e' P^-1 e of a consistent filter is chi-square with as many degrees of freedom as e has
+//!   (Bar-Shalom, Li & Kirubarajan 2001, "Estimation with Applications to Tracking and
+//!   Navigation", section 5.4.2). Here e = (position error, attitude error): 6 degrees of
+//!   freedom, taken at the end of a run for each of N = 30 seeds (independent sensor noise,
+//!   turn-on biases and prior draws), so N times the mean NEES is chi-square with 6 N = 180
+//!   degrees of freedom; its two-sided 95% interval (Wilson-Hilferty 1931, accurate to 0.1%
+//!   at 180 degrees of freedom) divided by N bounds the mean: [4.82, 7.30]. The IMU samples
+//!   every simulation step there (its datasheet noise densities kept): at the model's 1 kHz
+//!   the wingbeat's vibration aliases into the held samples, an error the sensor model does
+//!   not carry (see the module documentation).
+//! - `hover_on_estimate_recovers_from_pitch`: the fruit fly with its model's sensor noise
+//!   (IMU sampling every step, latencies zero) flies the LQR on the estimate from a 5 degree
+//!   pitch disturbance and recovers by the criterion of `run_hover` (within 1 body length
+//!   and 2 degrees of the hover for good) within the 1 s run, as it does on the true state.
+//!   With the model's latencies it diverges (ignored test
+//!   `hover_on_estimate_with_model_latencies`).
+//! - `noiseless_sensors_reproduce_true_state_loop`: with noiseless, unbiased sensors sampled
+//!   every step without latency, the filter's semi-implicit prediction is the rigid-body
+//!   integrator's own step, so the estimate should equal the true state up to rounding and
+//!   the closed loop on the estimate retrace the closed loop on the truth; measured within
+//!   1.5e-6 of each scale (an observed bound of 1e-5 in the test, not yet derived).
+//! - `estimated_feedback_needs_sensors`: a model without `[sensors]`, or without motion
+//!   capture, is refused with an error naming what is missing.
+
+use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover, run_hover_estimated};
+use flapsim::estimator::{EstimatedFeedback, Estimator, IP, ITH, Prior};
+use flapsim::sensor_run::SensorRun;
+use flapsim::sensors::{Noise, SensorParams};
+use flapsim::trim::{Trim, trim, trimmed_vehicle};
+use flapsim::{Mode, Simulation, State, Vehicle};
+use nalgebra::{Matrix6, UnitQuaternion, Vector6};
+
+fn fly() -> (Vehicle, Trim) {
+    let v = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "drosophila").unwrap();
+    let t = trim(&v).unwrap();
+    let tv = trimmed_vehicle(&v, &t).unwrap();
+    (tv, t)
+}
+
+fn pitch5() -> Disturbance {
+    Disturbance {
+        pitch_deg: 5.0,
+        ..Default::default()
+    }
+}
+
+fn dt_s(v: &Vehicle) -> f64 {
+    Simulation::new(v.clone(), Mode::Free).dt_s()
+}
+
+/// The two-sided 95% interval of a chi-square variable with `k` degrees of freedom
+/// (Wilson & Hilferty 1931: (X/k)^(1/3) is nearly normal, mean 1 - 2/(9k), variance 2/(9k)).
+fn chi2_95(k: f64) -> (f64, f64) {
+    let s = (2.0 / (9.0 * k)).sqrt();
+    let m = 1.0 - 2.0 / (9.0 * k);
+    let q = |z: f64| k * (m + z * s).powi(3);
+    (q(-1.959_964), q(1.959_964))
+}
+
+#[test]
+fn nees_within_chi_square_bounds() {
+    let (mut v, t) = fly();
+    let dt = dt_s(&v);
+    let mut sp: SensorParams = v.sensors.unwrap();
+    sp.imu.rate_hz = 1.0 / dt;
+    let mocap = sp.mocap.as_mut().unwrap();
+    // 109 IMU samples per frame: 21.8 kHz / 109 = 200 Hz, the model's frame rate, with the
+    // frames on IMU sample times.
+    mocap.rate_hz = sp.imu.rate_hz / 109.0;
+    assert!((mocap.rate_hz - 200.0).abs() < 1e-6);
+    v.sensors = Some(sp);
+    // The truth: the fruit fly hovering on the true state from a 5 degree pitch.
+    let d = pitch5();
+    let c = HoverController::design(&v, &t, &LqrWeights::default(), 0).unwrap();
+    let mut truth: Vec<(f64, State)> = Vec::new();
+    let o = run_hover(&v, &t, Some(c), &d, 0.15, |out| {
+        truth.push((out.t_s, out.state));
+        true
+    })
+    .unwrap();
+    assert!(o.diverged.is_none(), "{o:?}");
+    let s0 = truth[0].1;
+    let n_seeds = 30u64;
+    let mut nees = Vec::new();
+    for seed in 0..n_seeds {
+        // Prior: the true start plus a draw from the prior's own distribution.
+        let mut draw = Noise::new(1000 + seed);
+        let (sp_m, sv, sth) = (v.length_m, v.length_m * v.freq_hz(), 10f64.to_radians());
+        let p0 = s0.position_m + draw.vec3(sp_m);
+        let v0 = s0.velocity_m_s + draw.vec3(sv);
+        let q0 = s0.world_from_body * UnitQuaternion::from_scaled_axis(draw.vec3(sth));
+        let prior = Prior {
+            position_world_m: [p0.x, p0.y, p0.z],
+            velocity_world_m_s: [v0.x, v0.y, v0.z],
+            world_from_body: q0,
+            position_std_m: sp_m,
+            velocity_std_m_s: sv,
+            attitude_std_rad: sth,
+        };
+        let mut filter = Estimator::for_vehicle(&v, &prior).unwrap();
+        let mut sensors = SensorRun::new(&v, seed).unwrap();
+        for (ts, s) in &truth {
+            sensors.observe(*ts, s, |r| filter.reading(&r));
+        }
+        assert_eq!(filter.stats().mocap_dropped, 0);
+        assert!(filter.stats().mocap_frames >= 25, "{:?}", filter.stats());
+        let (tf, x, p) = filter.latest();
+        let tf = tf.unwrap();
+        let k = (tf / dt).round() as usize;
+        assert!((truth[k].0 - tf).abs() < 1e-9, "{} vs {tf}", truth[k].0);
+        let s = truth[k].1;
+        let ep = s.position_m - x.position_world_m;
+        let eth = (x.world_from_body.inverse() * s.world_from_body).scaled_axis();
+        let e = Vector6::new(ep.x, ep.y, ep.z, eth.x, eth.y, eth.z);
+        let mut p6 = Matrix6::zeros();
+        let idx = [IP, IP + 1, IP + 2, ITH, ITH + 1, ITH + 2];
+        for (a, &i) in idx.iter().enumerate() {
+            for (b, &j) in idx.iter().enumerate() {
+                p6[(a, b)] = p[(i, j)];
+            }
+        }
+        let inv = p6.cholesky().expect("P positive definite").inverse();
+        nees.push((e.transpose() * inv * e)[(0, 0)]);
+    }
+    let n = n_seeds as f64;
+    let mean = nees.iter().sum::<f64>() / n;
+    let (lo, hi) = chi2_95(6.0 * n);
+    let (lo, hi) = (lo / n, hi / n);
+    eprintln!("NEES over {n_seeds} seeds: mean {mean:.3}, 95% bounds [{lo:.3}, {hi:.3}]");
+    assert!((4.8..4.85).contains(&lo) && (7.28..7.32).contains(&hi));
+    assert!(
+        mean > lo && mean < hi,
+        "mean NEES {mean} outside [{lo}, {hi}]: {nees:?}"
+    );
+}
+
+#[test]
+fn hover_on_estimate_recovers_from_pitch() {
+    let (mut v, t) = fly();
+    // The model's noise densities, biases and motion capture; the IMU sampling every step
+    // and both latencies zero (with the model's 5 and 6.5 ms, about a wingbeat and a half,
+    // the LQR, designed without delay, diverges on the estimate: see
+    // `hover_on_estimate_with_model_latencies`).
+    let mut sp: SensorParams = v.sensors.unwrap();
+    sp.imu.rate_hz = 1.0 / dt_s(&v);
+    sp.imu.latency_s = 0.0;
+    sp.mocap.as_mut().unwrap().latency_s = 0.0;
+    v.sensors = Some(sp);
+    let d = pitch5();
+    let c = HoverController::design(&v, &t, &LqrWeights::default(), 0).unwrap();
+    let on_truth = run_hover(&v, &t, Some(c.clone()), &d, 1.0, |_| true).unwrap();
+    let mut fb = EstimatedFeedback::new(&v, 0, &Prior::hover(&v, t.attitude())).unwrap();
+    let mut worst_p: f64 = 0.0;
+    let on_estimate = run_hover_estimated(&v, &t, Some(c), &d, 1.0, &mut fb, |out, f| {
+        if out.t_s > 0.1 {
+            let e = f.estimate(out.t_s);
+            worst_p = worst_p.max((e.position_m - out.state.position_m).norm());
+        }
+        true
+    })
+    .unwrap();
+    eprintln!("on the truth: {on_truth:?}");
+    eprintln!("on the estimate: {on_estimate:?}");
+    eprintln!(
+        "filter: {:?}; largest position estimate error after 0.1 s {worst_p:.3e} m",
+        fb.filter().stats()
+    );
+    assert!(on_truth.recovery_time_s.is_some(), "{on_truth:?}");
+    assert!(on_estimate.diverged.is_none(), "{on_estimate:?}");
+    assert!(
+        on_estimate.recovery_time_s.is_some(),
+        "not recovered on the estimate: {on_estimate:?}"
+    );
+}
+
+#[test]
+fn noiseless_sensors_reproduce_true_state_loop() {
+    let (mut v, t) = fly();
+    let dt = dt_s(&v);
+    let mut sp: SensorParams = v.sensors.unwrap();
+    let imu = &mut sp.imu;
+    imu.rate_hz = 1.0 / dt;
+    imu.latency_s = 0.0;
+    imu.gyro_noise_density = 0.0;
+    imu.gyro_bias_rad_s = 0.0;
+    imu.gyro_bias_walk = 0.0;
+    imu.accel_noise_density = 0.0;
+    imu.accel_bias_m_s2 = 0.0;
+    imu.accel_bias_walk = 0.0;
+    let m = sp.mocap.as_mut().unwrap();
+    m.rate_hz = 1.0 / dt;
+    m.latency_s = 0.0;
+    m.position_noise_m = 0.0;
+    m.attitude_noise_rad = 0.0;
+    v.sensors = Some(sp);
+    let d = pitch5();
+    let c = HoverController::design(&v, &t, &LqrWeights::default(), 0).unwrap();
+    let duration = 0.2;
+    let mut truth_run = Vec::new();
+    run_hover(&v, &t, Some(c.clone()), &d, duration, |o| {
+        truth_run.push(o.state);
+        true
+    })
+    .unwrap();
+    // The filter starts from the trim pose at rest (1 body length, 10 deg off at most in its
+    // prior), not from the disturbed truth: the first exact frame puts it there.
+    let mut fb = EstimatedFeedback::new(&v, 0, &Prior::hover(&v, t.attitude())).unwrap();
+    let mut est_run = Vec::new();
+    let mut worst_estimate: (f64, f64, f64, f64) = (0.0, 0.0, 0.0, 0.0);
+    run_hover_estimated(&v, &t, Some(c), &d, duration, &mut fb, |o, f| {
+        let e = f.estimate(o.t_s);
+        let s = &o.state;
+        worst_estimate.0 = worst_estimate.0.max((e.position_m - s.position_m).norm());
+        worst_estimate.1 = worst_estimate
+            .1
+            .max((e.velocity_m_s - s.velocity_m_s).norm());
+        worst_estimate.2 = worst_estimate
+            .2
+            .max((e.world_from_body.inverse() * s.world_from_body).angle());
+        worst_estimate.3 = worst_estimate
+            .3
+            .max((e.angular_velocity_body_rad_s - s.angular_velocity_body_rad_s).norm());
+        est_run.push(o.state);
+        true
+    })
+    .unwrap();
+    assert_eq!(truth_run.len(), est_run.len());
+    let (mut dp, mut dv, mut dth, mut dw) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut vmax, mut wmax) = (0.0f64, 0.0f64);
+    for (a, b) in truth_run.iter().zip(&est_run) {
+        dp = dp.max((a.position_m - b.position_m).norm());
+        dv = dv.max((a.velocity_m_s - b.velocity_m_s).norm());
+        dth = dth.max((a.world_from_body.inverse() * b.world_from_body).angle());
+        dw = dw.max((a.angular_velocity_body_rad_s - b.angular_velocity_body_rad_s).norm());
+        vmax = vmax.max(a.velocity_m_s.norm());
+        wmax = wmax.max(a.angular_velocity_body_rad_s.norm());
+    }
+    eprintln!(
+        "estimate vs truth in the loop: position {:.3e} m, velocity {:.3e} m/s, attitude {:.3e} rad, rate {:.3e} rad/s",
+        worst_estimate.0, worst_estimate.1, worst_estimate.2, worst_estimate.3
+    );
+    eprintln!(
+        "trajectories: position {dp:.3e} m (of {:.3e} m), velocity {dv:.3e} m/s (of {vmax:.3e}), attitude {dth:.3e} rad, rate {dw:.3e} rad/s (of {wmax:.3e})",
+        v.length_m
+    );
+    // Measured: 1.5e-6 body lengths, 1.3e-6 of the largest speed, 4.4e-8 rad, 4e-8 of the
+    // largest rate. Rounding alone and rapier's third-order rotation difference ((|w| dt)^3
+    // / 12 per step, about 1e-11 rad over the run) would give far less; the remaining
+    // difference is not yet explained, so this bound (1e-5 of each scale) is an observed
+    // one, not derived: it still separates the noiseless loop from a loop on noisy sensors
+    // (body lengths of 1e-1, degrees).
+    let l = v.length_m;
+    assert!(dp <= 1e-5 * l, "position differs by {dp} m");
+    assert!(dv <= 1e-5 * vmax, "velocity differs by {dv} m/s");
+    assert!(dth <= 1e-5, "attitude differs by {dth} rad");
+    assert!(dw <= 1e-5 * wmax, "rate differs by {dw} rad/s");
+}
+
+#[test]
+fn estimated_feedback_needs_sensors() {
+    let (mut v, t) = fly();
+    let prior = Prior::hover(&v, t.attitude());
+    let sp = v.sensors.unwrap();
+    v.sensors = None;
+    let e = EstimatedFeedback::new(&v, 0, &prior)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("drosophila") && e.contains("[sensors]"), "{e}");
+    v.sensors = Some(SensorParams { mocap: None, ..sp });
+    let e = EstimatedFeedback::new(&v, 0, &prior)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("[sensors.mocap]"), "{e}");
+    let bad = Prior {
+        attitude_std_rad: -1.0,
+        ..prior
+    };
+    v.sensors = Some(sp);
+    let e = EstimatedFeedback::new(&v, 0, &bad).unwrap_err().to_string();
+    assert!(e.contains("attitude_std_rad = -1"), "{e}");
+}
+
+/// Known failure, kept to be fixed: with the model's own latencies (IMU 5 ms, motion capture
+/// 6.5 ms: 1.1 and 1.4 wingbeats) the LQR, designed for no delay, diverges on the estimate
+/// within 32 ms (7 wingbeats); a delay-aware design (the controls of the last wingbeats in
+/// the state) is needed.
+#[test]
+#[ignore = "diverges: the LQR is not designed for the sensors' 5-6.5 ms latency"]
+fn hover_on_estimate_with_model_latencies() {
+    let (v, t) = fly();
+    let c = HoverController::design(&v, &t, &LqrWeights::default(), 0).unwrap();
+    let mut fb = EstimatedFeedback::new(&v, 0, &Prior::hover(&v, t.attitude())).unwrap();
+    let o = run_hover_estimated(&v, &t, Some(c), &pitch5(), 1.0, &mut fb, |_, _| true).unwrap();
+    assert!(o.recovery_time_s.is_some(), "{o:?}");
+}
