@@ -98,7 +98,18 @@ pub struct HoverController {
     /// Integral of the position error, m s.
     integral: Vector3<f64>,
     period_s: f64,
+    /// The design model discretised over one wingbeat (x+ = A_d x + B_d u), for predicting
+    /// a past state forward ([`HoverController::update_from_past`]).
+    ad: DMatrix<f64>,
+    bd: DMatrix<f64>,
+    /// The control channels' deviations from trim applied in the last wingbeats, newest
+    /// last (at most [`MAX_PREDICTION_WINGBEATS`]).
+    applied: VecDeque<[f64; N_CONTROLS]>,
 }
+
+/// The longest a past state is predicted forward by [`HoverController::update_from_past`],
+/// wingbeats.
+pub const MAX_PREDICTION_WINGBEATS: usize = 16;
 
 /// Discrete-time algebraic Riccati equation by fixed-point iteration; returns the gain K of
 /// u = -K x for x+ = A x + B u with costs Q, R.
@@ -206,6 +217,9 @@ impl HoverController {
             actuation: vehicle.actuation.clone(),
             integral: Vector3::zeros(),
             period_s: period,
+            ad,
+            bd,
+            applied: VecDeque::new(),
         })
     }
 
@@ -237,13 +251,47 @@ impl HoverController {
     /// delay), saturated at three times the design excursion and, for an actuated vehicle,
     /// at its actuator's voltage limit: a command past the limit is scaled back towards the
     /// trim along its own direction (bisection on the scale, to 1e-9 of it) until the drive
-    /// fits, as a real drive amplifier saturates.
+    /// fits, as a real drive amplifier saturates. The sensor delay of
+    /// [`HoverController::design`] is not compensated (it shows what a delay does to a loop
+    /// designed without it); [`HoverController::update_from_past`] compensates one.
     pub fn update(&mut self, s: &State) -> Controls {
         self.history.push_back(self.error_state(s));
         while self.history.len() > self.delay_wingbeats.saturating_add(1) {
             self.history.pop_front();
         }
-        let x = &self.history[0];
+        let x = self.history[0].clone();
+        self.law(&x)
+    }
+
+    /// Controls for the next wingbeat from a state `s_past` measured `wingbeats_ago` whole
+    /// wingbeats before now (at the same wingbeat phase: a late sensor's state), predicted
+    /// forward to now on the design model with the controls applied since,
+    /// x_n = A_d^d x_(n-d) + sum_j A_d^(d-1-j) B_d u_(n-d+j) (a discrete Smith predictor:
+    /// K. J. Astrom & B. Wittenmark, "Computer-Controlled Systems", 3rd ed. 1997, section
+    /// 5.8 on time delays), then the law of [`HoverController::update`] without its delay.
+    /// Before the first update the controls applied were the trim's (deviation 0). An error
+    /// for `wingbeats_ago` > [`MAX_PREDICTION_WINGBEATS`].
+    pub fn update_from_past(&mut self, s_past: &State, wingbeats_ago: usize) -> Result<Controls> {
+        if wingbeats_ago > MAX_PREDICTION_WINGBEATS {
+            return Err(Error::Input(format!(
+                "hover controller: a state {wingbeats_ago} wingbeats old; allowed: at most {MAX_PREDICTION_WINGBEATS} wingbeats of prediction"
+            )));
+        }
+        let mut x = self.error_state(s_past);
+        let n = self.applied.len();
+        for k in (0..wingbeats_ago).rev() {
+            // The control applied k + 1 wingbeats before the one about to be set.
+            let u = match n.checked_sub(k + 1) {
+                Some(i) => DVector::from_row_slice(&self.applied[i]),
+                None => DVector::zeros(N_CONTROLS),
+            };
+            x = &self.ad * x + &self.bd * u;
+        }
+        Ok(self.law(&x))
+    }
+
+    /// The control law on the error state `x` (see [`HoverController::update`]).
+    fn law(&mut self, x: &DVector<f64>) -> Controls {
         let p = Vector3::new(x[0], x[1], x[2]);
         let aug = DVector::from_iterator(
             N_STATES + 3,
@@ -256,18 +304,29 @@ impl HoverController {
             .zip(&self.limits)
             .map(|(v, lim)| v.clamp(-lim, *lim))
             .collect();
-        let c = self.trim_controls.with_channels(self.drive, &u);
+        let scale = self.drive_scale(&u);
+        let applied: [f64; N_CONTROLS] = std::array::from_fn(|i| scale * u[i]);
+        self.applied.push_back(applied);
+        while self.applied.len() > MAX_PREDICTION_WINGBEATS {
+            self.applied.pop_front();
+        }
+        self.trim_controls.with_channels(self.drive, &applied)
+    }
+
+    /// The factor in [0, 1] the channel deviations `u` are scaled by so that an actuated
+    /// vehicle's drive fits its voltage limit (1 when it fits or for kinematic controls).
+    fn drive_scale(&self, u: &[f64]) -> f64 {
         let Some(act) = &self.actuation else {
-            return c;
+            return 1.0;
         };
         let fits = |c: &Controls| act.controlled_drives(c).is_ok();
-        if fits(&c) || !fits(&self.trim_controls) {
-            return c;
-        }
         let scaled = |k: f64| {
             let v: Vec<f64> = u.iter().map(|x| k * x).collect();
             self.trim_controls.with_channels(self.drive, &v)
         };
+        if fits(&scaled(1.0)) || !fits(&self.trim_controls) {
+            return 1.0;
+        }
         let (mut lo, mut hi) = (0.0, 1.0);
         while hi - lo > 1e-9 {
             let mid = 0.5 * (lo + hi);
@@ -277,7 +336,7 @@ impl HoverController {
                 hi = mid;
             }
         }
-        scaled(lo)
+        lo
     }
 }
 
@@ -413,6 +472,7 @@ fn run_hover_with(
         sim.start_wings_from(p);
     }
     let n = (duration_s / sim.dt_s()).round() as u64;
+    let period_s = 1.0 / vehicle.freq_hz();
     let mut max_p: f64 = 0.0;
     let mut max_a: f64 = 0.0;
     let mut last_bad_t = 0.0;
@@ -437,11 +497,13 @@ fn run_hover_with(
         if cycle != last_cycle {
             last_cycle = cycle;
             if let Some(c) = controller.as_mut() {
-                let s = match feedback.as_deref() {
-                    Some(f) => f.estimate(t),
-                    None => sim.state(),
+                let u = match feedback.as_deref() {
+                    Some(f) => {
+                        let (s, wingbeats_ago) = f.controller_input(t, period_s);
+                        c.update_from_past(&s, wingbeats_ago)?
+                    }
+                    None => c.update(&sim.state()),
                 };
-                let u = c.update(&s);
                 sim.set_controls(u);
             }
         }

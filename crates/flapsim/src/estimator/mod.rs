@@ -66,6 +66,13 @@
 //! wingbeat (5 ms against the fruit fly's 4.6 ms) would add an error of that order, while
 //! the wingbeat-mean acceleration of a hover is small. This extrapolation's error is not in P.
 //!
+//! A controller acting once per wingbeat does better across a latency of a wingbeat or more
+//! ([`EstimatedFeedback::controller_input`]): it reads the filter's state at the same
+//! wingbeat phase d whole wingbeats ago (from the history, corrected by every frame fused
+//! since) and predicts it forward on its own design model with the controls it applied
+//! since ([`crate::control::HoverController::update_from_past`], a discrete Smith
+//! predictor), so that no instant of the in-wingbeat oscillation is held across the latency.
+//!
 //! # Before the first sample
 //! The filter starts from a prior (nominal state and covariance, [`Prior`]); the gyroscope
 //! and accelerometer biases' prior standard deviations are the turn-on bias standard
@@ -372,15 +379,36 @@ impl Estimator {
     /// is the newest gyroscope sample less the estimated bias. The prior (at rest) before the
     /// first IMU sample.
     pub fn state_at(&self, t_s: f64) -> State {
-        let Some(e) = self.history.back() else {
-            let x = &self.prior.0;
-            return State {
-                position_m: x.position_world_m,
-                world_from_body: x.world_from_body,
-                velocity_m_s: x.velocity_world_m_s,
-                angular_velocity_body_rad_s: Vector3::zeros(),
-            };
-        };
+        match self.history.back() {
+            Some(e) => self.extrapolated(e, t_s),
+            None => {
+                let x = &self.prior.0;
+                State {
+                    position_m: x.position_world_m,
+                    world_from_body: x.world_from_body,
+                    velocity_m_s: x.velocity_world_m_s,
+                    angular_velocity_body_rad_s: Vector3::zeros(),
+                }
+            }
+        }
+    }
+
+    /// The estimated body state at a past time `t_s` within the filter's history: the
+    /// newest history entry not after `t_s` (its samples since corrected by every frame
+    /// fused so far) carried to `t_s` at constant velocity and angular rate (less than an
+    /// IMU period). `None` when `t_s` is after the newest sample or before the history.
+    pub fn state_in_history(&self, t_s: f64) -> Option<State> {
+        let tol = self.tol_s();
+        let last = self.history.back()?;
+        if t_s > last.t_s + tol {
+            return None;
+        }
+        let j = self.history.iter().rposition(|e| e.t_s <= t_s + tol)?;
+        Some(self.extrapolated(&self.history[j], t_s))
+    }
+
+    /// Entry `e` carried to `t_s` at constant velocity and angular rate.
+    fn extrapolated(&self, e: &Entry, t_s: f64) -> State {
         let x = &e.x;
         let w = e.gyro_rad_s - x.gyro_bias_body_rad_s;
         let dt = t_s - e.t_s;
@@ -397,6 +425,25 @@ impl Estimator {
             world_from_body: q,
             velocity_m_s: x.velocity_world_m_s,
             angular_velocity_body_rad_s: w,
+        }
+    }
+
+    /// The time of the newest IMU sample applied (`None` before the first).
+    pub fn time_s(&self) -> Option<f64> {
+        self.history.back().map(|e| e.t_s)
+    }
+
+    /// The IMU's sample period, s.
+    pub fn imu_period_s(&self) -> f64 {
+        self.imu_period_s
+    }
+
+    /// Keeps at least `span_s` of history behind the newest sample (for states read back
+    /// by [`Estimator::state_in_history`]); the filter keeps the motion-capture latency plus
+    /// two frame and two IMU periods in any case.
+    pub fn keep_history_s(&mut self, span_s: f64) {
+        if span_s.is_finite() {
+            self.horizon_s = self.horizon_s.max(span_s);
         }
     }
 
@@ -420,7 +467,14 @@ impl EstimatedFeedback {
     /// The sensors of `vehicle` (every random draw from `seed`) and a filter from `prior`;
     /// an error names the model and what its `[sensors]` lacks.
     pub fn new(vehicle: &Vehicle, seed: u64, prior: &Prior) -> Result<Self> {
-        let filter = Estimator::for_vehicle(vehicle, prior)?;
+        let mut filter = Estimator::for_vehicle(vehicle, prior)?;
+        // Room for the controller's look-back (see EstimatedFeedback::controller_input):
+        // the IMU latency plus a wingbeat and two IMU periods.
+        if let Some(p) = &vehicle.sensors {
+            filter.keep_history_s(
+                p.imu.latency_s + 1.0 / vehicle.freq_hz() + 2.0 * filter.imu_period_s(),
+            );
+        }
         Ok(Self {
             sensors: SensorRun::new(vehicle, seed)?,
             filter,
@@ -447,6 +501,32 @@ impl EstimatedFeedback {
     /// The estimated state at `t_s` (see [`Estimator::state_at`]).
     pub fn estimate(&self, t_s: f64) -> State {
         self.filter.state_at(t_s)
+    }
+
+    /// What a controller acting once per wingbeat of `period_s` at `t_s` should fly on:
+    /// the estimate and how many whole wingbeats before `t_s` it is. A filter within one
+    /// IMU period of `t_s` (no IMU latency) gives its state carried to `t_s` (0 wingbeats;
+    /// [`Estimator::state_at`]). A filter behind by more (the IMU's latency) gives its state
+    /// at t_s - d period, the same wingbeat phase d wingbeats ago, for the smallest d that
+    /// reaches into its history: the controller predicts it forward with the controls it
+    /// applied since ([`crate::control::HoverController::update_from_past`]). Carrying the
+    /// newest state across a latency of a wingbeat at constant rates instead would hold an
+    /// instant of the in-wingbeat oscillation for the whole latency: measured, the fruit
+    /// fly's loop with its 5 ms IMU latency then diverges within 7 wingbeats.
+    pub fn controller_input(&self, t_s: f64, period_s: f64) -> (State, usize) {
+        let f = &self.filter;
+        let Some(t_filter) = f.time_s() else {
+            return (f.state_at(t_s), 0);
+        };
+        let lag = t_s - t_filter;
+        if lag <= f.imu_period_s() * (1.0 + 1e-6) {
+            return (f.state_at(t_s), 0);
+        }
+        let d = ((lag / period_s) - 1e-9).ceil().max(1.0) as usize;
+        match f.state_in_history(t_s - d as f64 * period_s) {
+            Some(s) => (s, d),
+            None => (f.state_at(t_s), 0),
+        }
     }
 
     /// The filter.
