@@ -722,21 +722,33 @@ impl Wing {
         k: &[KinematicLoads; 2],
         body: &BodyMotion,
     ) -> [WingForces; 2] {
+        Self::evaluate_pair_each(left, right, k, [body, body])
+    }
+
+    /// As [`Wing::evaluate_pair_with`], each wing with its own body motion relative to its
+    /// air (e.g. each in the wind at its own hinge); bit for bit [`Wing::evaluate_with`] of
+    /// each.
+    pub fn evaluate_pair_each(
+        left: &Wing,
+        right: &Wing,
+        k: &[KinematicLoads; 2],
+        body: [&BodyMotion; 2],
+    ) -> [WingForces; 2] {
         let lee = TranslationalModel::Lee2016;
         if left.options.translational == lee
             && right.options.translational == lee
             && left.cache.strips.len() == right.cache.strips.len()
         {
             let u = [
-                left.strip_velocity(&k[0].frame, body),
-                right.strip_velocity(&k[1].frame, body),
+                left.strip_velocity(&k[0].frame, body[0]),
+                right.strip_velocity(&k[1].frame, body[1]),
             ];
             let [sl, sr] = lee2016_sums_pair([&left.cache, &right.cache], [&u[0], &u[1]]);
             [left.finish(&k[0], &sl), right.finish(&k[1], &sr)]
         } else {
             [
-                left.evaluate_with(&k[0], body),
-                right.evaluate_with(&k[1], body),
+                left.evaluate_with(&k[0], body[0]),
+                right.evaluate_with(&k[1], body[1]),
             ]
         }
     }

@@ -57,8 +57,23 @@ pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-fn block3(m: &mut Covariance, r: usize, c: usize, b: &Matrix3<f64>) {
-    m.fixed_view_mut::<3, 3>(r, c).copy_from(b);
+/// F P F' for an F that is the identity but in the three rows of block `r`, whose 3 x 3
+/// blocks are `blocks` (column block index, block; the diagonal block included, every other
+/// block of those rows zero).
+pub fn congruence_rows(p: &Covariance, r: usize, blocks: &[(usize, Matrix3<f64>)]) -> Covariance {
+    let mut rows = SMatrix::<f64, 3, N_ERR>::zeros();
+    for (c, m) in blocks {
+        rows += m * p.fixed_view::<3, N_ERR>(*c, 0);
+    }
+    let mut fp = *p;
+    fp.fixed_view_mut::<3, N_ERR>(r, 0).copy_from(&rows);
+    let mut cols = SMatrix::<f64, N_ERR, 3>::zeros();
+    for (c, m) in blocks {
+        cols += fp.fixed_view::<N_ERR, 3>(0, *c) * m.transpose();
+    }
+    let mut out = fp;
+    out.fixed_view_mut::<N_ERR, 3>(0, r).copy_from(&cols);
+    out
 }
 
 /// The nominal state moved over `dt_s` by one IMU sample (`gyro_rad_s`, `accel_m_s2`, body)
@@ -98,30 +113,29 @@ pub fn predict(
     let i3 = Matrix3::identity();
     let w = gyro_rad_s - x.gyro_bias_body_rad_s;
     let a = accel_m_s2 - x.accel_bias_body_m_s2;
+    // Each F is the identity but in one block row, so F P F' touches three rows and three
+    // columns ([`congruence_rows`]): 2 x 3 x 15 x 3 products per block instead of two dense
+    // 15 x 15 products (measured: the filter had cost 11 % of a closed-loop hover step).
     // 1: attitude, dtheta+ = Exp(w dt)' dtheta - dt dbg - dt n_g.
-    let mut f1 = Covariance::identity();
     let e = UnitQuaternion::from_scaled_axis(w * dt_s).to_rotation_matrix();
-    block3(&mut f1, ITH, ITH, &e.matrix().transpose());
-    block3(&mut f1, ITH, IWB, &(-i3 * dt_s));
-    let mut p1 = f1 * p * f1.transpose();
+    let mut p1 = congruence_rows(p, ITH, &[(ITH, e.matrix().transpose()), (IWB, -i3 * dt_s)]);
     let qg = (noise.gyro_noise_std_rad_s * dt_s).powi(2);
     for k in 0..3 {
         p1[(ITH + k, ITH + k)] += qg;
     }
     // 2: velocity, dv+ = dv - R+ [a]x dt dtheta+ - R+ dt dba - R+ dt n_a.
     let r = next.world_from_body.to_rotation_matrix().into_inner();
-    let mut f2 = Covariance::identity();
-    block3(&mut f2, IV, ITH, &(-r * skew(&a) * dt_s));
-    block3(&mut f2, IV, IAB, &(-r * dt_s));
-    let mut p2 = f2 * p1 * f2.transpose();
+    let mut p2 = congruence_rows(
+        &p1,
+        IV,
+        &[(IV, i3), (ITH, -r * skew(&a) * dt_s), (IAB, -r * dt_s)],
+    );
     let qa = (noise.accel_noise_std_m_s2 * dt_s).powi(2);
     for k in 0..3 {
         p2[(IV + k, IV + k)] += qa; // R (s^2 I) R' = s^2 I
     }
     // 3: position, dp+ = dp + dt dv+.
-    let mut f3 = Covariance::identity();
-    block3(&mut f3, IP, IV, &(i3 * dt_s));
-    let mut p3 = f3 * p2 * f3.transpose();
+    let mut p3 = congruence_rows(&p2, IP, &[(IP, i3), (IV, i3 * dt_s)]);
     // Bias random walks over the interval.
     let qwb = noise.gyro_bias_walk_rad_s_sqrt_s.powi(2) * dt_s;
     let qab = noise.accel_bias_walk_m_s2_sqrt_s.powi(2) * dt_s;
@@ -182,15 +196,9 @@ pub fn update_pose(
     let nis = (y.transpose() * s_inv * y)[(0, 0)];
     inject(x, &dx);
     // Reset: P <- G P G', G = blockdiag(I, I, I - [dtheta/2]x, I, I) (Sola 2017, eq. 287).
-    let mut g = Covariance::identity();
     let dth = Vector3::new(dx[ITH], dx[ITH + 1], dx[ITH + 2]);
-    block3(
-        &mut g,
-        ITH,
-        ITH,
-        &(Matrix3::identity() - skew(&(dth * 0.5))),
-    );
-    *p = symmetric(&(g * joseph * g.transpose()));
+    let g = Matrix3::identity() - skew(&(dth * 0.5));
+    *p = symmetric(&congruence_rows(&joseph, ITH, &[(ITH, g)]));
     PoseUpdate {
         innovation: [y[0], y[1], y[2], y[3], y[4], y[5]],
         nis,
@@ -225,4 +233,39 @@ pub fn inject(x: &mut Nominal, dx: &ErrorState) {
     x.world_from_body *= UnitQuaternion::from_scaled_axis(v3(ITH));
     x.accel_bias_body_m_s2 += v3(IAB);
     x.gyro_bias_body_rad_s += v3(IWB);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// congruence_rows is F P F' with the dense F it describes (to rounding: 1e-14 of P's
+    /// largest entry), for a symmetric P of mixed scales.
+    #[test]
+    fn congruence_rows_is_the_dense_product() {
+        let mut p = Covariance::zeros();
+        for i in 0..N_ERR {
+            for j in 0..N_ERR {
+                p[(i, j)] = ((i * 7 + j * 3) % 11) as f64 * 0.1 + if i == j { 3.0 } else { 0.0 };
+            }
+        }
+        let p = symmetric(&p);
+        let a = Matrix3::new(0.9, -0.1, 0.2, 0.1, 0.95, -0.3, -0.2, 0.3, 0.8);
+        let b = Matrix3::new(1e-3, 2e-3, 0.0, 0.0, -1e-3, 4e-3, 5e-3, 0.0, 1e-3);
+        for (r, blocks) in [
+            (ITH, vec![(ITH, a), (IWB, b)]),
+            (IV, vec![(IV, Matrix3::identity()), (ITH, a), (IAB, b)]),
+            (IP, vec![(IP, Matrix3::identity()), (IV, b)]),
+        ] {
+            let mut f = Covariance::identity();
+            f.fixed_view_mut::<3, 3>(r, r).fill(0.0);
+            for (c, m) in &blocks {
+                f.fixed_view_mut::<3, 3>(r, *c).copy_from(m);
+            }
+            let dense = f * p * f.transpose();
+            let fast = congruence_rows(&p, r, &blocks);
+            let err = (dense - fast).amax();
+            assert!(err <= 1e-14 * p.amax(), "block {r}: {err}");
+        }
+    }
 }

@@ -7,8 +7,8 @@
 //! radius, reacts on the body with -m a. Actuated wings: each wing's dynamics advanced by the
 //! step ([`DynamicWing::step`]) with its aerodynamic and inertial reaction. The air's velocity
 //! is the uniform wind ([`WingSet::set_wind`]) or each wing's own wind at its hinge
-//! ([`WingSet::set_wing_winds`]); a pair whose two motions differ is evaluated wing by wing
-//! (bit for bit what the pair evaluation gives for equal motions). Sums are taken in
+//! ([`WingSet::set_wing_winds`]), each wing of a pair side by side at its own
+//! ([`Wing::evaluate_pair_each`]). Sums are taken in
 //! a fixed order (aerodynamic terms wing by wing, then the wings' inertia; actuated: wing by
 //! wing), so a run is bit for bit reproducible.
 
@@ -285,8 +285,13 @@ impl PrescribedLoads<'_> {
                 kin[i..].first_chunk::<2>(),
                 self.wings[i..].first_chunk::<2>(),
             ) {
-                (Some(pair), Some([l, r])) if self.motion_of(i) == self.motion_of(i + 1) => {
-                    let f = Wing::evaluate_pair_with(l, r, pair, self.motion_of(i));
+                (Some(pair), Some([l, r])) => {
+                    let f = Wing::evaluate_pair_each(
+                        l,
+                        r,
+                        pair,
+                        [self.motion_of(i), self.motion_of(i + 1)],
+                    );
                     out.wings[i..i + 2].copy_from_slice(&f);
                     i += 2;
                 }
