@@ -16,6 +16,12 @@
 //!   initial state, so the first observation already carries a reading of that state (the
 //!   disturbance of a recovery task: the tilt of gravity in the accelerometer, the attitude
 //!   error in motion capture) instead of zeros.
+//! - Or, with [`TaskSpec::observe`] = [`Observation::Estimate`], the state estimated from
+//!   those same readings by the error-state Kalman filter of [`crate::estimator`] (12
+//!   numbers, needs motion capture): position error from the hover point (m, world),
+//!   velocity (m/s, world), attitude error from the trim as a rotation vector (rad) and
+//!   angular rate (rad/s, body), as the filter has them at its newest IMU sample (the IMU's
+//!   latency behind), the filter starting from the trim pose ([`Prior::hover`]).
 //! - Reward per action (from the true state after it): 1 - (e_p / L)^2 - (e_a / 10 deg)^2,
 //!   with e_p the position error, L the body length and e_a the attitude error.
 //! - Wind: a model with a `[wind]` table flies every episode in it, evaluated at each wing's
@@ -29,6 +35,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::control::LqrWeights;
 use crate::error::{Error, Result};
+use crate::estimator::{Estimator, Prior};
 use crate::randomize::Randomization;
 use crate::sensors::{Noise, SensorParams, Sensors};
 use crate::sim::{Mode, Simulation};
@@ -50,6 +57,20 @@ pub struct TaskSpec {
     pub max_position_body_lengths: f64,
     /// Termination: attitude error, deg.
     pub max_attitude_deg: f64,
+    /// What the agent observes.
+    #[serde(default)]
+    pub observe: Observation,
+}
+
+/// What a task's agent observes (see the module documentation).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Observation {
+    /// The sensors' newest readings.
+    #[default]
+    Sensors,
+    /// The estimator's state from every reading.
+    Estimate,
 }
 
 impl TaskSpec {
@@ -62,6 +83,7 @@ impl TaskSpec {
             disturbance_body_lengths_s: 0.0,
             max_position_body_lengths: 2.0,
             max_attitude_deg: 60.0,
+            observe: Observation::Sensors,
         }
     }
     /// Recovery: start with up to 10 deg of roll and pitch error (the 5 deg disturbance of
@@ -109,6 +131,8 @@ pub struct Task {
     trim: Trim,
     sim: Simulation,
     sensors: Option<Sensors>,
+    /// The filter fed by the sensors (observing the estimate).
+    estimator: Option<Estimator>,
     /// How long the sensors ran before the episode started (their clock leads the
     /// simulation's by this), s.
     preroll_s: f64,
@@ -162,6 +186,13 @@ impl Task {
                 "{origin}: a task observes through the model's sensors, and it has no [sensors] table (see models/drosophila.toml)"
             )));
         }
+        if spec.observe == Observation::Estimate
+            && vehicle.sensors.is_some_and(|s| s.mocap.is_none())
+        {
+            return Err(Error::Input(format!(
+                "{origin}: observe = \"estimate\" needs motion capture ([sensors.mocap]) for the estimator; allowed without it: observe = \"sensors\""
+            )));
+        }
         if let Some(r) = &randomization {
             r.check(text, origin)?;
         }
@@ -178,6 +209,7 @@ impl Task {
             trim: t,
             sim,
             sensors: None,
+            estimator: None,
             preroll_s: 0.0,
             accel_trim: Vector3::zeros(),
             limit,
@@ -284,10 +316,19 @@ impl Task {
             let field = crate::wind::Wind::from_spec(&w, &self.origin, self.reference_m)?;
             self.sim.set_wind_model(Some(field));
         }
+        self.estimator = match self.spec.observe {
+            Observation::Sensors => None,
+            Observation::Estimate => Some(Estimator::new(
+                &params,
+                g,
+                &Prior::hover(&self.vehicle, self.trim.attitude()),
+            )?),
+        };
         let s0 = self.sim.state();
         sensors.observe(0.0, &s0);
         sensors.observe(self.preroll_s, &s0);
         self.sensors = Some(sensors);
+        self.feed_estimator(self.preroll_s);
         // The specific force at hover is +g along the world vertical: subtracted so that
         // the observation is zero at the trim.
         self.accel_trim = self.trim.attitude().inverse() * Vector3::new(0.0, 0.0, g);
@@ -296,7 +337,42 @@ impl Task {
         Ok(self.observe())
     }
 
+    /// Hands the estimator (if observing the estimate) every reading delivered by the
+    /// sensors' time `t_s`, oldest first.
+    fn feed_estimator(&mut self, t_s: f64) {
+        let (Some(f), Some(sensors)) = (&mut self.estimator, &mut self.sensors) else {
+            return;
+        };
+        while let Some((_, s)) = sensors.imu.next_delivered(t_s) {
+            f.imu(&s);
+        }
+        if let Some(m) = &mut sensors.mocap {
+            while let Some((_, s)) = m.next_delivered(t_s) {
+                f.mocap(&s);
+            }
+        }
+    }
+
+    /// The estimator's newest state as an observation (see the module documentation).
+    fn estimate_observation(&self, f: &Estimator) -> Vec<f64> {
+        let s = match f.time_s() {
+            Some(t) => f.state_in_history(t).unwrap_or_else(|| f.state_at(t)),
+            None => f.state_at(0.0),
+        };
+        let d = (self.trim.attitude().inverse() * s.world_from_body).scaled_axis();
+        (s.position_m - self.reference_m)
+            .iter()
+            .chain(s.velocity_m_s.iter())
+            .chain(d.iter())
+            .chain(s.angular_velocity_body_rad_s.iter())
+            .copied()
+            .collect()
+    }
+
     fn observe(&mut self) -> Vec<f64> {
+        if let Some(f) = &self.estimator {
+            return self.estimate_observation(f);
+        }
         let t = self.sim.time_s() + self.preroll_s;
         let mut o = Vec::with_capacity(12);
         let Some(sensors) = &mut self.sensors else {
@@ -374,9 +450,11 @@ impl Task {
                 reason = Some(e.to_string());
                 break;
             }
+            let t_sensors = self.sim.time_s() + self.preroll_s;
             if let Some(s) = &mut self.sensors {
-                s.observe(self.sim.time_s() + self.preroll_s, &self.sim.state());
+                s.observe(t_sensors, &self.sim.state());
             }
+            self.feed_estimator(t_sensors);
         }
         let s = self.sim.state();
         let l = self.vehicle.length_m;

@@ -11,7 +11,7 @@ use pyo3::types::PyDict;
 use rayon::prelude::*;
 
 use flapsim::randomize::Randomization;
-use flapsim::task::{Task, TaskSpec, TaskStep};
+use flapsim::task::{Observation, Task, TaskSpec, TaskStep};
 
 use crate::convert::{
     arg_int, finite, float_array, int_list, merge_record, model_text, record, shape_str, shaped,
@@ -44,15 +44,28 @@ fn task_spec(kind: &str, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<Task
     let mut spec = base;
     let rest = PyDict::new(o.py());
     for (k, v) in o.iter() {
-        if k.extract::<String>()? == "action_wingbeats" {
+        let key: String = k.extract()?;
+        if key == "action_wingbeats" {
             let n = arg_int("action_wingbeats", &v, 1, Some(MAX_ACTION_WINGBEATS))?;
             spec.action_wingbeats = n as usize;
+        } else if key == "observe" {
+            spec.observe = match v.extract::<String>().as_deref() {
+                Ok("sensors") => Observation::Sensors,
+                Ok("estimate") => Observation::Estimate,
+                _ => {
+                    return Err(PyValueError::new_err(format!(
+                        "task.observe = {}; allowed: \"sensors\" or \"estimate\"",
+                        v.repr()?
+                    )));
+                }
+            };
         } else {
             rest.set_item(k, v)?;
         }
     }
     let mut j = merge_record(&spec, Some(&rest), "task")?;
     j.action_wingbeats = spec.action_wingbeats;
+    j.observe = spec.observe;
     Ok(j)
 }
 

@@ -3,7 +3,7 @@
 //! and an optional MCAP log.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use numpy::{PyArray1, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyFileExistsError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -297,8 +297,15 @@ impl Simulation {
                 Some(flightlog::Recorder::create(&opts, &info, &v.vehicle).map_err(log_err)?)
             }
         };
+        let mut sim = flapsim::Simulation::new(v.vehicle.clone(), mode_v);
+        // The model's `[wind]`, as `flapwing simulate` flies it (reference point: the start).
+        if let Some(w) = &v.vehicle.wind {
+            let field = flapsim::Wind::from_spec(w, &v.origin, v.vehicle.initial_position_m)
+                .map_err(sim_err)?;
+            sim.set_wind_model(Some(field));
+        }
         Ok(Self {
-            sim: flapsim::Simulation::new(v.vehicle.clone(), mode_v),
+            sim,
             summary: flapsim::SummaryBuilder::new(v.vehicle.weight_n()),
             vehicle: v,
             log,
@@ -396,6 +403,44 @@ impl Simulation {
         self.sim.set_wind(w);
         Ok(())
     }
+    /// A wind field evaluated at each wing's hinge every step, in the form of a model's
+    /// `[wind]` table as a dict (`steady_world_m_s`, `turbulence` = {`intensity_m_s`,
+    /// `length_scale_m`, `seed`, ...}, `gusts` = [{`amplitude_m_s`, `direction_world`,
+    /// `start_s`, `duration_s` or `length_m`}], ...; crates/flapsim/README.md), reference
+    /// point the vehicle's start; it adds to `set_wind`'s uniform wind. `None` removes it
+    /// (a simulation of a model with a `[wind]` table starts in that field). A bad table is
+    /// a `ValueError` naming the field, the value and what is allowed; nothing changes then.
+    #[pyo3(signature = (wind))]
+    fn set_wind_model(&mut self, wind: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        let Some(d) = wind else {
+            self.sim.set_wind_model(None);
+            return Ok(());
+        };
+        let json: String = d
+            .py()
+            .import("json")?
+            .call_method1("dumps", (d,))?
+            .extract()?;
+        let spec = wind_spec(&json)?;
+        let origin = format!("{} (set_wind_model)", self.vehicle.origin);
+        let field =
+            flapsim::Wind::from_spec(&spec, &origin, self.vehicle.vehicle.initial_position_m)
+                .map_err(sim_err)?;
+        self.sim.set_wind_model(Some(field));
+        Ok(())
+    }
+
+    /// Each wing's wind at its hinge at the last step, world frame, m/s: an (n_wings, 3)
+    /// array (0 rows before the first step or without a wind field).
+    #[getter]
+    fn wing_winds_m_s<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        let w = self.sim.wing_winds_m_s();
+        let flat: Vec<f64> = w.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+        numpy::PyArray1::from_vec(py, flat)
+            .reshape([w.len(), 3])
+            .expect("n x 3 elements")
+    }
+
     /// The loads at the current state without stepping (a dict like `step()`'s).
     fn loads<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         step_dict(py, &self.sim.loads())
@@ -532,4 +577,27 @@ fn check_controls(sim: &flapsim::Simulation, c: &flapsim::Controls) -> PyResult<
         ));
     }
     Ok(())
+}
+
+/// A `[wind]` table from its JSON form; an error names the table's field that is wrong (each
+/// field is tried alone once the whole fails: serde_json's message gives only a column).
+fn wind_spec(json: &str) -> PyResult<flapsim::WindSpec> {
+    let bad = |field: &str, e: serde_json::Error| {
+        PyValueError::new_err(format!("set_wind_model: [wind].{field}: {e}"))
+    };
+    let value: serde_json::Value = serde_json::from_str(json).map_err(|e| bad("(table)", e))?;
+    match serde_json::from_value::<flapsim::WindSpec>(value.clone()) {
+        Ok(spec) => Ok(spec),
+        Err(whole) => {
+            if let Some(obj) = value.as_object() {
+                for (k, v) in obj {
+                    let alone = serde_json::json!({ k.clone(): v.clone() });
+                    if let Err(e) = serde_json::from_value::<flapsim::WindSpec>(alone) {
+                        return Err(bad(k, e));
+                    }
+                }
+            }
+            Err(bad("(table)", whole))
+        }
+    }
 }

@@ -191,6 +191,14 @@ class Simulation:
         """From the start of the next wingbeat."""
     def set_control_channels(self, values: npt.ArrayLike) -> None: ...
     def set_wind(self, wind_world_m_s: Vec3) -> None: ...
+    def set_wind_model(self, wind: Optional[dict[str, Any]]) -> None:
+        """A wind field in the form of a model's `[wind]` table (steady_world_m_s,
+        turbulence, gusts, ...), evaluated at each wing's hinge every step, on top of
+        `set_wind`; None removes it. A model with a `[wind]` table starts in it."""
+    @property
+    def wing_winds_m_s(self) -> FloatArray:
+        """Each wing's wind at its hinge at the last step, world, m/s: (n_wings, 3)
+        (0 rows before the first step or without a wind field)."""
     def loads(self) -> dict[str, Any]: ...
     def step(self) -> dict[str, Any]:
         """step, t_s, phase, state (at the step's start), terms, wing_inertia, total
@@ -242,8 +250,9 @@ class HoverTask:
     """flapsim's hover or recovery task (see flapwing.envs)."""
 
     def __init__(self, model: str = "drosophila", task: str = "hover",
-                 randomize: Optional[str] = None, **spec: float) -> None:
-        """spec: TaskSpec fields; action_wingbeats is an integer from 1 to 1000000."""
+                 randomize: Optional[str] = None, **spec: float | str) -> None:
+        """spec: TaskSpec fields; action_wingbeats is an integer from 1 to 1000000;
+        observe is "sensors" (default) or "estimate"."""
     @property
     def spec(self) -> dict[str, Any]: ...
     @property

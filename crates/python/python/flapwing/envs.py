@@ -10,7 +10,10 @@ Both take keyword arguments: ``model`` (any of ``flapwing.builtin_models()``, ev
 with a ``[sensors]`` table, or a model file with one; default ``drosophila``), ``randomize`` (a domain-randomisation file, see
 flapsim::randomize; the draws are in ``info["draws"]``) and any TaskSpec field:
 ``duration_s``, ``action_wingbeats`` (wingbeats per action, default 1), ``disturbance_deg``,
-``disturbance_body_lengths_s``, ``max_position_body_lengths``, ``max_attitude_deg``.
+``disturbance_body_lengths_s``, ``max_position_body_lengths``, ``max_attitude_deg``, and
+``observe`` (``"sensors"``, the default, or ``"estimate"``). A model with a ``[wind]`` table
+flies every episode in that wind (turbulence seeded from the episode's seed; its numbers can
+be randomised like any other field of the model).
 
 Action: offsets from the hover trim on the vehicle's four control channels (radians, or
 volts for actuated vehicles), each within +-``action_limit`` (3x the LQR design excursion).
@@ -19,7 +22,11 @@ value, m/s^2; body frame), then the motion-capture frame's position error (m) an
 error as a rotation vector (rad); every sensor with its noise, bias and latency. The sensors
 run for their longest latency before the release, the body held at its initial state, so
 the reset observation is already a delivered reading of that state (Recover-v0's tilt shows
-in the specific force and the attitude error) rather than zeros.
+in the specific force and the attitude error) rather than zeros. With
+``observe="estimate"`` the observation is instead the state estimated from those readings by
+flapsim's error-state Kalman filter (position error from the hover point, m; velocity, m/s,
+world; attitude error from the trim as a rotation vector, rad; angular rate, rad/s, body) at
+its newest IMU sample: 12 numbers, and the model needs motion capture.
 Reward per action: 1 - (position error / body length)^2 - (attitude error / 10 deg)^2.
 Terminated: position error beyond 2 body lengths, attitude error beyond 60 deg, or a
 diverged simulation. Truncated: at ``duration_s``.
