@@ -151,7 +151,7 @@ fn trim_on_the_angle_of_attack_or_the_frequency_keeps_the_amplitude() {
     // and body pitch keep it within 5%.
     use flapsim::trim::{LiftVariable, trim_on};
     let v = builtin("drosophila");
-    let r0 = flapsim::study::hover_responses(&v, 200).unwrap();
+    let r0 = flapstudy::hover_responses(&v, 200).unwrap();
     let lw0 = r0.vertical_force_n / r0.weight_n;
     let t = trim_on(&v, LiftVariable::Frequency).unwrap();
     assert!(t.max_residual() < 1e-6, "{t:?}");

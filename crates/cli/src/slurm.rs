@@ -16,7 +16,7 @@ pub struct Manifest {
     pub study: String,
     /// Absolute path of the study file.
     pub study_file: String,
-    /// The study content hash (`flapsim::study::shard::study_hash`).
+    /// The study content hash (`flapstudy::shard::study_hash`).
     pub study_hash: String,
     /// Number of shards N.
     pub shards: usize,

@@ -6,7 +6,7 @@
 mod common;
 
 use common::{flapwing, flapwing_in};
-use flapsim::study::fit_wake::PAPER_TABLE4_CSV;
+use flapstudy::fit_wake::PAPER_TABLE4_CSV;
 use wingforce::{WakeCaptureModel, WingModelSpec};
 
 fn with_table4() -> tempfile::TempDir {

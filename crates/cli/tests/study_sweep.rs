@@ -81,7 +81,7 @@ fn merged_shards_equal_the_unsharded_run() {
 #[test]
 fn wake_l18_runs_table_2() {
     // Table 2's (Re, dtau_D, dtau_A) level numbers, tests 1-18.
-    let table2 = flapsim::study::taguchi::SEED_PAPER_TABLE2;
+    let table2 = flapstudy::taguchi::SEED_PAPER_TABLE2;
     let dir = dir_with(&[("wake_l18.toml", WAKE_L18)]);
     let run = flapwing_in(dir.path(), &["sweep", "wake_l18.toml"]);
     assert_eq!(run.code, 0, "{run:?}");

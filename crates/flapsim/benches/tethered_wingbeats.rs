@@ -1,12 +1,11 @@
 //! Throughput of tethered wingbeats: the built-in drosophila, 20 strips per wing, one
 //! wingbeat = 100 phase samples of `averaged::mean_loads`' inner loop for both wings (all
 //! four force terms). Criterion reports the time per wingbeat; the throughput line gives
-//! wingbeats per second. A second benchmark times one study case (`hover_responses`: the
-//! mean loads plus the wings' cycle means and aerodynamic power, two passes).
+//! wingbeats per second. (One study case, `hover_responses`, is timed in flapstudy's
+//! `study_case` benchmark.)
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use flapsim::Vehicle;
 use flapsim::averaged::{FrozenState, mean_loads};
-use flapsim::study::hover_responses;
 use nalgebra::Vector3;
 use std::hint::black_box;
 
@@ -27,9 +26,6 @@ fn bench(c: &mut Criterion) {
     group.throughput(Throughput::Elements(1));
     group.bench_function("wingbeat_100_steps_20_strips", |b| {
         b.iter(|| mean_loads(black_box(&vehicle), black_box(&state), STEPS_PER_WINGBEAT))
-    });
-    group.bench_function("study_case_hover_responses", |b| {
-        b.iter(|| hover_responses(black_box(&vehicle), STEPS_PER_WINGBEAT).expect("built-in"))
     });
     group.finish();
 }

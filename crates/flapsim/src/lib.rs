@@ -26,7 +26,6 @@ pub mod sensor_run;
 pub mod sensors;
 pub mod sim;
 pub mod stability;
-pub mod study;
 pub mod summary;
 pub mod task;
 pub mod trim;

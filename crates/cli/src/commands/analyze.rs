@@ -10,12 +10,12 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use clap::Args;
-use flapsim::study::regression::{Term, fit_terms};
-use flapsim::study::stats::LinearFit;
-use flapsim::study::sweep::FLAG_COLUMNS;
-use flapsim::study::table::Table;
-use flapsim::study::taguchi::{MainEffect, main_effects, snr};
-use flapsim::study::{Response, SnrKind};
+use flapstudy::regression::{Term, fit_terms};
+use flapstudy::stats::LinearFit;
+use flapstudy::sweep::FLAG_COLUMNS;
+use flapstudy::table::Table;
+use flapstudy::taguchi::{MainEffect, main_effects, snr};
+use flapstudy::{Response, SnrKind};
 use plotters::prelude::*;
 use serde::Serialize;
 

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use clap::Args;
-use flapsim::study::table::Table;
+use flapstudy::table::Table;
 use plotters::prelude::*;
 
 use crate::error::{InputContext, input_error};

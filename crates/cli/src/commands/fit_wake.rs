@@ -17,11 +17,11 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use flapsim::study::fit_wake::{
+use flapstudy::fit_wake::{
     ExpQuadraticFit, WakeCaptureData, WakeCaptureFit, fit_wake_capture, model_toml,
     model_toml_usage,
 };
-use flapsim::study::stats::LinearFit;
+use flapstudy::stats::LinearFit;
 use serde::Serialize;
 use wingforce::WakeCaptureModel;
 use wingforce::coefficients::ExpQuadratic;

@@ -2,7 +2,7 @@
 //!
 //! The search is one deterministic chain (Nelder-Mead stages from the box centre, each stage
 //! started from the previous one's best point), not independent restarts, so it has no shards
-//! and runs on one machine (see `flapsim::study::optimize`).
+//! and runs on one machine (see `flapstudy::optimize`).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -42,9 +42,9 @@ fn parse_positive(s: &str) -> Result<f64, String> {
 
 /// `flapwing optimize`: maximize lift per aerodynamic power over a study's factor box while
 /// supporting the weight (Nelder-Mead with a sequence of quadratic penalties; see
-/// `flapsim::study::optimize`). Responses are tethered at the hover attitude, as in a sweep.
+/// `flapstudy::optimize`). Responses are tethered at the hover attitude, as in a sweep.
 pub fn run(args: OptimizeArgs) -> anyhow::Result<()> {
-    use flapsim::study::optimize::{NelderMeadOptions, optimize_hover};
+    use flapstudy::optimize::{NelderMeadOptions, optimize_hover};
     let study = load_study(&args.study)?;
     let opts = NelderMeadOptions {
         max_evals: args.max_evals as usize,

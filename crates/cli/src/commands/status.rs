@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use flapsim::study::shard::{ShardState, join_indices, resubmit_command};
+use flapstudy::shard::{ShardState, join_indices, resubmit_command};
 use serde::Serialize;
 
 use super::sweep_merge::{StudyShards, studies_in};

@@ -2,7 +2,7 @@
 //! [--time HH:MM:SS] [--cpus-per-task C] [--throttle K] [--sbatch-line LINE]... [--dry-run]
 //! [--force]`: run a sweep's shards as one Slurm job array.
 //!
-//! Writes the job-array script (`flapsim::study::slurm`) to `DIR/slurm/`, submits it with
+//! Writes the job-array script (`flapstudy::slurm`) to `DIR/slurm/`, submits it with
 //! `sbatch --parsable`, and records the job id, the study content hash, the shard count and the
 //! submit time in `DIR/<study>.slurm.json` (a later submission of the same study, e.g. the
 //! resubmission of missing shards, is appended). Each task runs
@@ -15,8 +15,8 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
-use flapsim::study::shard::{ShardState, scan_dir, study_hash, write_atomic};
-use flapsim::study::slurm::{JobArray, parse_time_limit, sbatch_line};
+use flapstudy::shard::{ShardState, scan_dir, study_hash, write_atomic};
+use flapstudy::slurm::{JobArray, parse_time_limit, sbatch_line};
 
 use crate::error::{InputContext, input_error};
 use crate::output::print_stdout;
@@ -208,7 +208,7 @@ pub fn run(args: SubmitArgs) -> anyhow::Result<()> {
     let _ = writeln!(out, "script:   {script_arg}");
     let _ = writeln!(out, "manifest: {}", manifest_path.display());
     let _ = writeln!(out, "logs:     {}", job.log_pattern());
-    let shown = flapsim::study::shard::shell_quote(&manifest.out_dir);
+    let shown = flapstudy::shard::shell_quote(&manifest.out_dir);
     let _ = writeln!(out, "progress: flapwing status {shown}");
     let _ = writeln!(out, "then:     flapwing sweep merge {shown}");
     print_stdout(&out)

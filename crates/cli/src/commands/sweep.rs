@@ -1,10 +1,10 @@
-//! `flapwing sweep`: run a parameter study (see `flapsim::study::spec` for the file format).
+//! `flapwing sweep`: run a parameter study (see `flapstudy::spec` for the file format).
 //!
 //! - `flapwing sweep STUDY.toml [--out DIR] [--jobs N] [--shard K/N] [--force]`: evaluate
 //!   the study's cases (tethered hover responses, in parallel on N threads) and write
 //!   `DIR/<study>.csv`, or `DIR/<study>-shard-K-of-N.csv` for one shard (cases are split into
 //!   N contiguous blocks; run the N shards anywhere, then merge). A shard is written
-//!   atomically with the study content hash on its first line (`flapsim::study::shard`); a
+//!   atomically with the study content hash on its first line (`flapstudy::shard`); a
 //!   shard already complete with the same hash is skipped, one of another study is refused
 //!   unless `--force`;
 //! - `flapwing sweep merge DIR [--force]` (or `flapwing sweep --merge DIR`, see
@@ -20,8 +20,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::{Args, Subcommand};
-use flapsim::study::shard::{ShardHeader, ShardState, shard_file_name, shard_state, study_hash};
-use flapsim::study::{CaseResult, Study, StudySpec};
+use flapstudy::shard::{ShardHeader, ShardState, shard_file_name, shard_state, study_hash};
+use flapstudy::{CaseResult, Study, StudySpec};
 
 use crate::error::{InputContext, input_error};
 use crate::output::{create_output_file, note, print_stdout};
@@ -204,7 +204,7 @@ fn run_shard(study: &Study, path: &Path, args: &SweepArgs, shard: Shard) -> anyh
     let mut text = header.line();
     text.push('\n');
     text.push_str(&study.csv(&results.0));
-    flapsim::study::shard::write_atomic(&out_path, text.as_bytes())
+    flapstudy::shard::write_atomic(&out_path, text.as_bytes())
         .map_err(|e| anyhow::anyhow!("{e}"))?;
     report(study, &out_path, range.len(), &results)
 }

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
 
-use flapsim::study::shard::{Expected, ShardError, ShardGroup, merge_group, scan_dir};
+use flapstudy::shard::{Expected, ShardError, ShardGroup, merge_group, scan_dir};
 
 use crate::error::input_error;
 use crate::output::{create_output_file, print_stdout};

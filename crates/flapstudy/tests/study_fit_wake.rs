@@ -15,7 +15,7 @@
 //!   the five coefficients does better than 0.035349 on Table 4, and the paper's own eq 18
 //!   coefficients give 0.035350 on it, so the printed S cannot come from Table 4 as printed.
 
-use flapsim::study::fit_wake::{
+use flapstudy::fit_wake::{
     PAPER_TABLE4_CSV, WakeCaptureData, exp_quadratic_sse, fit_exp_quadratic, fit_wake_capture,
     model_toml, model_toml_usage,
 };
@@ -121,12 +121,9 @@ fn levenberg_marquardt_lands_on_the_least_squares_minimum() {
                 2 => dd[i],
                 _ => dd[i] * dd[i],
             });
-            let lin = flapsim::study::stats::ols(
-                vec!["a".into(), "b".into(), "c".into(), "d".into()],
-                &x,
-                &y,
-            )
-            .unwrap();
+            let lin =
+                flapstudy::stats::ols(vec!["a".into(), "b".into(), "c".into(), "d".into()], &x, &y)
+                    .unwrap();
             assert!(
                 lin.sse >= fit.sse * (1.0 - 1e-10),
                 "c2 {c2k}: {} < {}",

@@ -43,7 +43,7 @@ impl Study {
             }
         })?;
         if self.responses.contains(&Response::TrimFeasible) {
-            all.trim_feasible = Some(crate::trim::trim(&vehicle).is_ok());
+            all.trim_feasible = Some(flapsim::trim::trim(&vehicle).is_ok());
         }
         Ok(CaseResult {
             case,

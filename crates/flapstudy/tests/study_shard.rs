@@ -2,13 +2,13 @@
 //! and the merge of a directory (refusals and the missing-shard report), plus the job-array
 //! script.
 
-use flapsim::study::Study;
-use flapsim::study::shard::{
+use flapstudy::Study;
+use flapstudy::shard::{
     Expected, ShardError, ShardHeader, ShardState, merge_group, parse_shard_file_name, scan_dir,
     shard_file_name, shard_state, study_hash, write_atomic,
 };
-use flapsim::study::slurm::{JobArray, collapse_ranges, parse_time_limit, sbatch_line};
-use flapsim::study::spec::StudySpec;
+use flapstudy::slurm::{JobArray, collapse_ranges, parse_time_limit, sbatch_line};
+use flapstudy::spec::StudySpec;
 
 const FACTORIAL: &str = r#"
 name = "grid"

@@ -6,9 +6,9 @@
 //! (Taguchi; e.g. Phadke, *Quality Engineering Using Robust Design*, 1989, appendix C);
 //! regression identities from the normal equations.
 
-use flapsim::study::fit_wake::{PAPER_TABLE4_CSV, WakeCaptureData, fit_linear_ln};
-use flapsim::study::regression::{fit_full_quadratic, full_quadratic_terms};
-use flapsim::study::taguchi::{OrthogonalArray, SEED_PAPER_TABLE2, SnrKind, main_effects, snr};
+use flapstudy::fit_wake::{PAPER_TABLE4_CSV, WakeCaptureData, fit_linear_ln};
+use flapstudy::regression::{fit_full_quadratic, full_quadratic_terms};
+use flapstudy::taguchi::{OrthogonalArray, SEED_PAPER_TABLE2, SnrKind, main_effects, snr};
 
 #[test]
 fn l18_matches_the_papers_table_2_row_by_row() {
@@ -117,7 +117,7 @@ fn table4_snr_main_effects_agree_with_the_papers_reading() {
         data.runs.iter().map(|r| r.dtau_d).collect(),
         data.runs.iter().map(|r| r.dtau_a).collect(),
     ];
-    let effects = |f: fn(&flapsim::study::fit_wake::WakeRun) -> f64| {
+    let effects = |f: fn(&flapstudy::fit_wake::WakeRun) -> f64| {
         let s: Vec<f64> = data
             .runs
             .iter()
@@ -198,7 +198,7 @@ fn eq16_on_table4_nests_eq19() {
     assert!(full.sse <= eq19.sse);
     assert_eq!(full.dof, 8);
     for (t, p) in full.t_values.iter().zip(&full.p_values) {
-        let f = flapsim::study::stats::student_t_cdf(t.abs(), 8.0);
+        let f = flapstudy::stats::student_t_cdf(t.abs(), 8.0);
         assert!((p - 2.0 * (1.0 - f)).abs() < 1e-12);
     }
 }

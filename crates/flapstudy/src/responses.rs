@@ -9,7 +9,7 @@
 //!   eq 11-12 (0.5 rho V_ref^2 S of one wing), averaged over the cycle and over both wings
 //!   ([`wingforce::cycle::CycleMean`]);
 //! - `lift_over_weight`: the world-vertical component of the mean total aerodynamic force
-//!   of both wings ([`crate::averaged::mean_loads`]) over the weight m g;
+//!   of both wings ([`flapsim::averaged::mean_loads`]) over the weight m g;
 //! - `aero_power_w`: the aerodynamic power, the cycle mean of
 //!   P(t) = - sum over wings of M_hinge(t) . omega_wing(t), where M_hinge is the moment of
 //!   the wing's aerodynamic force (all four terms) about its hinge and omega_wing the wing's
@@ -33,8 +33,8 @@ use wingforce::cycle::CycleMean;
 use wingforce::wing::WingFrame;
 use wingforce::{BodyMotion, Term};
 
-use crate::averaged::{FrozenState, mean_loads};
-use crate::model::Vehicle;
+use flapsim::averaged::{FrozenState, mean_loads};
+use flapsim::model::Vehicle;
 
 /// One response a study can ask for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,7 +53,7 @@ pub enum Response {
     MeanPitchMomentNm,
     /// Peak wake-capture C_L of eq 23.
     WakeCapturePeakCl,
-    /// 1 when a hover trim exists (`crate::trim::trim` converges within its allowed range),
+    /// 1 when a hover trim exists (`flapsim::trim::trim` converges within its allowed range),
     /// else 0. Only computed when a study asks for it (it costs a trim per case).
     TrimFeasible,
 }
@@ -153,8 +153,8 @@ impl HoverResponses {
 
 /// Evaluates a vehicle tethered at its hover attitude over one wingbeat of `steps` samples
 /// (an actuated vehicle: over one period of its wings' periodic motion, at the simulation's
-/// step; see [`crate::actuated::periodic`]).
-pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> crate::Result<HoverResponses> {
+/// step; see [`flapsim::actuated::periodic`]).
+pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> flapsim::Result<HoverResponses> {
     let still = BodyMotion::default();
     let state = FrozenState {
         world_from_body: vehicle.initial_attitude,
@@ -164,7 +164,7 @@ pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> crate::Result<HoverRe
     // The wings whose wake-capture inputs count: an actuated wing's are measured on its
     // periodic motion.
     let (loads, samples, wings) = if vehicle.actuation.is_some() {
-        let p = crate::actuated::periodic::settle(vehicle, &still)?;
+        let p = flapsim::actuated::periodic::settle(vehicle, &still)?;
         (p.mean, p.samples, p.wings)
     } else {
         let samples = (0..steps)

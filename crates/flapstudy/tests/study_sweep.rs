@@ -8,9 +8,9 @@
 //! (`[aero] induced_inflow`) depends on the weight, not on the wingbeat, so the scaling
 //! checks switch it off.
 
-use flapsim::study::spec::{StudySpec, latin_hypercube, shard_range};
-use flapsim::study::sweep::merge_csv;
-use flapsim::study::{Response, Study};
+use flapstudy::spec::{StudySpec, latin_hypercube, shard_range};
+use flapstudy::sweep::merge_csv;
+use flapstudy::{Response, Study};
 
 fn study(text: &str) -> Study {
     let spec = StudySpec::from_toml(text, "test.toml").expect("study parses");
@@ -205,7 +205,7 @@ levels = [0.06, 0.12, 0.18]
 "#,
     );
     assert_eq!(s.case_count(), 18);
-    let oa = flapsim::study::OrthogonalArray::l18();
+    let oa = flapstudy::OrthogonalArray::l18();
     let idx = |levels: &[f64], x: f64| levels.iter().position(|&l| l == x).unwrap() as u8 + 1;
     for (case, row) in s.cases.iter().zip(&oa.rows) {
         let got = [

@@ -5,8 +5,8 @@
 //! convex quadratic's minimum is where its gradient vanishes. The hover optimum is checked
 //! against a brute-force grid of the same model: no feasible grid design may beat it.
 
-use flapsim::study::StudySpec;
-use flapsim::study::optimize::{NelderMeadOptions, nelder_mead, optimize_hover};
+use flapstudy::StudySpec;
+use flapstudy::optimize::{NelderMeadOptions, nelder_mead, optimize_hover};
 use nalgebra::DVector;
 
 #[test]
@@ -81,7 +81,7 @@ count = 2
             let a = 110.0 + 60.0 * i as f64 / 12.0;
             let aoa = 20.0 + 40.0 * j as f64 / 12.0;
             let v = study.vehicle_at(&[a, aoa]).unwrap();
-            let r = flapsim::study::hover_responses(&v, study.steps_per_wingbeat).unwrap();
+            let r = flapstudy::hover_responses(&v, study.steps_per_wingbeat).unwrap();
             if r.vertical_force_n / r.weight_n >= 1.0 {
                 grid_best = grid_best.max(r.vertical_force_n / r.aero_power_w);
             }

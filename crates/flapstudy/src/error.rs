@@ -36,7 +36,7 @@ pub enum StudyError {
         /// The factor settings of the case, `path = value` joined by commas.
         settings: String,
         /// The model error.
-        source: crate::Error,
+        source: flapsim::Error,
     },
 }
 

@@ -1,7 +1,7 @@
 //! The `trim_feasible` response: 1 where a hover trim exists within the allowed range, 0
 //! where it does not (here: a fly so heavy that no amplitude up to 180 deg lifts it).
 
-use flapsim::study::spec::StudySpec;
+use flapstudy::spec::StudySpec;
 
 #[test]
 fn trim_feasibility_follows_the_weight() {

@@ -35,7 +35,7 @@ use serde::Deserialize;
 use super::error::{StudyError, StudyResult};
 use super::responses::Response;
 use super::taguchi::OrthogonalArray;
-use crate::model::{Vehicle, VehicleSpec};
+use flapsim::model::{Vehicle, VehicleSpec};
 
 /// The most cases one study may have.
 pub const MAX_CASES: usize = 1_000_000;
@@ -460,7 +460,7 @@ impl StudySpec {
 }
 
 /// Builds a vehicle from an edited model table.
-pub fn vehicle_from_table(table: toml::Table, origin: &str) -> crate::Result<Vehicle> {
+pub fn vehicle_from_table(table: toml::Table, origin: &str) -> flapsim::Result<Vehicle> {
     let spec: VehicleSpec =
         toml::Value::Table(table)
             .try_into()
@@ -616,12 +616,12 @@ impl Study {
 
     /// The vehicle with the factors at `values` (one per factor, in order): the base model
     /// edited at each factor's path, then validated.
-    pub fn vehicle_at(&self, values: &[f64]) -> crate::Result<Vehicle> {
+    pub fn vehicle_at(&self, values: &[f64]) -> flapsim::Result<Vehicle> {
         assert_eq!(values.len(), self.factors.len(), "one value per factor");
         let mut t = self.base.clone();
         for (f, &v) in self.factors.iter().zip(values) {
             set_path(&mut t, &f.steps, v)
-                .map_err(|m| crate::Error::Analysis(format!("factor `{}`: {m}", f.path)))?;
+                .map_err(|m| flapsim::Error::Analysis(format!("factor `{}`: {m}", f.path)))?;
         }
         vehicle_from_table(t, &self.base_origin)
     }

@@ -232,7 +232,7 @@ pub fn optimize_hover(
             .map(|(&ui, &(lo, hi))| lo + (hi - lo) * ui.clamp(0.0, 1.0))
             .collect()
     };
-    let design = |values: Vec<f64>| -> crate::Result<HoverDesign> {
+    let design = |values: Vec<f64>| -> flapsim::Result<HoverDesign> {
         let v = study.vehicle_at(&values)?;
         let r = hover_responses(&v, study.steps_per_wingbeat)?;
         Ok(HoverDesign {

@@ -7,7 +7,7 @@
 //! - [`regression`] and [`stats`]: the full second-order regression of eq 16 with standard
 //!   errors, t values and p-values (Student's t via the regularized incomplete beta);
 //! - [`spec`], [`responses`], [`sweep`]: study files, tethered hover responses of each case
-//!   (no rigid-body simulation: [`crate::averaged::mean_loads`] and the wings' cycle means),
+//!   (no rigid-body simulation: [`flapsim::averaged::mean_loads`] and the wings' cycle means),
 //!   parallel sweeps with deterministic CSV output, shards and their merge;
 //! - [`shard`] and [`slurm`]: the study content hash, atomic shard files and their merge, and
 //!   the Slurm job-array script that runs one shard per task;
