@@ -65,6 +65,7 @@ mod rerun_sink;
 mod sample;
 mod scene;
 pub mod schema;
+mod estimate_msg;
 mod sensor_msg;
 mod writer;
 
@@ -134,6 +135,12 @@ pub struct LogOptions {
     /// Declare the sensor channels ([`schema::SENSOR_CHANNELS`]: `/sensors/imu`,
     /// `/sensors/mocap`) in the MCAP log, for [`Recorder::sensor`].
     pub sensors: bool,
+    /// Declare the wind channel ([`schema::WIND_CHANNEL`]: `/wind`) in the MCAP log, for
+    /// [`Recorder::wind`] (runs with a wind field).
+    pub wind: bool,
+    /// Declare the estimate channel ([`schema::ESTIMATE_CHANNEL`]: `/estimate`) in the MCAP
+    /// log, for [`Recorder::estimate`] (runs flown on a state estimate).
+    pub estimate: bool,
 }
 
 impl LogOptions {
