@@ -68,9 +68,12 @@ fn simulate_logs_the_wing_winds_of_the_simulation() {
     // The same run in flapsim: the model's [wind] from the start position, free flight.
     let text = windy_model(4);
     let vehicle = Vehicle::from_toml(&text, "windy.toml").unwrap();
-    let wind =
-        Wind::from_spec(vehicle.wind.as_ref().unwrap(), "windy.toml", vehicle.initial_position_m)
-            .unwrap();
+    let wind = Wind::from_spec(
+        vehicle.wind.as_ref().unwrap(),
+        "windy.toml",
+        vehicle.initial_position_m,
+    )
+    .unwrap();
     let mut s = Simulation::new(vehicle, Mode::Free);
     s.set_wind_model(Some(wind));
     let n = (duration_s / s.dt_s()).round() as u64;
@@ -181,7 +184,12 @@ fn hover_on_the_estimate_logs_it_beside_the_truth() {
         assert!(e.contains_key("covariance.224") && !e.contains_key("covariance.225"));
     }
     assert!(checked > 10, "{checked} samples after the filter converged");
-    let moved = dist(&truth[truth.len() - 1], "position_m", &truth[0], "position_m");
+    let moved = dist(
+        &truth[truth.len() - 1],
+        "position_m",
+        &truth[0],
+        "position_m",
+    );
     assert!(moved > 4e-3, "the body moved only {moved} m");
     assert!(d.join("e.rrd").exists());
 }
@@ -219,7 +227,10 @@ fn hover_logs_the_wind_it_flies_in() {
     let g = rows(
         &hover(
             "g.mcap",
-            &["--disturbance", "gust_z_m_s=0.4,gust_start_s=0.004,gust_duration_s=0.004"],
+            &[
+                "--disturbance",
+                "gust_z_m_s=0.4,gust_start_s=0.004,gust_duration_s=0.004",
+            ],
         ),
         "/wind",
     );
@@ -232,7 +243,11 @@ fn hover_logs_the_wind_it_flies_in() {
         assert_eq!(r["wing_winds_world_m_s.1.z"], w);
         blowing += usize::from(w == 0.4);
     }
-    assert!(blowing > 3 && blowing < g.len() - 3, "{blowing} of {}", g.len());
+    assert!(
+        blowing > 3 && blowing < g.len() - 3,
+        "{blowing} of {}",
+        g.len()
+    );
     // Still air: no /wind.
     assert!(!topics(&hover("s.mcap", &[])).iter().any(|t| t == "/wind"));
 }

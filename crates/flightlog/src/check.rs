@@ -279,7 +279,11 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
         if let Some(w) = winds.get(&t_ns) {
             let uniform = sim.uniform_wind_m_s();
             let field = sim.wing_winds_m_s();
-            let n_wings = if field.is_empty() { w.len() } else { field.len() };
+            let n_wings = if field.is_empty() {
+                w.len()
+            } else {
+                field.len()
+            };
             if w.len() != n_wings {
                 return Ok(CheckOutcome::Mismatch {
                     samples_matched: idx as u64,

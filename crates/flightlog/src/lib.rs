@@ -52,6 +52,7 @@ mod chunk;
 mod decode;
 mod encode;
 mod error;
+mod estimate_msg;
 mod json;
 #[cfg(feature = "live")]
 mod live;
@@ -65,7 +66,6 @@ mod rerun_sink;
 mod sample;
 mod scene;
 pub mod schema;
-mod estimate_msg;
 mod sensor_msg;
 mod writer;
 

@@ -416,8 +416,7 @@ impl Recorder {
                     "wind messages need a log created with LogOptions::wind".into(),
                 ));
             };
-            let msg =
-                crate::estimate_msg::wind(t_ns, t_s, uniform_world_m_s, wing_winds_world_m_s);
+            let msg = crate::estimate_msg::wind(t_ns, t_s, uniform_world_m_s, wing_winds_world_m_s);
             m.encoder.optional(OPT_WIND, id, t_ns, &msg, &mut m.chunk);
             self.stats.mcap_messages += 1;
         }
@@ -456,7 +455,8 @@ impl Recorder {
                     "estimates need a log created with LogOptions::estimate".into(),
                 ));
             };
-            m.encoder.optional(OPT_ESTIMATE, id, t_ns, &msg, &mut m.chunk);
+            m.encoder
+                .optional(OPT_ESTIMATE, id, t_ns, &msg, &mut m.chunk);
             self.stats.mcap_messages += 1;
         }
         #[cfg(feature = "rerun")]

@@ -139,7 +139,11 @@ fn the_estimate_and_the_winds_show_against_the_truth() {
         ..mcap_opts(&mcap, Some(2000.0))
     };
     let mut rec = flightlog::Recorder::create(&opts, &info, &vehicle).unwrap();
-    let wind = Wind::from_spec(vehicle.wind.as_ref().unwrap(), "w", vehicle.initial_position_m);
+    let wind = Wind::from_spec(
+        vehicle.wind.as_ref().unwrap(),
+        "w",
+        vehicle.initial_position_m,
+    );
     let prior = Prior::hover(&vehicle, vehicle.initial_attitude);
     let mut fb = EstimatedFeedback::new(&vehicle, 1, &prior).unwrap();
     let mut sim = Simulation::new(vehicle, Mode::Free);

@@ -196,7 +196,10 @@ fn wind_and_estimate_round_trip() {
             for (k, axis) in ["x", "y", "z"].iter().enumerate() {
                 let i = 3 * b + k;
                 let got = row[&format!("std.{part}.{axis}")];
-                assert!(same(got, e.covariance[i * N_ERR + i].sqrt()), "{part}.{axis}");
+                assert!(
+                    same(got, e.covariance[i * N_ERR + i].sqrt()),
+                    "{part}.{axis}"
+                );
             }
         }
         fused |= row.get("mocap_frames").copied().unwrap_or(0.0) > 0.0;
