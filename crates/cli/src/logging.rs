@@ -112,9 +112,20 @@ fn check_target(path: &Path, force: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The optional channels a run's MCAP log declares.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Channels {
+    /// `/sensors/imu` and `/sensors/mocap`.
+    pub sensors: bool,
+    /// `/wind` (runs with a wind field).
+    pub wind: bool,
+    /// `/estimate` (runs flown on the state estimate).
+    pub estimate: bool,
+}
+
 /// Opens the recorder for a run (or `None` with `--no-log`). `rrd_by_default` makes the
-/// command write a Rerun recording under `logs/` when `--rrd` is not given; `sensors`
-/// declares the MCAP log's sensor channels.
+/// command write a Rerun recording under `logs/` when `--rrd` is not given; `channels`
+/// says which optional channels the MCAP log declares.
 pub fn open(
     args: &LogArgs,
     command: &str,
@@ -122,7 +133,7 @@ pub fn open(
     vehicle: &flapsim::Vehicle,
     settings_json: String,
     rrd_by_default: bool,
-    sensors: bool,
+    channels: Channels,
 ) -> anyhow::Result<Option<Recorder>> {
     if !(args.log_rate_hz.is_finite() && args.log_rate_hz > 0.0) {
         return Err(input_error(format!(
@@ -166,7 +177,9 @@ pub fn open(
             Some(args.log_rate_hz)
         },
         foxglove: args.foxglove.clone(),
-        sensors,
+        sensors: channels.sensors,
+        wind: channels.wind,
+        estimate: channels.estimate,
     };
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     let info = RunInfo::new(
@@ -218,6 +231,26 @@ pub fn range_warnings(vehicle: &flapsim::Vehicle) -> Vec<String> {
 pub fn record(rec: &mut Option<Recorder>, out: &flapsim::StepOutput) -> anyhow::Result<()> {
     if let Some(r) = rec.as_mut() {
         r.record(out)?;
+    }
+    Ok(())
+}
+
+/// Logs each wing's wind at the step at `t_s` if there is a recorder (see
+/// [`Recorder::wind`]): the simulation's per-wing winds, or the uniform wind at every wing
+/// when there is no wind field.
+pub fn record_wind(
+    rec: &mut Option<Recorder>,
+    t_s: f64,
+    sim: &flapsim::Simulation,
+) -> anyhow::Result<()> {
+    if let Some(r) = rec.as_mut() {
+        let uniform = sim.uniform_wind_m_s();
+        let winds = sim.wing_winds_m_s();
+        if winds.is_empty() {
+            r.wind(t_s, &uniform, &[uniform; 2])?;
+        } else {
+            r.wind(t_s, &uniform, winds)?;
+        }
     }
     Ok(())
 }

@@ -135,7 +135,9 @@ fn summary_json_csv_rrd_and_check() {
     // A truncated copy still replays and says what was lost.
     let bytes = std::fs::read(&log).unwrap();
     let cut = dir.path().join("cut.mcap");
-    std::fs::write(&cut, &bytes[..bytes.len() * 2 / 3]).unwrap();
+    // Half the file: inside the data section (the summary repeats every schema, each the
+    // whole flapwing descriptor set, so it is a large part of a short log).
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
     let o = flapwing(&["replay", s(&cut)]);
     assert_eq!(o.code, 0, "{}", o.stderr);
     assert!(

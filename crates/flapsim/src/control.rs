@@ -402,7 +402,7 @@ pub fn run_hover(
         disturbance,
         duration_s,
         None,
-        |out, _| observer(out),
+        |step| observer(step.out),
     )
 }
 
@@ -427,21 +427,37 @@ pub fn run_hover_estimated(
         disturbance,
         duration_s,
         Some(feedback),
-        |out, f| match f {
-            Some(f) => observer(out, f),
+        |step| match step.feedback {
+            Some(f) => observer(step.out, f),
             None => true,
         },
     )
 }
 
-fn run_hover_with(
+/// What the observer of [`run_hover_with`] sees after each step.
+#[derive(Debug, Clone, Copy)]
+pub struct HoverStep<'a> {
+    /// The step.
+    pub out: &'a StepOutput,
+    /// The estimated feedback, when the controller flies on it (its readings delivered at
+    /// the step's start, and the filter).
+    pub feedback: Option<&'a EstimatedFeedback>,
+    /// The simulation after the step: e.g. [`Simulation::wing_winds_m_s`] (each wing's wind
+    /// in the step) and [`Simulation::uniform_wind_m_s`] (the disturbance's gust).
+    pub sim: &'a Simulation,
+}
+
+/// [`run_hover`] and [`run_hover_estimated`] in one: flies on the estimate of `feedback`
+/// when given, else on the true state; `observer` sees each step with the feedback and the
+/// simulation ([`HoverStep`]).
+pub fn run_hover_with(
     vehicle: &Vehicle,
     trim: &Trim,
     mut controller: Option<HoverController>,
     disturbance: &Disturbance,
     duration_s: f64,
     mut feedback: Option<&mut EstimatedFeedback>,
-    mut observer: impl FnMut(&StepOutput, Option<&EstimatedFeedback>) -> bool,
+    mut observer: impl FnMut(&HoverStep<'_>) -> bool,
 ) -> Result<HoverOutcome> {
     let mut v = vehicle.clone();
     v.apply_controls(&trim.controls)?;
@@ -514,7 +530,12 @@ fn run_hover_with(
                 break;
             }
         };
-        if !observer(&out, feedback.as_deref()) {
+        let step = HoverStep {
+            out: &out,
+            feedback: feedback.as_deref(),
+            sim: &sim,
+        };
+        if !observer(&step) {
             interrupted = true;
             break;
         }

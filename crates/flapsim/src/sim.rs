@@ -274,6 +274,11 @@ impl Simulation {
         self.wings.set_wind(wind_world_m_s);
     }
 
+    /// The uniform wind of [`Simulation::set_wind`], world frame, m/s.
+    pub fn uniform_wind_m_s(&self) -> Vector3<f64> {
+        self.uniform_wind_m_s
+    }
+
     /// A wind field (steady wind, gusts, turbulence: [`crate::wind`]) evaluated every step
     /// at each wing's hinge, body position + attitude * hinge_in_body_m, at t_k, plus the
     /// uniform wind of [`Simulation::set_wind`]; `None` returns to the uniform wind alone.

@@ -12,6 +12,11 @@
 //! issue #16 are read back with a correctly rounded parser, so they survive the round trip
 //! exactly, and there a logged 0 matches a non-finite value, which JSON could not hold). A
 //! log that ends early (a stopped or truncated run) is compared as far as it goes.
+//!
+//! A log with `/wind` (a run with a wind field) has each logged wing wind compared too, bit
+//! for bit, with the re-run's [`flapsim::Simulation::wing_winds_m_s`] after the same step
+//! (the uniform wind at each wing without a field). The other optional channels
+//! (`/sensors/imu`, `/sensors/mocap`, `/estimate`) are not re-run.
 
 use std::path::Path;
 
@@ -20,7 +25,7 @@ use serde::Serialize;
 
 use crate::json::Json;
 use crate::read::read_log;
-use crate::schema::TOPIC_STATE;
+use crate::schema::{TOPIC_STATE, TOPIC_WIND};
 use crate::{Decimator, Error, Result, SimSettings};
 
 /// The verdict of [`check_log`].
@@ -71,6 +76,19 @@ fn logged_values(v: &Json) -> Option<(u64, [f64; 13])> {
         *o = v.f64_at(f)?;
     }
     Some((step, out))
+}
+
+/// The wing winds of a `/wind` message (world, m/s), `None` if it does not read.
+fn logged_winds(v: &Json) -> Option<Vec<[f64; 3]>> {
+    match v.get("wing_winds_world_m_s") {
+        Some(Json::Arr(items)) => items
+            .iter()
+            .map(|w| Some([w.f64_at("x")?, w.f64_at("y")?, w.f64_at("z")?]))
+            .collect(),
+        // proto3 leaves an empty list off the wire.
+        None => Some(Vec::new()),
+        Some(_) => None,
+    }
 }
 
 fn rerun_values(s: &flapsim::State) -> [f64; 13] {
@@ -172,6 +190,24 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
             reason: "the log holds no /vehicle/state sample".into(),
         });
     }
+    // The logged winds by log time.
+    let mut winds = std::collections::HashMap::new();
+    for (i, m) in log.on(TOPIC_WIND).enumerate() {
+        match log.parse(m).as_ref().and_then(logged_winds) {
+            Some(w) => {
+                winds.insert(m.log_time, w);
+            }
+            None => {
+                return Ok(CheckOutcome::Mismatch {
+                    samples_matched: 0,
+                    detail: format!(
+                        "/wind message {i} (log time {} ns) is not a readable wind",
+                        m.log_time
+                    ),
+                });
+            }
+        }
+    }
 
     // The model's own `[wind]` field, as `flapwing simulate` flies it (wind flags are not
     // in the log: such runs do not re-run).
@@ -227,6 +263,7 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
                 ),
             });
         }
+        let (t_s, t_ns) = (out.t_s, crate::sample::time_ns(out.t_s));
         let again = rerun_values(&out.state);
         for (k, (a, b)) in values.iter().zip(&again).enumerate() {
             if !same(*a, *b, json) {
@@ -237,6 +274,38 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
                         out.t_s, FIELDS[k]
                     ),
                 });
+            }
+        }
+        if let Some(w) = winds.get(&t_ns) {
+            let uniform = sim.uniform_wind_m_s();
+            let field = sim.wing_winds_m_s();
+            let n_wings = if field.is_empty() {
+                w.len()
+            } else {
+                field.len()
+            };
+            if w.len() != n_wings {
+                return Ok(CheckOutcome::Mismatch {
+                    samples_matched: idx as u64,
+                    detail: format!(
+                        "step {step} (t = {t_s:.9} s): /wind has {} wings, the re-run {n_wings}",
+                        w.len()
+                    ),
+                });
+            }
+            for (k, logged_w) in w.iter().enumerate() {
+                let again = field.get(k).copied().unwrap_or(uniform);
+                for (c, (a, b)) in logged_w.iter().zip(again.iter()).enumerate() {
+                    if !same(*a, *b, json) {
+                        return Ok(CheckOutcome::Mismatch {
+                            samples_matched: idx as u64,
+                            detail: format!(
+                                "step {step} (t = {t_s:.9} s): /wind wing {k} {} logged {a:e}, re-run {b:e}",
+                                ["x", "y", "z"][c]
+                            ),
+                        });
+                    }
+                }
             }
         }
         idx += 1;

@@ -17,7 +17,7 @@ use crate::recorder::Decimator;
 use crate::sample::{Encoded, SAMPLE_MESSAGES, Sample, SampleBuilder, timestamp};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    CHANNELS, EVENTS, FORCE_ARROWS_MAX_RATE_HZ, SCENE_FORCES, SCENE_WINGS, SENSOR_CHANNELS,
+    CHANNELS, EVENTS, FORCE_ARROWS_MAX_RATE_HZ, OPTIONAL_CHANNELS, SCENE_FORCES, SCENE_WINGS,
     channel_id,
 };
 
@@ -34,8 +34,8 @@ pub(crate) struct SampleEncoder {
     arrow_decimator: Decimator,
     /// The wing planforms, until they go out with the first sample.
     planforms: Option<SceneUpdate>,
-    /// Per channel: [`CHANNELS`], then [`SENSOR_CHANNELS`].
-    sequences: [u32; CHANNELS.len() + SENSOR_CHANNELS.len()],
+    /// Per channel: [`CHANNELS`], then [`OPTIONAL_CHANNELS`].
+    sequences: [u32; CHANNELS.len() + OPTIONAL_CHANNELS.len()],
 }
 
 impl SampleEncoder {
@@ -47,7 +47,7 @@ impl SampleEncoder {
             arrow_message: SceneUpdate::default(),
             arrow_decimator: Decimator::new(Some(FORCE_ARROWS_MAX_RATE_HZ)),
             planforms: Some(planforms),
-            sequences: [0; CHANNELS.len() + SENSOR_CHANNELS.len()],
+            sequences: [0; CHANNELS.len() + OPTIONAL_CHANNELS.len()],
         }
     }
 
@@ -100,12 +100,18 @@ impl SampleEncoder {
         messages
     }
 
-    /// Appends a sensor reading's record to `raw`, on sensor channel `sensor` (an index of
-    /// [`SENSOR_CHANNELS`], declared after [`CHANNELS`]).
-    pub fn sensor(&mut self, sensor: usize, t_ns: u64, message: &dyn Encoded, raw: &mut RawChunk) {
-        let index = CHANNELS.len() + sensor;
-        let seq = self.next(index);
-        raw.message(channel_id(index), seq, t_ns, message);
+    /// Appends the record of a message on optional channel `optional` (an index of
+    /// [`OPTIONAL_CHANNELS`]) to `raw`; `id` is the channel's MCAP id in this log.
+    pub fn optional(
+        &mut self,
+        optional: usize,
+        id: u16,
+        t_ns: u64,
+        message: &dyn Encoded,
+        raw: &mut RawChunk,
+    ) {
+        let seq = self.next(CHANNELS.len() + optional);
+        raw.message(id, seq, t_ns, message);
     }
 
     /// Appends an event's record to `raw`.

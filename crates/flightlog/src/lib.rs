@@ -52,6 +52,7 @@ mod chunk;
 mod decode;
 mod encode;
 mod error;
+mod estimate_msg;
 mod json;
 #[cfg(feature = "live")]
 mod live;
@@ -134,6 +135,12 @@ pub struct LogOptions {
     /// Declare the sensor channels ([`schema::SENSOR_CHANNELS`]: `/sensors/imu`,
     /// `/sensors/mocap`) in the MCAP log, for [`Recorder::sensor`].
     pub sensors: bool,
+    /// Declare the wind channel ([`schema::WIND_CHANNEL`]: `/wind`) in the MCAP log, for
+    /// [`Recorder::wind`] (runs with a wind field).
+    pub wind: bool,
+    /// Declare the estimate channel ([`schema::ESTIMATE_CHANNEL`]: `/estimate`) in the MCAP
+    /// log, for [`Recorder::estimate`] (runs flown on a state estimate).
+    pub estimate: bool,
 }
 
 impl LogOptions {

@@ -251,6 +251,78 @@ pub struct MocapReading {
     pub euler_deg: Option<Euler>,
 }
 
+#[derive(Clone, PartialEq, prost::Message)]
+pub struct Wind {
+    #[prost(message, optional, tag = "1")]
+    pub timestamp: Option<Timestamp>,
+    #[prost(double, tag = "2")]
+    pub t_s: f64,
+    #[prost(message, repeated, tag = "3")]
+    pub wing_winds_world_m_s: Vec<Vector3>,
+    #[prost(message, optional, tag = "4")]
+    pub uniform_world_m_s: Option<Vector3>,
+}
+
+#[derive(Clone, Copy, PartialEq, prost::Message)]
+pub struct ErrorStd {
+    #[prost(message, optional, tag = "1")]
+    pub position_world_m: Option<Vector3>,
+    #[prost(message, optional, tag = "2")]
+    pub velocity_world_m_s: Option<Vector3>,
+    #[prost(message, optional, tag = "3")]
+    pub attitude_body_rad: Option<Vector3>,
+    #[prost(message, optional, tag = "4")]
+    pub accel_bias_body_m_s2: Option<Vector3>,
+    #[prost(message, optional, tag = "5")]
+    pub gyro_bias_body_rad_s: Option<Vector3>,
+}
+
+#[derive(Clone, Copy, PartialEq, prost::Message)]
+pub struct EstimatedState {
+    #[prost(message, optional, tag = "1")]
+    pub position_world_m: Option<Vector3>,
+    #[prost(message, optional, tag = "2")]
+    pub velocity_world_m_s: Option<Vector3>,
+    #[prost(message, optional, tag = "3")]
+    pub attitude: Option<Quaternion>,
+    #[prost(message, optional, tag = "4")]
+    pub euler_deg: Option<Euler>,
+    #[prost(message, optional, tag = "5")]
+    pub body_rates_rad_s: Option<Vector3>,
+}
+
+#[derive(Clone, PartialEq, prost::Message)]
+pub struct Estimate {
+    #[prost(message, optional, tag = "1")]
+    pub timestamp: Option<Timestamp>,
+    #[prost(double, tag = "2")]
+    pub t_s: f64,
+    #[prost(uint64, tag = "3")]
+    pub imu_samples: u64,
+    #[prost(uint64, tag = "4")]
+    pub mocap_frames: u64,
+    #[prost(message, optional, tag = "5")]
+    pub position_world_m: Option<Vector3>,
+    #[prost(message, optional, tag = "6")]
+    pub velocity_world_m_s: Option<Vector3>,
+    #[prost(message, optional, tag = "7")]
+    pub attitude: Option<Quaternion>,
+    #[prost(message, optional, tag = "8")]
+    pub euler_deg: Option<Euler>,
+    #[prost(message, optional, tag = "9")]
+    pub body_rates_rad_s: Option<Vector3>,
+    #[prost(message, optional, tag = "10")]
+    pub accel_bias_body_m_s2: Option<Vector3>,
+    #[prost(message, optional, tag = "11")]
+    pub gyro_bias_body_rad_s: Option<Vector3>,
+    #[prost(message, optional, tag = "12")]
+    pub std: Option<ErrorStd>,
+    #[prost(double, repeated, tag = "13")]
+    pub covariance: Vec<f64>,
+    #[prost(message, optional, tag = "14")]
+    pub feedback: Option<EstimatedState>,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -422,6 +494,57 @@ mod tests {
                     roll: 1.0,
                     pitch: 2.0,
                     yaw: 3.0,
+                }),
+            },
+        );
+        roundtrip(
+            "flapwing.Wind",
+            &Wind {
+                timestamp: t,
+                t_s: 1.0,
+                wing_winds_world_m_s: vec![v.unwrap(), v.unwrap()],
+                uniform_world_m_s: v,
+            },
+        );
+        let q = Some(Quaternion {
+            x: 1.0,
+            y: 2.0,
+            z: 3.0,
+            w: 4.0,
+        });
+        let e = Some(Euler {
+            roll: 1.0,
+            pitch: 2.0,
+            yaw: 3.0,
+        });
+        roundtrip(
+            "flapwing.Estimate",
+            &Estimate {
+                timestamp: t,
+                t_s: 1.0,
+                imu_samples: 1,
+                mocap_frames: 1,
+                position_world_m: v,
+                velocity_world_m_s: v,
+                attitude: q,
+                euler_deg: e,
+                body_rates_rad_s: v,
+                accel_bias_body_m_s2: v,
+                gyro_bias_body_rad_s: v,
+                std: Some(ErrorStd {
+                    position_world_m: v,
+                    velocity_world_m_s: v,
+                    attitude_body_rad: v,
+                    accel_bias_body_m_s2: v,
+                    gyro_bias_body_rad_s: v,
+                }),
+                covariance: vec![1.0; 225],
+                feedback: Some(EstimatedState {
+                    position_world_m: v,
+                    velocity_world_m_s: v,
+                    attitude: q,
+                    euler_deg: e,
+                    body_rates_rad_s: v,
                 }),
             },
         );

@@ -22,7 +22,8 @@ use crate::sample::Sample;
 use crate::sample::{SampleBuilder, WingStatic, time_ns, timestamp};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, CHANNELS, MESSAGE_ENCODING, SCHEMA_ENCODING, SENSOR_CHANNELS, channel_id,
+    self, CHANNELS, MESSAGE_ENCODING, OPT_ESTIMATE, OPT_WIND, OPTIONAL_CHANNELS, SCHEMA_ENCODING,
+    channel_id,
 };
 use crate::sensor_msg::SensorMessage;
 use crate::writer::{Flushed, Writer};
@@ -98,8 +99,8 @@ struct McapOut {
     /// The run's samples so far and the newest one's time (what a closed chunk ends with).
     upto: Flushed,
     encoder: SampleEncoder,
-    /// The sensor channels are declared.
-    sensors: bool,
+    /// The MCAP ids of the optional channels ([`OPTIONAL_CHANNELS`]) this log declares.
+    optional_ids: [Option<u16>; OPTIONAL_CHANNELS.len()],
     writer: Writer,
 }
 
@@ -165,6 +166,11 @@ pub struct Recorder {
     decimator: Decimator,
     vehicle: Vehicle,
     controls: Option<Controls>,
+    /// The log time and true state of the newest logged sample (what [`Recorder::wind`] and
+    /// [`Recorder::estimate`] go with).
+    last_sample: Option<(u64, flapsim::State)>,
+    #[cfg(feature = "rerun")]
+    estimate_statics: std::sync::atomic::AtomicBool,
     wake_warned: [bool; 2],
     stats: LogStats,
     finished: bool,
@@ -250,6 +256,9 @@ impl Recorder {
             decimator: Decimator::new(options.log_rate_hz),
             vehicle: vehicle.clone(),
             controls: None,
+            last_sample: None,
+            #[cfg(feature = "rerun")]
+            estimate_statics: std::sync::atomic::AtomicBool::new(false),
             wake_warned: [false; 2],
             stats: LogStats {
                 mcap_path: options.mcap.clone(),
@@ -315,6 +324,7 @@ impl Recorder {
         }
         self.stats.samples += 1;
         self.stats.last_t_s = out.t_s;
+        self.last_sample = Some((time_ns(out.t_s), out.state));
         if let Some(m) = &mut self.mcap {
             self.stats.mcap_messages += m.sample(out)?;
         }
@@ -362,16 +372,106 @@ impl Recorder {
         let Some(m) = &mut self.mcap else {
             return Ok(());
         };
-        if !m.sensors {
+        let t_ns = time_ns(t_s);
+        let msg = SensorMessage::of(reading, t_ns);
+        let Some(id) = m.optional_ids[msg.channel()] else {
             return Err(Error::Options(
                 "sensor readings need a log created with LogOptions::sensors".into(),
             ));
-        }
-        let t_ns = time_ns(t_s);
-        let msg = SensorMessage::of(reading, t_ns);
+        };
         m.encoder
-            .sensor(msg.channel(), t_ns, msg.encoded(), &mut m.chunk);
+            .optional(msg.channel(), id, t_ns, msg.encoded(), &mut m.chunk);
         self.stats.mcap_messages += 1;
+        Ok(())
+    }
+
+    /// The log time of the newest logged sample if it is the step at `t_s` (`None`: that
+    /// step was not logged).
+    fn sampled(&self, t_s: f64) -> Option<(u64, flapsim::State)> {
+        let t_ns = time_ns(t_s);
+        self.last_sample.filter(|(t, _)| *t == t_ns)
+    }
+
+    /// Logs each wing's wind for the step at `t_s` to `/wind` ([`schema::WIND_CHANNEL`]):
+    /// `wing_winds_world_m_s` per wing in the vehicle's order (left, right), what
+    /// [`flapsim::Simulation::wing_winds_m_s`] gives after the step (it includes the uniform
+    /// part), and `uniform_world_m_s`, the uniform wind of
+    /// [`flapsim::Simulation::set_wind`]; world frame, m/s. Call it after
+    /// [`Recorder::record`] of the same step: it is written only when that step was logged
+    /// (the log's sample times). The MCAP log must have been created with
+    /// [`LogOptions::wind`]; Rerun shows it under `plots/wind_m_s/<wing>`; the live view does
+    /// not.
+    pub fn wind(
+        &mut self,
+        t_s: f64,
+        uniform_world_m_s: &nalgebra::Vector3<f64>,
+        wing_winds_world_m_s: &[nalgebra::Vector3<f64>],
+    ) -> Result<()> {
+        let Some((t_ns, _)) = self.sampled(t_s) else {
+            return Ok(());
+        };
+        if let Some(m) = &mut self.mcap {
+            let Some(id) = m.optional_ids[OPT_WIND] else {
+                return Err(Error::Options(
+                    "wind messages need a log created with LogOptions::wind".into(),
+                ));
+            };
+            let msg = crate::estimate_msg::wind(t_ns, t_s, uniform_world_m_s, wing_winds_world_m_s);
+            m.encoder.optional(OPT_WIND, id, t_ns, &msg, &mut m.chunk);
+            self.stats.mcap_messages += 1;
+        }
+        #[cfg(feature = "rerun")]
+        if let Some(r) = &self.rerun {
+            r.wind(t_ns, wing_winds_world_m_s)?;
+        }
+        Ok(())
+    }
+
+    /// Logs the state estimator's newest estimate (its nominal state at its own time, the
+    /// standard deviations and the full error-state covariance, and the estimate carried to
+    /// `t_s` at constant rates, [`flapsim::estimator::Estimator::state_at`]) for the step
+    /// at `t_s` to `/estimate` ([`schema::ESTIMATE_CHANNEL`]). Call it after
+    /// [`Recorder::record`] of the same step: it is written only when that step was logged.
+    /// The MCAP log must have been created with [`LogOptions::estimate`]; Rerun shows the
+    /// estimate against the truth (`plots/estimate/...`, `world/estimate`); the live view
+    /// does not.
+    pub fn estimate(&mut self, t_s: f64, filter: &flapsim::estimator::Estimator) -> Result<()> {
+        let Some((t_ns, truth)) = self.sampled(t_s) else {
+            return Ok(());
+        };
+        #[cfg(not(feature = "rerun"))]
+        let _ = truth;
+        #[cfg(feature = "rerun")]
+        let rerun = self.rerun.is_some();
+        #[cfg(not(feature = "rerun"))]
+        let rerun = false;
+        if self.mcap.is_none() && !rerun {
+            return Ok(());
+        }
+        let msg = crate::estimate_msg::estimate(t_ns, t_s, filter);
+        if let Some(m) = &mut self.mcap {
+            let Some(id) = m.optional_ids[OPT_ESTIMATE] else {
+                return Err(Error::Options(
+                    "estimates need a log created with LogOptions::estimate".into(),
+                ));
+            };
+            m.encoder
+                .optional(OPT_ESTIMATE, id, t_ns, &msg, &mut m.chunk);
+            self.stats.mcap_messages += 1;
+        }
+        #[cfg(feature = "rerun")]
+        if let Some(r) = &self.rerun {
+            let (roll, pitch, yaw) = truth.euler_rad();
+            let view = crate::estimate_msg::EstimateView::of(
+                &msg,
+                truth.position_m.into(),
+                [roll, pitch, yaw].map(f64::to_degrees),
+            );
+            let first = !self
+                .estimate_statics
+                .swap(true, std::sync::atomic::Ordering::Relaxed);
+            r.estimate(&view, first)?;
+        }
         Ok(())
     }
 
@@ -562,7 +662,14 @@ fn open_mcap(
     vehicle: &Vehicle,
     options: &LogOptions,
 ) -> Result<McapOut> {
-    let (log_rate_hz, sensors) = (options.log_rate_hz, options.sensors);
+    let log_rate_hz = options.log_rate_hz;
+    let declared = schema::declared_channels(options);
+    let mut optional_ids = [None; OPTIONAL_CHANNELS.len()];
+    for (i, c) in declared.iter().enumerate().skip(CHANNELS.len()) {
+        if let Some(k) = OPTIONAL_CHANNELS.iter().position(|o| o == c) {
+            optional_ids[k] = Some(channel_id(i));
+        }
+    }
     let file = File::create(path).map_err(|e| Error::io("cannot create", path, e))?;
     let start = || -> std::io::Result<McapWriter<std::io::BufWriter<File>>> {
         let mut w = McapWriter::new(
@@ -581,8 +688,7 @@ fn open_mcap(
             "application/toml",
             info.model_toml.as_bytes(),
         )?;
-        let sensor_channels = if sensors { &SENSOR_CHANNELS[..] } else { &[] };
-        for (i, (topic, name)) in CHANNELS.iter().chain(sensor_channels).enumerate() {
+        for (i, (topic, name)) in declared.iter().enumerate() {
             let data = schema::schema_data(name).unwrap_or_default();
             let schema_id = w.add_schema(name, SCHEMA_ENCODING, &data)?;
             let id = w.add_channel(schema_id, topic, MESSAGE_ENCODING)?;
@@ -611,7 +717,7 @@ fn open_mcap(
             ForceArrows::of(vehicle),
             crate::scene::wing_scene(vehicle, 0),
         ),
-        sensors,
+        optional_ids,
         writer,
     })
 }

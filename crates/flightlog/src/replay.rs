@@ -498,10 +498,15 @@ pub struct RrdStats {
     pub frames: u64,
     /// Events converted.
     pub events: u64,
+    /// `/estimate` messages converted (those with a state at their log time).
+    pub estimates: u64,
+    /// `/wind` messages converted.
+    pub winds: u64,
 }
 
 /// Converts a log to a Rerun recording at `out` (replaced if it exists), with the entities
-/// of a live recording. The wing meshes come from the embedded model.
+/// of a live recording (the estimate against the truth and the wing winds of logs that
+/// have `/estimate` and `/wind`). The wing meshes come from the embedded model.
 #[cfg(feature = "rerun")]
 pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats> {
     use crate::sample::FrameData;
@@ -597,6 +602,48 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
             n += 1;
         }
     }
+    let mut estimates = 0u64;
+    for m in log.on(crate::schema::TOPIC_ESTIMATE) {
+        let Some(v) = log.parse(m) else { continue };
+        let Some((truth, _)) = frames.get(&m.log_time).filter(|(_, seen)| seen & 1 == 1) else {
+            continue;
+        };
+        let (Some(p), Some(q)) = (v.vec3_at("position_world_m"), v.quat_at("attitude")) else {
+            continue;
+        };
+        let fin = |x: f64| if x.is_finite() { x } else { 0.0 };
+        let view = crate::estimate_msg::EstimateView {
+            t_ns: m.log_time,
+            position: p.map(fin),
+            true_position: truth.position.map(fin),
+            attitude: q.map(fin),
+            euler_deg: ["roll", "pitch", "yaw"]
+                .map(|a| fin(v.f64_at(&format!("euler_deg.{a}")).unwrap_or(0.0))),
+            true_euler_deg: truth.euler_deg.map(fin),
+            position_std: v
+                .vec3_at("std.position_world_m")
+                .unwrap_or_default()
+                .map(fin),
+        };
+        sink.estimate(&view, estimates == 0)?;
+        estimates += 1;
+    }
+    let mut winds = 0u64;
+    for m in log.on(crate::schema::TOPIC_WIND) {
+        let Some(v) = log.parse(m) else { continue };
+        let Some(Json::Arr(items)) = v.get("wing_winds_world_m_s") else {
+            continue;
+        };
+        let w: Vec<nalgebra::Vector3<f64>> = items
+            .iter()
+            .map(|w| {
+                let c = |k: &str| w.f64_at(k).unwrap_or(0.0);
+                nalgebra::Vector3::new(c("x"), c("y"), c("z"))
+            })
+            .collect();
+        sink.wind(m.log_time, &w)?;
+        winds += 1;
+    }
     let mut events = 0u64;
     for m in log.on(TOPIC_EVENTS) {
         let Some(v) = log.parse(m) else { continue };
@@ -613,7 +660,12 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
         events += 1;
     }
     sink.finish()?;
-    Ok(RrdStats { frames: n, events })
+    Ok(RrdStats {
+        frames: n,
+        events,
+        estimates,
+        winds,
+    })
 }
 
 #[cfg(test)]

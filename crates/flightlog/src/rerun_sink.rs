@@ -12,6 +12,13 @@
 //!   total; `plots/lift_over_weight`; `plots/position_m` (x, y, z); `plots/attitude_deg`
 //!   (roll, pitch, yaw).
 //! * `events`: TextLog of the run events.
+//! * Runs with a wind field: `plots/wind_m_s/{left,right}`: each wing's wind at its hinge,
+//!   world frame (x, y, z).
+//! * Runs flown on a state estimate: `world/estimate`: Transform3D world_from_body of the
+//!   estimate, with `world/estimate/axes` (static, grey; the true body is `world/body`);
+//!   `plots/estimate/position_m/{x,y,z}` and `plots/estimate/attitude_deg/{roll,pitch,yaw}`:
+//!   the true and the estimated value of each axis in one plot;
+//!   `plots/estimate/position_std_m`: the estimate's position standard deviation (x, y, z).
 //!
 //! The planform mesh is drawn from wingforce's blade-element strips (equal widths
 //! `dr = span / n`): at each strip's radius `r_m` the chord is `c = area / dr`, the leading
@@ -25,6 +32,7 @@ use std::time::Duration;
 use flapsim::Vehicle;
 use rerun::{RecordingStream, RecordingStreamBuilder};
 
+use crate::estimate_msg::EstimateView;
 use crate::sample::FrameData;
 use crate::scene::planform_mesh;
 use crate::schema::FORCE_PARTS;
@@ -50,6 +58,8 @@ pub(crate) struct RerunSink {
     streams: Vec<RecordingStream>,
     /// Arrow length per newton, m/N.
     arrow_m_per_n: f64,
+    /// The vehicle's length, m (the estimate's axes).
+    body_length_m: f64,
 }
 
 impl RerunSink {
@@ -107,6 +117,7 @@ impl RerunSink {
         let sink = Self {
             streams,
             arrow_m_per_n,
+            body_length_m: len,
         };
         let wing_colors = [
             rerun::Rgba32::from_unmultiplied_rgba(90, 160, 255, 200),
@@ -245,6 +256,82 @@ impl RerunSink {
                     .map_err(rr)?;
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// Logs each wing's wind (world frame, m/s) at `t_ns`.
+    pub fn wind(&self, t_ns: u64, wing_winds_world_m_s: &[nalgebra::Vector3<f64>]) -> Result<()> {
+        for rec in &self.streams {
+            Self::set_time(rec, t_ns);
+            for (w, side) in wing_winds_world_m_s.iter().zip(["left", "right"]) {
+                let v = [w.x, w.y, w.z].map(|x| if x.is_finite() { x } else { 0.0 });
+                rec.log(format!("plots/wind_m_s/{side}"), &rerun::Scalars::new(v))
+                    .map_err(rr)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Logs an estimate against the truth; `first` also logs the static parts (series names,
+    /// the estimated body's axes).
+    pub fn estimate(&self, e: &EstimateView, first: bool) -> Result<()> {
+        const AXES: [&str; 3] = ["x", "y", "z"];
+        const ANGLES: [&str; 3] = ["roll", "pitch", "yaw"];
+        for rec in &self.streams {
+            if first {
+                for a in AXES {
+                    rec.log_static(
+                        format!("plots/estimate/position_m/{a}"),
+                        &rerun::SeriesLines::new().with_names(["true", "estimated"]),
+                    )
+                    .map_err(rr)?;
+                }
+                for a in ANGLES {
+                    rec.log_static(
+                        format!("plots/estimate/attitude_deg/{a}"),
+                        &rerun::SeriesLines::new().with_names(["true", "estimated"]),
+                    )
+                    .map_err(rr)?;
+                }
+                rec.log_static(
+                    "plots/estimate/position_std_m",
+                    &rerun::SeriesLines::new().with_names(AXES),
+                )
+                .map_err(rr)?;
+                let h = 0.4 * self.body_length_m as f32;
+                rec.log_static(
+                    "world/estimate/axes",
+                    &rerun::Arrows3D::from_vectors([[h, 0.0, 0.0], [0.0, h, 0.0], [0.0, 0.0, h]])
+                        .with_colors([rerun::Color::from_rgb(150, 150, 150); 3]),
+                )
+                .map_err(rr)?;
+            }
+            Self::set_time(rec, e.t_ns);
+            rec.log(
+                "world/estimate",
+                &rerun::Transform3D::from_translation_rotation(f3(e.position), q4(e.attitude)),
+            )
+            .map_err(rr)?;
+            for (i, a) in AXES.iter().enumerate() {
+                rec.log(
+                    format!("plots/estimate/position_m/{a}"),
+                    &rerun::Scalars::new([e.true_position[i], e.position[i]]),
+                )
+                .map_err(rr)?;
+            }
+            for (i, a) in ANGLES.iter().enumerate() {
+                rec.log(
+                    format!("plots/estimate/attitude_deg/{a}"),
+                    &rerun::Scalars::new([e.true_euler_deg[i], e.euler_deg[i]]),
+                )
+                .map_err(rr)?;
+            }
+            rec.log(
+                "plots/estimate/position_std_m",
+                &rerun::Scalars::new(e.position_std),
+            )
+            .map_err(rr)?;
         }
         Ok(())
     }

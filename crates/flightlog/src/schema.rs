@@ -39,6 +39,12 @@ pub const TOPIC_SCENE_FORCES: &str = "/scene/forces";
 pub const TOPIC_IMU: &str = "/sensors/imu";
 /// Motion-capture frames, `flapwing.MocapReading` (logs with sensors only).
 pub const TOPIC_MOCAP: &str = "/sensors/mocap";
+/// Each wing's wind at its hinge, `flapwing.Wind` (logs of runs with a wind field only, see
+/// [`WIND_CHANNEL`]).
+pub const TOPIC_WIND: &str = "/wind";
+/// The state estimator's estimate and covariance, `flapwing.Estimate` (logs of runs flown on
+/// the estimate only, see [`ESTIMATE_CHANNEL`]).
+pub const TOPIC_ESTIMATE: &str = "/estimate";
 
 /// The world frame (z up).
 pub const FRAME_WORLD: &str = "world";
@@ -110,6 +116,51 @@ pub const SENSOR_CHANNELS: [(&str, &str); 2] = [
     (TOPIC_MOCAP, "flapwing.MocapReading"),
 ];
 
+/// The wind channel, declared after [`CHANNELS`] and the sensor channels (if any) when
+/// [`crate::LogOptions::wind`] is set; one message per logged sample
+/// ([`crate::Recorder::wind`]).
+pub const WIND_CHANNEL: (&str, &str) = (TOPIC_WIND, "flapwing.Wind");
+
+/// The estimate channel, declared last when [`crate::LogOptions::estimate`] is set; one
+/// message per logged sample ([`crate::Recorder::estimate`]).
+pub const ESTIMATE_CHANNEL: (&str, &str) = (TOPIC_ESTIMATE, "flapwing.Estimate");
+
+/// Every optional channel, in the order they are declared after [`CHANNELS`] (those a log's
+/// options ask for; channel ids follow on from 14 without gaps).
+pub const OPTIONAL_CHANNELS: [(&str, &str); 4] = [
+    SENSOR_CHANNELS[0],
+    SENSOR_CHANNELS[1],
+    WIND_CHANNEL,
+    ESTIMATE_CHANNEL,
+];
+
+/// Index of /wind in [`OPTIONAL_CHANNELS`].
+pub(crate) const OPT_WIND: usize = 2;
+/// Index of /estimate in [`OPTIONAL_CHANNELS`].
+pub(crate) const OPT_ESTIMATE: usize = 3;
+
+/// The channels a log with `options` declares, in order ([`CHANNELS`], then those of
+/// [`OPTIONAL_CHANNELS`] it asks for): (topic, schema name).
+pub fn declared_channels(options: &crate::LogOptions) -> Vec<(&'static str, &'static str)> {
+    let wanted = [
+        options.sensors,
+        options.sensors,
+        options.wind,
+        options.estimate,
+    ];
+    CHANNELS
+        .iter()
+        .copied()
+        .chain(
+            OPTIONAL_CHANNELS
+                .iter()
+                .zip(wanted)
+                .filter(|(_, w)| *w)
+                .map(|(c, _)| *c),
+        )
+        .collect()
+}
+
 /// The names of the four terms and the total, in the order of the forces message's objects.
 pub const FORCE_PARTS: [&str; 5] = [
     "translational",
@@ -135,7 +186,9 @@ pub fn schema_data(name: &str) -> Option<Vec<u8>> {
         | "flapwing.WingKinematics"
         | "flapwing.WingForces"
         | "flapwing.ImuReading"
-        | "flapwing.MocapReading" => Some(crate::proto::FILE_DESCRIPTOR_SET.to_vec()),
+        | "flapwing.MocapReading"
+        | "flapwing.Wind"
+        | "flapwing.Estimate" => Some(crate::proto::FILE_DESCRIPTOR_SET.to_vec()),
         _ => None,
     }
 }

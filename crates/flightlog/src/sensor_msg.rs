@@ -13,7 +13,7 @@ pub(crate) enum SensorMessage {
     Mocap(proto::MocapReading),
 }
 
-fn quaternion(q: &UnitQuaternion<f64>) -> proto::Quaternion {
+pub(crate) fn quaternion(q: &UnitQuaternion<f64>) -> proto::Quaternion {
     proto::Quaternion {
         x: q.i,
         y: q.j,
@@ -24,7 +24,7 @@ fn quaternion(q: &UnitQuaternion<f64>) -> proto::Quaternion {
 
 /// Roll, pitch (nose up positive) and yaw in degrees, as `/vehicle/state` gives them
 /// ([`flapsim::State::euler_rad`]).
-fn euler_deg(q: &UnitQuaternion<f64>) -> proto::Euler {
+pub(crate) fn euler_deg(q: &UnitQuaternion<f64>) -> proto::Euler {
     let (r, p, y) = q.euler_angles();
     proto::Euler {
         roll: r.to_degrees(),

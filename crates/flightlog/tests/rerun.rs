@@ -117,3 +117,66 @@ fn viewer_options_fail_clearly_without_a_viewer() {
         assert!(e.to_string().contains("cannot spawn a Rerun viewer"), "{e}");
     }
 }
+
+#[test]
+fn the_estimate_and_the_winds_show_against_the_truth() {
+    use flapsim::estimator::{EstimatedFeedback, Prior};
+    use flapsim::{Mode, Simulation, Vehicle, Wind};
+
+    let dir = tempfile::tempdir().unwrap();
+    let rrd = dir.path().join("live.rrd");
+    let mcap = dir.path().join("run.mcap");
+    let toml = format!(
+        "{}\n[wind]\n[wind.turbulence]\nintensity_m_s = [0.3, 0.3, 0.2]\nlength_scale_m = [0.05, 0.05, 0.05]\nseed = 1\n",
+        flapsim::DROSOPHILA_TOML
+    );
+    let vehicle = Vehicle::from_toml(&toml, common::ORIGIN).unwrap();
+    let info = flightlog::RunInfo::new("hover", "x", toml.as_str(), common::ORIGIN, "{}");
+    let opts = LogOptions {
+        rrd: Some(rrd.clone()),
+        wind: true,
+        estimate: true,
+        ..mcap_opts(&mcap, Some(2000.0))
+    };
+    let mut rec = flightlog::Recorder::create(&opts, &info, &vehicle).unwrap();
+    let wind = Wind::from_spec(
+        vehicle.wind.as_ref().unwrap(),
+        "w",
+        vehicle.initial_position_m,
+    );
+    let prior = Prior::hover(&vehicle, vehicle.initial_attitude);
+    let mut fb = EstimatedFeedback::new(&vehicle, 1, &prior).unwrap();
+    let mut sim = Simulation::new(vehicle, Mode::Free);
+    sim.set_wind_model(Some(wind.unwrap()));
+    for _ in 0..200 {
+        fb.observe(sim.time_s(), &sim.state());
+        let out = *sim.step().unwrap();
+        rec.record(&out).unwrap();
+        rec.wind(out.t_s, &sim.uniform_wind_m_s(), sim.wing_winds_m_s())
+            .unwrap();
+        rec.estimate(out.t_s, fb.filter()).unwrap();
+    }
+    let stats = rec.finish().unwrap();
+    let (entities, rows, finished) = inspect_rrd(&rrd);
+    assert!(finished);
+    for e in [
+        "/world/estimate",
+        "/world/estimate/axes",
+        "/plots/estimate/position_m/x",
+        "/plots/estimate/position_m/z",
+        "/plots/estimate/attitude_deg/pitch",
+        "/plots/estimate/position_std_m",
+        "/plots/wind_m_s/left",
+        "/plots/wind_m_s/right",
+    ] {
+        assert!(entities.contains(e), "{e} missing from {entities:?}");
+    }
+    // The conversion of the MCAP log shows the same.
+    let converted = dir.path().join("converted.rrd");
+    let st = flightlog::replay::to_rrd(&mcap, &converted).unwrap();
+    assert_eq!(st.estimates, stats.samples);
+    assert_eq!(st.winds, stats.samples);
+    let (entities2, rows2, _) = inspect_rrd(&converted);
+    assert_eq!(entities2, entities);
+    assert_eq!(rows2, rows);
+}

@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use anyhow::Result;
 use flapsim::control::{
-    Disturbance, HoverController, HoverOutcome, LqrWeights, run_hover, run_hover_estimated,
+    Disturbance, HoverController, HoverOutcome, HoverStep, LqrWeights, run_hover_with,
 };
 use flapsim::estimator::{EstimatedFeedback, EstimatorStats, Prior};
 use serde::Serialize;
@@ -183,6 +183,10 @@ pub fn run(args: HoverArgs) -> Result<()> {
         None => crate::sensing::start(&args.sensors, &trimmed)?,
     };
     let log_sensors = sensors.is_some() || feedback.is_some();
+    // `/wind` when the air moves: a `[wind]` field (the model's or the flags') or the
+    // disturbance's gust.
+    let gust = disturbance.gust_duration_s > 0.0 && disturbance.gust_m_s.iter().any(|g| *g != 0.0);
+    let log_wind = trimmed.wind.is_some() || gust;
     let mut rec = crate::logging::open(
         &args.log,
         "hover",
@@ -190,7 +194,11 @@ pub fn run(args: HoverArgs) -> Result<()> {
         &trimmed,
         settings,
         true,
-        log_sensors,
+        crate::logging::Channels {
+            sensors: log_sensors,
+            wind: log_wind,
+            estimate: feedback.is_some(),
+        },
     )?;
     crate::pacing::wait_for_client(&args.pace, args.log.foxglove.as_deref(), rec.as_ref())?;
     let mut log_error = None;
@@ -198,15 +206,21 @@ pub fn run(args: HoverArgs) -> Result<()> {
     let steps =
         (duration_s * vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64).round() as u64;
     let bar = crate::progress::progress_bar(steps, "hovering", "steps");
-    let mut each_step = |out: &flapsim::StepOutput, fb: Option<&EstimatedFeedback>| {
+    let each_step = |step: &HoverStep<'_>| {
+        let (out, fb) = (step.out, step.feedback);
         crate::pacing::pace(&mut pacer, out.t_s);
         if out.step % 1024 == 0 {
             bar.set_position(out.step);
         }
-        let logged = crate::logging::record(&mut rec, out).and_then(|()| match fb {
-            Some(fb) => log_readings(&mut rec, out.t_s, fb.readings()),
-            None => crate::sensing::observe(&mut sensors, &mut rec, out),
-        });
+        let logged = crate::logging::record(&mut rec, out)
+            .and_then(|()| match fb {
+                Some(fb) => log_estimate(&mut rec, out.t_s, fb),
+                None => crate::sensing::observe(&mut sensors, &mut rec, out),
+            })
+            .and_then(|()| match log_wind {
+                true => crate::logging::record_wind(&mut rec, out.t_s, step.sim),
+                false => Ok(()),
+            });
         if let Err(e) = logged {
             log_error = Some(e);
             return false;
@@ -216,25 +230,15 @@ pub fn run(args: HoverArgs) -> Result<()> {
         }
         !crate::interrupt::requested()
     };
-    let outcome = match feedback.as_mut() {
-        None => run_hover(
-            &trimmed,
-            &trim,
-            controller,
-            &disturbance,
-            duration_s,
-            |out| each_step(out, None),
-        ),
-        Some(fb) => run_hover_estimated(
-            &trimmed,
-            &trim,
-            controller,
-            &disturbance,
-            duration_s,
-            fb,
-            |out, fb| each_step(out, Some(fb)),
-        ),
-    }
+    let outcome = run_hover_with(
+        &trimmed,
+        &trim,
+        controller,
+        &disturbance,
+        duration_s,
+        feedback.as_mut(),
+        each_step,
+    )
     .map_err(sim_error)?;
     bar.finish_and_clear();
     crate::logging::finish(
@@ -299,16 +303,18 @@ fn estimated_feedback(
         .map_err(|e| input_error(format!("--feedback estimated: {e}")))
 }
 
-/// Logs the readings the feedback's sensors delivered at `t_s`.
-fn log_readings(
+/// Logs the readings the feedback's sensors delivered at `t_s` and (at the log's sample
+/// times) the filter's estimate.
+fn log_estimate(
     rec: &mut Option<flightlog::Recorder>,
     t_s: f64,
-    readings: &[flapsim::sensor_run::Reading],
+    fb: &EstimatedFeedback,
 ) -> Result<()> {
     if let Some(rec) = rec.as_mut() {
-        for r in readings {
+        for r in fb.readings() {
             rec.sensor(t_s, r)?;
         }
+        rec.estimate(t_s, fb.filter())?;
     }
     Ok(())
 }

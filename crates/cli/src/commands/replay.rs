@@ -89,8 +89,15 @@ pub fn run(args: ReplayArgs) -> Result<()> {
         drop(create_output_file(out, args.force, "Rerun recording")?);
         let stats = replay::to_rrd(&args.file, out).map_err(classify)?;
         if !args.json {
+            let mut extra = String::new();
+            if stats.estimates > 0 {
+                extra += &format!(", {} estimates", stats.estimates);
+            }
+            if stats.winds > 0 {
+                extra += &format!(", {} winds", stats.winds);
+            }
             print_stdout(&format!(
-                "wrote {} samples and {} events to {}\n",
+                "wrote {} samples{extra} and {} events to {}\n",
                 stats.frames,
                 stats.events,
                 out.display()

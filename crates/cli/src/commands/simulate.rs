@@ -94,6 +94,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let wind_text = wind.as_ref().map(crate::wind::describe);
     let settings = flightlog::SimSettings::new(mode, duration_s, rate, [0.0; 3]).to_json();
     let mut sensors = crate::sensing::start(&args.sensors, &vehicle)?;
+    // `/wind` in runs with a wind field (the model's `[wind]` or the wind flags).
+    let log_wind = wind.is_some();
     let mut rec = crate::logging::open(
         &args.log,
         "simulate",
@@ -101,7 +103,11 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         &vehicle,
         settings,
         false,
-        sensors.is_some(),
+        crate::logging::Channels {
+            sensors: sensors.is_some(),
+            wind: log_wind,
+            estimate: false,
+        },
     )?;
     crate::pacing::wait_for_client(&args.pace, args.log.foxglove.as_deref(), rec.as_ref())?;
     let mut log_error = None;
@@ -112,23 +118,41 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let n = (duration_s / dt).round() as u64;
     let bar = crate::progress::progress_bar(n, "simulating", "steps");
     let mut summary = SummaryBuilder::new(weight);
-    let result = sim.run_while(duration_s, |out| {
-        crate::pacing::pace(&mut pacer, out.t_s);
+    // Simulation::run_while's loop, with the simulation's wing winds after each step.
+    let mut result = Ok(true);
+    for _ in 0..n {
+        let out = match sim.step() {
+            Ok(out) => out,
+            Err(e) => {
+                result = Err(e);
+                break;
+            }
+        };
+        let (t_s, step) = (out.t_s, out.step);
+        crate::pacing::pace(&mut pacer, t_s);
         summary.observe(out, dt);
-        if let Err(e) = crate::logging::record(&mut rec, out)
+        let logged = crate::logging::record(&mut rec, out)
             .and_then(|()| crate::sensing::observe(&mut sensors, &mut rec, out))
-        {
+            .and_then(|()| match log_wind {
+                true => crate::logging::record_wind(&mut rec, t_s, &sim),
+                false => Ok(()),
+            });
+        if let Err(e) = logged {
             log_error = Some(e);
-            return false;
+            result = Ok(false);
+            break;
         }
         if args.log.report_flushed {
             crate::logging::report_flushed(&rec, &mut flushed_reported);
         }
-        if out.step % 1024 == 0 {
-            bar.set_position(out.step);
+        if step % 1024 == 0 {
+            bar.set_position(step);
         }
-        !crate::interrupt::requested()
-    });
+        if crate::interrupt::requested() {
+            result = Ok(false);
+            break;
+        }
+    }
     bar.finish_and_clear();
     let s = summary.finish(sim.state());
     let failure = result.as_ref().err().map(|e| e.to_string());
