@@ -8,7 +8,7 @@ use wingforce::{BodyMotion, Term};
 
 use crate::error::Result;
 use crate::model::Vehicle;
-use crate::sim::BodyLoad;
+pub use crate::wings::MeanLoads;
 
 /// A frozen body state for averaging.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -19,15 +19,6 @@ pub struct FrozenState {
     pub velocity_body_m_s: Vector3<f64>,
     /// Angular velocity, body frame, rad/s.
     pub angular_velocity_body_rad_s: Vector3<f64>,
-}
-
-/// Cycle-mean aerodynamic load per term and in total (body frame, about the CoM).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct MeanLoads {
-    /// Per term, in the order of [`Term::ALL`].
-    pub terms: [BodyLoad; 4],
-    /// Sum.
-    pub total: BodyLoad,
 }
 
 /// Mean loads over one wingbeat at a frozen state: `steps` samples of the prescribed

@@ -164,11 +164,11 @@ pub struct VehicleSpec {
     pub actuation: Option<ActuationSpec>,
     /// `[trim]`: what a hover trim varies to carry the weight.
     #[serde(default)]
-    pub trim: crate::trim::TrimSpec,
+    pub trim: crate::trim::spec::TrimSpec,
     /// `[sensors]`: the body IMU and motion capture (see [`crate::sensors`]); absent when
     /// the model has none.
     #[serde(default)]
-    pub sensors: Option<crate::sensors::SensorSpec>,
+    pub sensors: Option<crate::sensors::params::SensorSpec>,
     /// `[wind]`: steady wind, Dryden turbulence and 1 - cosine gusts (see [`crate::wind`]);
     /// absent for still air.
     #[serde(default)]
@@ -214,9 +214,9 @@ pub struct Vehicle {
     /// The wings' dynamics and drives when the vehicle is actuated.
     pub actuation: Option<Actuation>,
     /// What a hover trim varies to carry the weight (`[trim] lift_variable`).
-    pub trim_lift: crate::trim::LiftVariable,
+    pub trim_lift: crate::trim::spec::LiftVariable,
     /// The sensors, validated, in SI units (`[sensors]`).
-    pub sensors: Option<crate::sensors::SensorParams>,
+    pub sensors: Option<crate::sensors::params::SensorParams>,
     /// The wind (`[wind]`), validated; the runs that fly in it (`simulate`, `hover`) build a
     /// [`crate::Wind`] from it.
     pub wind: Option<crate::wind::WindSpec>,
@@ -424,7 +424,8 @@ impl VehicleSpec {
                 None => None,
             },
         };
-        if vehicle.actuation.is_some() && vehicle.trim_lift != crate::trim::LiftVariable::Amplitude
+        if vehicle.actuation.is_some()
+            && vehicle.trim_lift != crate::trim::spec::LiftVariable::Amplitude
         {
             return Err(v
                 .invalid(

@@ -18,9 +18,9 @@
 use wingforce::{BodyMotion, Term, Wing, WingForces};
 
 use super::dynamics::{DynamicWing, WingState};
-use crate::averaged::MeanLoads;
 use crate::error::{Error, Result};
 use crate::model::Vehicle;
+use crate::wings::MeanLoads;
 
 /// Largest change of a wing angle over the averaged period for the motion to count as
 /// periodic, rad (0.06 deg).

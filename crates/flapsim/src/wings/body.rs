@@ -77,3 +77,12 @@ impl State {
             .map(|(name, _)| name)
     }
 }
+
+/// Cycle-mean aerodynamic load per term and in total (body frame, about the CoM).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct MeanLoads {
+    /// Per term, in the order of [`wingforce::Term::ALL`].
+    pub terms: [BodyLoad; 4],
+    /// Sum.
+    pub total: BodyLoad,
+}

@@ -28,7 +28,7 @@ mod step;
 use nalgebra::Vector3;
 use wingforce::{KinematicLoads, Kinematics, Side, Wing};
 
-pub use body::{BodyLoad, State};
+pub use body::{BodyLoad, MeanLoads, State};
 pub use step::WingSetOutput;
 pub(crate) use step::zero_forces;
 

@@ -12,44 +12,12 @@ use crate::averaged::{FrozenState, mean_loads};
 use crate::error::{Error, Result};
 use crate::model::{Controls, Vehicle};
 
+pub mod spec;
+
 /// Phases averaged per evaluation.
 pub const TRIM_SAMPLES: usize = 200;
 
-/// What the trim varies to carry the weight (with the mean stroke angle for the pitch moment
-/// and the body pitch for the horizontal force). Sun & Xiong (2005) trimmed their bumblebee's
-/// angle of attack at fixed amplitude and frequency; other studies trim the amplitude or the
-/// frequency. An actuated vehicle always trims its drive amplitude.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LiftVariable {
-    /// The stroke amplitude (or an actuated vehicle's drive amplitude).
-    #[default]
-    Amplitude,
-    /// The mid-stroke angle of attack of both half strokes, moved alike (Sun & Xiong 2005;
-    /// their group's control study found an equal change mainly moves the vertical force).
-    AngleOfAttack,
-    /// The wingbeat frequency.
-    Frequency,
-}
-
-impl LiftVariable {
-    /// The name used in model files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            LiftVariable::Amplitude => "amplitude",
-            LiftVariable::AngleOfAttack => "angle_of_attack",
-            LiftVariable::Frequency => "frequency",
-        }
-    }
-}
-
-/// `[trim]` of a vehicle model file.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct TrimSpec {
-    /// What carries the weight: `amplitude` (default), `angle_of_attack` or `frequency`.
-    pub lift_variable: LiftVariable,
-}
+pub use spec::{LiftVariable, TrimSpec};
 
 /// A hover trim.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
