@@ -19,7 +19,10 @@
 use nalgebra::Vector3;
 
 use crate::added_mass::AddedMassForm;
-use crate::wing::{Side, TermForce, Wing, WingFrame};
+use crate::frame::WingFrame;
+use crate::mount::Side;
+use crate::terms::TermForce;
+use crate::wing::Wing;
 
 /// Generalized moments about the stroke and pitch axes, N m.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

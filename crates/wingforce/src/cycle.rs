@@ -1,6 +1,9 @@
 //! Cycle averages and time series of a wing's forces.
 
-use crate::wing::{BodyMotion, TermForce, Wing, WingForces};
+use crate::forces::WingForces;
+use crate::mount::BodyMotion;
+use crate::terms::TermForce;
+use crate::wing::Wing;
 
 /// Cycle-mean forces, moments and coefficients of each term and their sum.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]

@@ -5,7 +5,8 @@
 use nalgebra::Vector3;
 
 use crate::kinematics::WingAngles;
-use crate::wing::{Side, TermForce};
+use crate::mount::Side;
+use crate::terms::TermForce;
 
 /// The wing's unit vectors and rigid-body rates in its stroke-plane frame.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -20,18 +20,22 @@
 
 pub mod added_mass;
 pub mod axes;
+mod cache;
 pub mod coefficients;
 pub mod cycle;
 mod error;
+mod forces;
 mod frame;
 pub mod inflow;
 pub mod kinematics;
 pub mod model;
+mod mount;
 pub mod pitch_flip;
 pub mod planform;
 pub mod quad;
 mod spline;
 mod strips;
+mod terms;
 pub mod wing;
 
 pub use added_mass::AddedMassForm;

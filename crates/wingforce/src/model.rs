@@ -11,8 +11,9 @@ use crate::added_mass::AddedMassForm;
 use crate::coefficients::{TranslationalModel, WakeCaptureModel};
 use crate::error::{Error, Result, Validator};
 use crate::kinematics::{Kinematics, KinematicsSpec};
+use crate::mount::{Fluid, Mount};
 use crate::planform::{Geometry, GeometryOverrides, PlanformSpec};
-use crate::wing::{AeroOptions, Fluid, Mount, Wing};
+use crate::wing::{AeroOptions, Wing};
 
 /// A planform with its measured overrides.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

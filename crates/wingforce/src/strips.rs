@@ -6,8 +6,8 @@
 
 use wide::f64x2;
 
+use crate::cache::{Cache, StripK};
 use crate::coefficients;
-use crate::wing::{Cache, StripK};
 
 /// Components of the pitch-axis velocity at radius r: u_le = a_le + r b_le, u_n = a_n + r b_n.
 #[derive(Debug, Clone, Copy)]
