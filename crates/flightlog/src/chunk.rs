@@ -6,7 +6,7 @@ use std::io;
 
 use zstd::zstd_safe::{CCtx, CParameter, Strategy};
 
-use crate::encode::Pb;
+use crate::pb::Pb;
 use crate::sample::Encoded;
 
 /// The opcode of a message record.

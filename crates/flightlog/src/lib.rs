@@ -49,6 +49,7 @@
 
 pub mod check;
 mod chunk;
+mod decimate;
 mod decode;
 mod encode;
 mod error;
@@ -57,6 +58,7 @@ mod json;
 #[cfg(feature = "live")]
 mod live;
 mod mcap_write;
+mod pb;
 pub mod proto;
 mod read;
 mod recorder;

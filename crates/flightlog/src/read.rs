@@ -9,9 +9,36 @@ use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use crate::decode::Decoder;
 use crate::json::Json;
-use crate::replay::{AttachmentSummary, ChannelSummary};
 use crate::schema;
+use serde::Serialize;
+
 use crate::{Error, Result};
+
+/// One channel of a log.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct ChannelSummary {
+    /// Topic.
+    pub topic: String,
+    /// Schema name (empty for none).
+    pub schema_name: String,
+    /// Schema encoding (`protobuf`; `jsonschema` in logs before issue #16).
+    pub schema_encoding: String,
+    /// Message encoding (`protobuf`; `json` in logs before issue #16).
+    pub message_encoding: String,
+    /// Messages read.
+    pub message_count: u64,
+}
+
+/// An attachment of a log.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct AttachmentSummary {
+    /// File name.
+    pub name: String,
+    /// Media type.
+    pub media_type: String,
+    /// Size, bytes.
+    pub bytes: u64,
+}
 
 /// Largest uncompressed chunk accepted, bytes (a guard against corrupt headers).
 pub(crate) const MAX_CHUNK_BYTES: u64 = 256 << 20;

@@ -20,34 +20,8 @@ use crate::json::Json;
 use crate::schema::{self, TOPIC_EVENTS, TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT, TOPIC_STATE};
 use crate::{Error, Level, Result, SimSettings};
 
-pub use crate::read::linear_records;
+pub use crate::read::{AttachmentSummary, ChannelSummary, linear_records};
 use crate::read::{LogFile, read_log};
-
-/// One channel of a log.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-pub struct ChannelSummary {
-    /// Topic.
-    pub topic: String,
-    /// Schema name (empty for none).
-    pub schema_name: String,
-    /// Schema encoding (`protobuf`; `jsonschema` in logs before issue #16).
-    pub schema_encoding: String,
-    /// Message encoding (`protobuf`; `json` in logs before issue #16).
-    pub message_encoding: String,
-    /// Messages read.
-    pub message_count: u64,
-}
-
-/// An attachment of a log.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
-pub struct AttachmentSummary {
-    /// File name.
-    pub name: String,
-    /// Media type.
-    pub media_type: String,
-    /// Size, bytes.
-    pub bytes: u64,
-}
 
 /// A run event (from /events).
 #[derive(Debug, Clone, PartialEq, Serialize)]

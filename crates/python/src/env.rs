@@ -157,7 +157,7 @@ impl HoverTask {
     /// The true body state (for diagnostics; not part of the observation).
     #[getter]
     fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        crate::sim::state_dict(py, &self.task.simulation().state())
+        crate::state::state_dict(py, &self.task.simulation().state())
     }
     /// This episode's trim, as a dict.
     #[getter]

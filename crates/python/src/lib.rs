@@ -12,6 +12,7 @@ mod env;
 mod interrupt;
 mod logs;
 mod sim;
+mod state;
 mod vehicle;
 mod wing;
 mod wings;

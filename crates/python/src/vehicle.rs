@@ -8,8 +8,8 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::convert::{arg_int, matrix, merge_record, model_text, record};
-use crate::sim::state_from_dict;
 use crate::sim_err;
+use crate::state::state_from_dict;
 
 /// The built-in vehicles, by name.
 pub const BUILTIN_VEHICLES: [&str; 5] = [
