@@ -36,7 +36,20 @@ pub fn vehicle_body(vehicle: &Vehicle) -> RigidBodyBuilder {
         i[(1, 2)],
         i[(2, 2)],
     ]);
-    let props = MassProperties::with_inertia_matrix(Vector::ZERO, vehicle.mass_kg, inertia);
+    // A diagonal tensor (no Ixz) is its own principal frame: give it as such. parry's
+    // `with_inertia_matrix` diagonalizes it, and with two equal moments (the fruit fly's
+    // Iyy = Izz) or Ixx > Iyy its principal frame came out wrong: a body with diagonal
+    // [4.3e-13, 8.1e-14, 3.53e-13] pitched exactly as one with [8.1e-14, 4.3e-13, 3.53e-13]
+    // (found by flapwing-identify's inertia fits).
+    let props = if i[(0, 2)] == 0.0 && i[(2, 0)] == 0.0 {
+        MassProperties::new(
+            Vector::ZERO,
+            vehicle.mass_kg,
+            Vector::new(i[(0, 0)], i[(1, 1)], i[(2, 2)]),
+        )
+    } else {
+        MassProperties::with_inertia_matrix(Vector::ZERO, vehicle.mass_kg, inertia)
+    };
     let q = quat_to_glam(&vehicle.initial_attitude);
     RigidBodyBuilder::dynamic()
         .pose(Pose::from_parts(to_glam(&vehicle.initial_position_m), q))
