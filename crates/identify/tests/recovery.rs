@@ -222,3 +222,52 @@ fn a_csv_flight_is_identified() {
     assert!(r.converged, "{}", r.termination);
     assert!(r.cost_after < r.cost_before);
 }
+
+/// With the IMU as a measurement too, the gyroscope's pitch bias is fitted beside the
+/// inertia: the fitted bias is the one the sensors drew (their turn-on bias plus at most a
+/// second of random walk, 0.0012 deg/s) within its interval, and the inertia stays
+/// recovered. Fails if the IMU residuals (body rates at the sample's step, specific force
+/// from the velocity change over the step before) do not match flapsim's IMU.
+///
+/// KNOWN FAILURE, ignored: the IMU residuals do not yet match the logged IMU (the fit ends
+/// at an rms residual of 73 noise units and a gyro bias of -0.64 rad/s against the true
+/// -2e-4 rad/s); `--imu` is experimental until this passes.
+#[test]
+#[ignore = "the IMU residuals do not match flapsim's IMU yet (see the doc comment)"]
+fn the_imu_and_its_biases_are_fitted() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hover.mcap");
+    synthetic_log(&log);
+    let data = FlightData::from_mcap(&log).unwrap();
+    assert!(!data.imu.is_empty());
+    let opts = FitOptions {
+        params: Param::parse_list(
+            "inertia_yy_kg_m2,com_offset_x_m,gyro_bias_y_rad_s,accel_bias_x_m_s2,accel_bias_z_m_s2",
+        )
+        .unwrap(),
+        use_imu: true,
+        ..FitOptions::default()
+    };
+    let r = identify(&data, &opts, &mut |_| true).unwrap();
+    eprintln!("{r}");
+    assert!(r.converged, "{}", r.termination);
+    let truth = flapsim::Vehicle::from_toml(&common::truth(), "t").unwrap();
+    let trim = flapsim::trim::trim(&truth).unwrap();
+    let trimmed = flapsim::trim::trimmed_vehicle(&truth, &trim).unwrap();
+    let run = flapsim::sensor_run::SensorRun::new(&trimmed, 7).unwrap();
+    let bias = run.summary().gyro_turn_on_bias_rad_s[1];
+    let g = &r.params[2];
+    assert!(
+        g.ci95[0] - 1e-4 <= bias && bias <= g.ci95[1] + 1e-4,
+        "gyro bias {bias:e} vs [{:e}, {:e}]",
+        g.ci95[0],
+        g.ci95[1]
+    );
+    let iyy = &r.params[0];
+    let true_iyy = 3.53e-13 * common::IYY_FACTOR;
+    assert!(
+        (iyy.fitted / true_iyy - 1.0).abs() < 0.05,
+        "Iyy {:e}",
+        iyy.fitted
+    );
+}

@@ -37,6 +37,7 @@ pub struct IdentifyArgs {
     #[arg(long = "segment-wingbeats", default_value_t = 4)]
     pub segment_wingbeats: u32,
     /// Use the IMU's samples as measurements too (needed for gyro_bias_*/accel_bias_*).
+    /// Experimental: not yet validated against flapsim's IMU (crates/identify/README.md).
     #[arg(long)]
     pub imu: bool,
     /// The solver stops after this many times (n + 1) residual evaluations.
