@@ -271,3 +271,29 @@ fn the_imu_and_its_biases_are_fitted() {
         iyy.fitted
     );
 }
+
+/// The pitch inertia the fit changes is the one the body flies with: a body with Iyy below
+/// Ixx pitches faster than one with the two swapped (parry's diagonalization once flew both
+/// alike; flapsim's host now checks it). Fails if the rigid body's inertia is not the
+/// model's.
+#[test]
+fn the_body_flies_with_the_model_s_inertia() {
+    use flapsim::{Mode, Simulation, Vehicle};
+    let rate = |diag: &str| {
+        let t = common::replace_line(
+            &common::nominal(),
+            "inertia_diag_kg_m2 =",
+            &format!("inertia_diag_kg_m2 = {diag}"),
+        );
+        let mut sim = Simulation::new(Vehicle::from_toml(&t, "x").unwrap(), Mode::Free);
+        let mut w = 0.0;
+        for _ in 0..50 {
+            w = sim.step().unwrap().state.angular_velocity_body_rad_s.y;
+        }
+        w
+    };
+    let slow = rate("[8.1e-14, 4.3e-13, 3.53e-13]");
+    let fast = rate("[4.3e-13, 8.1e-14, 3.53e-13]");
+    // Same moment, inertia 4.3e-13 / 8.1e-14 = 5.3 times smaller.
+    assert!((fast / slow - 4.3 / 0.81).abs() < 0.5, "{fast} vs {slow}");
+}
