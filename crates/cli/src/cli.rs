@@ -46,6 +46,8 @@ pub enum Command {
     FrequencyResponse(crate::commands::frequency_response::FrequencyResponseArgs),
     /// Summarize an MCAP log; convert it (--rrd), export a channel (--csv) or re-run it (--check).
     Replay(crate::commands::replay::ReplayArgs),
+    /// Fit model parameters (inertia, CoM offset, ...) to a logged flight (MCAP or a motion-capture CSV), with confidence intervals; write the fitted model.
+    Identify(crate::commands::identify::IdentifyArgs),
 }
 
 /// Arguments of `flapwing wake-capture`.

@@ -42,6 +42,7 @@ fn main() -> ExitCode {
         Command::Submit(args) => commands::submit::run(args),
         Command::Status(args) => commands::status::run(args),
         Command::Replay(args) => commands::replay::run(args),
+        Command::Identify(args) => commands::identify::run(args),
         Command::FrequencyResponse(args) => commands::frequency_response::run(args),
     };
     match result {

@@ -262,6 +262,14 @@ impl Simulation {
         let _ = self.wings.set_controls(controls);
     }
 
+    /// Continues the clock from step `step` (time `step * dt`), as if the steps before had
+    /// been flown with the controls in force now ([`WingSet::start_at_step`]): with
+    /// [`Simulation::set_state`] to the state a logged run had at that step, a segment of the
+    /// run replays it bit for bit. Call before the first step; prescribed wings only.
+    pub fn start_at_step(&mut self, step: u64) -> Result<()> {
+        self.wings.start_at_step(step)
+    }
+
     /// Holds the wings still (no aerodynamic loads at all) or lets them flap again.
     pub fn set_wings_still(&mut self, still: bool) {
         self.wings.set_still(still);

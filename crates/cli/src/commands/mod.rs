@@ -8,6 +8,7 @@ pub mod forces_plot;
 pub mod frequency_response;
 pub mod frequency_response_plot;
 pub mod hover;
+pub mod identify;
 pub mod optimize;
 pub mod replay;
 pub mod simulate;

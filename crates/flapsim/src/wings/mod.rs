@@ -343,6 +343,38 @@ impl WingSet {
         Ok(())
     }
 
+    /// Continues the set's clock from step `step`, as if the steps before it had been taken
+    /// with the kinematics and controls it has now and no control change since the first
+    /// step (prescribed wings, before the first step; the controls it was built with are
+    /// applied at phase 0 first). The time, the phase and the phases at which the
+    /// kinematics are evaluated are then those of that longer run, bit for bit, and so are
+    /// later control changes (they restart the wingbeat bookkeeping at the same phase): a
+    /// segment of a logged run restarted from its logged state replays it exactly
+    /// (flapwing-identify). Errors: steps were already taken, or the wings are actuated
+    /// (their dynamic state would be needed too).
+    pub fn start_at_step(&mut self, step: u64) -> Result<()> {
+        if self.step != 0 {
+            return Err(Error::Input(format!(
+                "wing set: start_at_step({step}) after {} steps were taken; call it before the first step",
+                self.step
+            )));
+        }
+        if self.dynamic.is_some() {
+            return Err(Error::Input(
+                "wing set: start_at_step needs prescribed kinematics (actuated wings carry a dynamic state)".into(),
+            ));
+        }
+        if let Some(c) = self.pending.take() {
+            self.apply_controls(&c)?;
+        }
+        if step > 0 {
+            self.step = step - 1;
+            self.last_cycle = self.phase().floor() as i64;
+            self.step = step;
+        }
+        Ok(())
+    }
+
     /// Replaces wing `i`'s kinematics now (prescribed wings) and restarts the wingbeat
     /// bookkeeping from the current phase.
     pub fn set_kinematics(&mut self, i: usize, kinematics: Kinematics) -> Result<()> {

@@ -1,0 +1,230 @@
+//! The parameters a fit can vary, by name. Model parameters change the vehicle model file's
+//! numbers (and the fitted model file gets their fitted values); measurement parameters
+//! (sensor biases) belong to the flight, not the vehicle, and are reported only.
+//!
+//! | name | what | model field |
+//! | --- | --- | --- |
+//! | `inertia_xx_kg_m2`, `inertia_yy_kg_m2`, `inertia_zz_kg_m2` | body inertia about the CoM, body axes | `body.inertia_diag_kg_m2` |
+//! | `mass_kg` | body mass (weight, and the induced inflow's thrust) | `body.mass_kg` |
+//! | `com_offset_x_m`, `com_offset_z_m` | where the true centre of mass lies from the model's, body axes: every hinge moves by minus the offset relative to the CoM (a sideways offset would break the model's mirror symmetry) | `hinge.left_in_body_m` |
+//! | `air_density_kg_m3` | a scale of every aerodynamic term at once (and of the Reynolds number) | `fluid.density_kg_m3` |
+//! | `rotational_coefficient` | C_rot, the scale of the rotational-circulation term | `aero.c_rot` |
+//! | `stroke_plane_tilt_rad` | stroke-plane tilt relative to the body (written in degrees) | `hinge.stroke_plane_tilt_deg` |
+//! | `mocap_bias_x_m`, `mocap_bias_y_m`, `mocap_bias_z_m` | a constant offset of the motion capture's positions, world | (measurement) |
+//! | `gyro_bias_x_rad_s`, `gyro_bias_y_rad_s`, `gyro_bias_z_rad_s` | the gyroscope's constant bias, body | (measurement) |
+//! | `accel_bias_x_m_s2`, `accel_bias_y_m_s2`, `accel_bias_z_m_s2` | the accelerometer's constant bias, body | (measurement) |
+//!
+//! The fit works on each parameter divided by its scale ([`Param::scale`]): the nominal
+//! value's magnitude, or for a parameter whose nominal value is 0 a typical size (1 % of the
+//! body length for a CoM offset, the sensor's noise for a bias).
+
+use flapsim::VehicleSpec;
+use serde::Serialize;
+
+use crate::error::{Error, Result};
+
+/// A parameter to fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(into = "String")]
+pub enum Param {
+    /// Ixx, kg m^2.
+    InertiaXx,
+    /// Iyy, kg m^2.
+    InertiaYy,
+    /// Izz, kg m^2.
+    InertiaZz,
+    /// Mass, kg.
+    Mass,
+    /// CoM offset along body x, m.
+    ComOffsetX,
+    /// CoM offset along body z, m.
+    ComOffsetZ,
+    /// Air density, kg/m^3.
+    AirDensity,
+    /// C_rot.
+    RotationalCoefficient,
+    /// Stroke-plane tilt, rad.
+    StrokePlaneTilt,
+    /// Motion-capture position bias, world axis k, m.
+    MocapBias(usize),
+    /// Gyroscope bias, body axis k, rad/s.
+    GyroBias(usize),
+    /// Accelerometer bias, body axis k, m/s^2.
+    AccelBias(usize),
+}
+
+impl From<Param> for String {
+    fn from(p: Param) -> String {
+        p.name()
+    }
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+impl Param {
+    /// Every parameter, in the order of the docs.
+    pub fn all() -> Vec<Param> {
+        let mut v = vec![
+            Param::InertiaXx,
+            Param::InertiaYy,
+            Param::InertiaZz,
+            Param::Mass,
+            Param::ComOffsetX,
+            Param::ComOffsetZ,
+            Param::AirDensity,
+            Param::RotationalCoefficient,
+            Param::StrokePlaneTilt,
+        ];
+        v.extend((0..3).map(Param::MocapBias));
+        v.extend((0..3).map(Param::GyroBias));
+        v.extend((0..3).map(Param::AccelBias));
+        v
+    }
+
+    /// The name, with its unit.
+    pub fn name(self) -> String {
+        match self {
+            Param::InertiaXx => "inertia_xx_kg_m2".into(),
+            Param::InertiaYy => "inertia_yy_kg_m2".into(),
+            Param::InertiaZz => "inertia_zz_kg_m2".into(),
+            Param::Mass => "mass_kg".into(),
+            Param::ComOffsetX => "com_offset_x_m".into(),
+            Param::ComOffsetZ => "com_offset_z_m".into(),
+            Param::AirDensity => "air_density_kg_m3".into(),
+            Param::RotationalCoefficient => "rotational_coefficient".into(),
+            Param::StrokePlaneTilt => "stroke_plane_tilt_rad".into(),
+            Param::MocapBias(k) => format!("mocap_bias_{}_m", AXES[k]),
+            Param::GyroBias(k) => format!("gyro_bias_{}_rad_s", AXES[k]),
+            Param::AccelBias(k) => format!("accel_bias_{}_m_s2", AXES[k]),
+        }
+    }
+
+    /// A parameter by name; the error lists the allowed names.
+    pub fn parse(name: &str) -> Result<Param> {
+        Param::all()
+            .into_iter()
+            .find(|p| p.name() == name.trim())
+            .ok_or_else(|| {
+                Error::Setting(format!(
+                    "unknown parameter `{name}`; allowed: {}",
+                    Param::all()
+                        .iter()
+                        .map(|p| p.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })
+    }
+
+    /// Parses a comma-separated list (no repeats, at least one).
+    pub fn parse_list(list: &str) -> Result<Vec<Param>> {
+        let mut out: Vec<Param> = Vec::new();
+        for n in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            let p = Param::parse(n)?;
+            if out.contains(&p) {
+                return Err(Error::Setting(format!("parameter `{n}` is listed twice")));
+            }
+            out.push(p);
+        }
+        if out.is_empty() {
+            return Err(Error::Setting(
+                "no parameter to fit; name at least one (e.g. inertia_yy_kg_m2,com_offset_x_m)"
+                    .into(),
+            ));
+        }
+        Ok(out)
+    }
+
+    /// True for a parameter of the vehicle model (written to the fitted model file).
+    pub fn in_model(self) -> bool {
+        !matches!(
+            self,
+            Param::MocapBias(_) | Param::GyroBias(_) | Param::AccelBias(_)
+        )
+    }
+
+    /// True for a parameter that only the IMU residuals see.
+    pub fn needs_imu(self) -> bool {
+        matches!(self, Param::GyroBias(_) | Param::AccelBias(_))
+    }
+
+    /// The value in the model `spec` (0 for a CoM offset or a bias: relative to the model).
+    pub fn nominal(self, spec: &VehicleSpec) -> f64 {
+        match self {
+            Param::InertiaXx => spec.body.inertia_diag_kg_m2[0],
+            Param::InertiaYy => spec.body.inertia_diag_kg_m2[1],
+            Param::InertiaZz => spec.body.inertia_diag_kg_m2[2],
+            Param::Mass => spec.body.mass_kg,
+            Param::AirDensity => spec.fluid.density_kg_m3,
+            Param::RotationalCoefficient => spec.aero.c_rot,
+            Param::StrokePlaneTilt => spec.hinge.stroke_plane_tilt_deg.to_radians(),
+            Param::ComOffsetX
+            | Param::ComOffsetZ
+            | Param::MocapBias(_)
+            | Param::GyroBias(_)
+            | Param::AccelBias(_) => 0.0,
+        }
+    }
+
+    /// The scale the fit divides the parameter by (see the module docs).
+    pub fn scale(self, spec: &VehicleSpec) -> f64 {
+        let n = self.nominal(spec).abs();
+        if n > 0.0 {
+            return n;
+        }
+        let sensors = spec.sensors.as_ref();
+        match self {
+            Param::ComOffsetX | Param::ComOffsetZ => 0.01 * spec.body.length_m,
+            Param::MocapBias(_) => sensors
+                .and_then(|s| s.mocap)
+                .map(|m| m.position_noise_m)
+                .filter(|x| *x > 0.0)
+                .unwrap_or(1e-3 * spec.body.length_m),
+            Param::GyroBias(_) => sensors
+                .map(|s| s.imu.gyro_bias_deg_s.to_radians())
+                .filter(|x| *x > 0.0)
+                .unwrap_or(1e-2),
+            Param::AccelBias(_) => sensors
+                .map(|s| s.imu.accel_bias_mg * 1e-3 * 9.80665)
+                .filter(|x| *x > 0.0)
+                .unwrap_or(0.1),
+            // A zero nominal value of a positive quantity: the build rejects it anyway.
+            _ => 1.0,
+        }
+    }
+
+    /// Sets the parameter's `value` in `spec` (measurement parameters leave it alone).
+    /// `base` is the model the offsets are relative to.
+    pub fn apply(self, spec: &mut VehicleSpec, base: &VehicleSpec, value: f64) {
+        match self {
+            Param::InertiaXx => spec.body.inertia_diag_kg_m2[0] = value,
+            Param::InertiaYy => spec.body.inertia_diag_kg_m2[1] = value,
+            Param::InertiaZz => spec.body.inertia_diag_kg_m2[2] = value,
+            Param::Mass => spec.body.mass_kg = value,
+            Param::AirDensity => spec.fluid.density_kg_m3 = value,
+            Param::RotationalCoefficient => spec.aero.c_rot = value,
+            Param::StrokePlaneTilt => spec.hinge.stroke_plane_tilt_deg = value.to_degrees(),
+            // The hinge moves by minus the CoM offset relative to the CoM.
+            Param::ComOffsetX => {
+                spec.hinge.left_in_body_m[0] = base.hinge.left_in_body_m[0] - value;
+            }
+            Param::ComOffsetZ => {
+                spec.hinge.left_in_body_m[2] = base.hinge.left_in_body_m[2] - value;
+            }
+            Param::MocapBias(_) | Param::GyroBias(_) | Param::AccelBias(_) => {}
+        }
+    }
+
+    /// The model field the parameter changes (`None` for a measurement parameter).
+    pub fn model_field(self) -> Option<&'static str> {
+        Some(match self {
+            Param::InertiaXx | Param::InertiaYy | Param::InertiaZz => "body.inertia_diag_kg_m2",
+            Param::Mass => "body.mass_kg",
+            Param::AirDensity => "fluid.density_kg_m3",
+            Param::RotationalCoefficient => "aero.c_rot",
+            Param::StrokePlaneTilt => "hinge.stroke_plane_tilt_deg",
+            Param::ComOffsetX | Param::ComOffsetZ => "hinge.left_in_body_m",
+            _ => return None,
+        })
+    }
+}

@@ -1,0 +1,299 @@
+//! Recovery of known parameters from synthetic flights with sensor noise (library level).
+
+mod common;
+
+use flapsim::control::Disturbance;
+use flapwing_identify::{FitOptions, FlightData, Param, identify};
+
+fn pitch(deg: f64) -> Disturbance {
+    Disturbance {
+        pitch_deg: deg,
+        ..Disturbance::default()
+    }
+}
+
+/// A 1 s hover of the true vehicle (Iyy x 1.2, CoM moved 30 um forward and 20 um down)
+/// from a 5 deg pitch disturbance, logged at 2000 Hz with the nominal model embedded.
+fn synthetic_log(path: &std::path::Path) -> flapwing_identify::synthetic::SyntheticFlight {
+    flapwing_identify::synthetic::hover_log(
+        &common::truth(),
+        &common::nominal(),
+        "nominal",
+        path,
+        &pitch(5.0),
+        1.0,
+        Some(2000.0),
+        7,
+    )
+    .unwrap()
+}
+
+/// From the nominal model, the fit recovers the true pitch inertia and the CoM offset
+/// inside their 95 % intervals, and flags the roll inertia, which a pitch-only hover
+/// cannot see (its Jacobian column is zero), as not identifiable. It fails if the segment
+/// replay does not reproduce the simulation (then the cost stays far above the noise), if
+/// the intervals are too narrow (a wrong covariance or noise weight) or if the solver stops
+/// short; with this seed each true value lies inside its interval (at 95 % each, a
+/// different seed may put one outside).
+#[test]
+fn known_parameters_are_recovered_within_their_intervals() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hover.mcap");
+    synthetic_log(&log);
+    let data = FlightData::from_mcap(&log).unwrap();
+    let opts = FitOptions {
+        params: Param::parse_list(
+            "inertia_yy_kg_m2,com_offset_x_m,com_offset_z_m,inertia_xx_kg_m2",
+        )
+        .unwrap(),
+        ..FitOptions::default()
+    };
+    let r = identify(&data, &opts, &mut |_| true).unwrap();
+    eprintln!("{r}");
+    assert!(r.converged, "{}", r.termination);
+    // The fitted model explains the data to the sensors' noise.
+    assert!(
+        r.rms_after < 1.05 && r.rms_after > 0.9,
+        "rms {}",
+        r.rms_after
+    );
+    assert!(r.cost_after < 0.2 * r.cost_before);
+    let truth = [
+        3.53e-13 * common::IYY_FACTOR,
+        common::COM_X_M,
+        common::COM_Z_M,
+    ];
+    for (p, t) in r.params.iter().zip(truth) {
+        assert!(p.identifiable, "{}: {:?}", p.name, p.reason);
+        assert!(
+            p.ci95[0] <= t && t <= p.ci95[1],
+            "{}: true {t:e} outside [{:e}, {:e}]",
+            p.name,
+            p.ci95[0],
+            p.ci95[1]
+        );
+        // The interval is informative: narrower than the parameter's own size.
+        assert!(
+            p.relative_ci < 0.5,
+            "{}: relative CI {}",
+            p.name,
+            p.relative_ci
+        );
+    }
+    let ixx = &r.params[3];
+    assert!(!ixx.identifiable);
+    assert!(
+        ixx.reason
+            .as_deref()
+            .unwrap()
+            .contains("do not depend on it"),
+        "{:?}",
+        ixx.reason
+    );
+    assert_eq!(ixx.fitted, ixx.start, "held at its start value");
+}
+
+/// The speed requirement: 3 parameters from a 1 s log in well under a minute (about 2 s
+/// here). Fails if the segments or the Jacobian get much slower.
+#[test]
+fn three_parameters_from_a_one_second_log_in_under_a_minute() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hover.mcap");
+    synthetic_log(&log);
+    let t = std::time::Instant::now();
+    let data = FlightData::from_mcap(&log).unwrap();
+    let mut calls = 0u64;
+    let r = identify(&data, &FitOptions::default(), &mut |p| {
+        calls += 1;
+        assert!(p.simulations <= p.max_simulations);
+        true
+    })
+    .unwrap();
+    let s = t.elapsed().as_secs_f64();
+    eprintln!(
+        "3-parameter fit of a 1 s log: {s:.2} s, {} simulations",
+        r.simulations
+    );
+    assert!(r.converged);
+    assert!(calls > 0);
+    assert!(s < 60.0, "{s} s");
+}
+
+/// An observer that says stop ends the fit, reported as interrupted and not converged.
+#[test]
+fn a_stopped_fit_is_reported_as_interrupted() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hover.mcap");
+    synthetic_log(&log);
+    let data = FlightData::from_mcap(&log).unwrap();
+    let r = identify(&data, &FitOptions::default(), &mut |p| p.simulations < 5).unwrap();
+    assert!(r.interrupted && !r.converged, "{}", r.termination);
+}
+
+/// A fit given too little patience does not converge, and says so instead of failing or
+/// pretending.
+#[test]
+fn a_fit_that_does_not_converge_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hover.mcap");
+    synthetic_log(&log);
+    let data = FlightData::from_mcap(&log).unwrap();
+    let opts = FitOptions {
+        patience: 1,
+        ..FitOptions::default()
+    };
+    let r = identify(&data, &opts, &mut |_| true).unwrap();
+    assert!(!r.converged);
+    assert!(
+        r.termination.contains("did not converge"),
+        "{}",
+        r.termination
+    );
+}
+
+/// The same flight as a lab's CSV (mocap poses and commands, no logged state): every
+/// frame and every wingbeat's controls come through, the start states come from the
+/// motion capture, and the fit runs to convergence with a lower cost. It does not check
+/// recovery: a quadratic through the frames around a wingbeat start misses the
+/// within-wingbeat oscillation of the velocities, so the replays start off the true state
+/// and the fit is biased (rms about 20 times the noise here; see the README's limits).
+/// Fails if the CSV writer and parser disagree, or the time-to-wingbeat mapping is wrong.
+#[test]
+fn a_csv_flight_is_identified() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hover.mcap");
+    // A fast, fine motion capture (20 frames a wingbeat, 2 um, 0.05 deg): the velocities
+    // at the segment starts come from its frames.
+    let fast = |t: String| {
+        let t = common::replace_line(&t, "rate_hz = 1000.0", "rate_hz = 4360.0");
+        let t = common::replace_line(&t, "position_noise_m = 2.0e-5", "position_noise_m = 2.0e-6");
+        common::replace_line(&t, "attitude_noise_deg = 0.5", "attitude_noise_deg = 0.05")
+    };
+    let nominal = fast(common::nominal());
+    let flight = flapwing_identify::synthetic::hover_log(
+        &fast(common::truth()),
+        &nominal,
+        "nominal",
+        &log,
+        &pitch(5.0),
+        1.0,
+        Some(2000.0),
+        7,
+    )
+    .unwrap();
+    let vehicle = flapsim::Vehicle::from_toml(&nominal, "nominal").unwrap();
+    let f = vehicle.freq_hz();
+    let csv = flapwing_identify::csv::write(
+        &flight.mocap,
+        &[],
+        |t| {
+            flight.wingbeat_controls
+                [((t * f).floor() as usize).min(flight.wingbeat_controls.len() - 1)]
+        },
+        &vehicle,
+    );
+    let path = dir.path().join("flight.csv");
+    std::fs::write(&path, csv).unwrap();
+    let data = FlightData::from_csv(&path, &nominal, "nominal").unwrap();
+    assert!(!data.starts.is_empty());
+    let opts = FitOptions {
+        params: Param::parse_list("inertia_yy_kg_m2,com_offset_x_m").unwrap(),
+        ..FitOptions::default()
+    };
+    let r = identify(&data, &opts, &mut |_| true).unwrap();
+    eprintln!("{r}");
+    assert_eq!(data.mocap.len(), flight.mocap.len());
+    for (w, c) in flight
+        .wingbeat_controls
+        .iter()
+        .enumerate()
+        .take(data.wingbeat_controls.len())
+    {
+        let got = data.wingbeat_controls[w].expect("controls of every wingbeat");
+        assert!(
+            (got.amplitude_rad - c.amplitude_rad).abs() < 1e-12,
+            "wingbeat {w}"
+        );
+        assert!(
+            (got.mean_stroke_rad - c.mean_stroke_rad).abs() < 1e-12,
+            "wingbeat {w}"
+        );
+    }
+    assert!(r.converged, "{}", r.termination);
+    assert!(r.cost_after < r.cost_before);
+}
+
+/// With the IMU as a measurement too, the gyroscope's pitch bias is fitted beside the
+/// inertia: the fitted bias is the one the sensors drew (their turn-on bias plus at most a
+/// second of random walk, 0.0012 deg/s) within its interval, and the inertia stays
+/// recovered. Fails if the IMU residuals (body rates at the sample's step, specific force
+/// from the velocity change over the step before) do not match flapsim's IMU.
+///
+/// KNOWN FAILURE, ignored: the IMU residuals do not yet match the logged IMU (the fit ends
+/// at an rms residual of 73 noise units and a gyro bias of -0.64 rad/s against the true
+/// -2e-4 rad/s); `--imu` is experimental until this passes.
+#[test]
+#[ignore = "the IMU residuals do not match flapsim's IMU yet (see the doc comment)"]
+fn the_imu_and_its_biases_are_fitted() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("hover.mcap");
+    synthetic_log(&log);
+    let data = FlightData::from_mcap(&log).unwrap();
+    assert!(!data.imu.is_empty());
+    let opts = FitOptions {
+        params: Param::parse_list(
+            "inertia_yy_kg_m2,com_offset_x_m,gyro_bias_y_rad_s,accel_bias_x_m_s2,accel_bias_z_m_s2",
+        )
+        .unwrap(),
+        use_imu: true,
+        ..FitOptions::default()
+    };
+    let r = identify(&data, &opts, &mut |_| true).unwrap();
+    eprintln!("{r}");
+    assert!(r.converged, "{}", r.termination);
+    let truth = flapsim::Vehicle::from_toml(&common::truth(), "t").unwrap();
+    let trim = flapsim::trim::trim(&truth).unwrap();
+    let trimmed = flapsim::trim::trimmed_vehicle(&truth, &trim).unwrap();
+    let run = flapsim::sensor_run::SensorRun::new(&trimmed, 7).unwrap();
+    let bias = run.summary().gyro_turn_on_bias_rad_s[1];
+    let g = &r.params[2];
+    assert!(
+        g.ci95[0] - 1e-4 <= bias && bias <= g.ci95[1] + 1e-4,
+        "gyro bias {bias:e} vs [{:e}, {:e}]",
+        g.ci95[0],
+        g.ci95[1]
+    );
+    let iyy = &r.params[0];
+    let true_iyy = 3.53e-13 * common::IYY_FACTOR;
+    assert!(
+        (iyy.fitted / true_iyy - 1.0).abs() < 0.05,
+        "Iyy {:e}",
+        iyy.fitted
+    );
+}
+
+/// The pitch inertia the fit changes is the one the body flies with: a body with Iyy below
+/// Ixx pitches faster than one with the two swapped (parry's diagonalization once flew both
+/// alike; flapsim's host now checks it). Fails if the rigid body's inertia is not the
+/// model's.
+#[test]
+fn the_body_flies_with_the_model_s_inertia() {
+    use flapsim::{Mode, Simulation, Vehicle};
+    let rate = |diag: &str| {
+        let t = common::replace_line(
+            &common::nominal(),
+            "inertia_diag_kg_m2 =",
+            &format!("inertia_diag_kg_m2 = {diag}"),
+        );
+        let mut sim = Simulation::new(Vehicle::from_toml(&t, "x").unwrap(), Mode::Free);
+        let mut w = 0.0;
+        for _ in 0..50 {
+            w = sim.step().unwrap().state.angular_velocity_body_rad_s.y;
+        }
+        w
+    };
+    let slow = rate("[8.1e-14, 4.3e-13, 3.53e-13]");
+    let fast = rate("[4.3e-13, 8.1e-14, 3.53e-13]");
+    // Same moment, inertia 4.3e-13 / 8.1e-14 = 5.3 times smaller.
+    assert!((fast / slow - 4.3 / 0.81).abs() < 0.5, "{fast} vs {slow}");
+}
