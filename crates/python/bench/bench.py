@@ -1,4 +1,4 @@
-"""Speed benchmarks of the Python package (the README's speed rows), interleaving A and B
+"""Speed benchmarks of the Python package (the speed rows of docs/speed.md), interleaving A and B
 in one run (this VM's speed drifts by up to 2x from minute to minute):
 
 1. Python overhead: N free-flight steps of the trimmed fruit fly through one
