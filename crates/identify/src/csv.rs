@@ -12,8 +12,8 @@ use std::path::Path;
 use flapsim::{Controls, Vehicle};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use crate::data::{ImuFrame, MocapFrame};
 use crate::error::{Error, Result};
+use crate::frames::{ImuFrame, MocapFrame};
 
 /// The pose columns, in their order of meaning.
 pub const POSE_COLUMNS: [&str; 8] = ["t_s", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"];

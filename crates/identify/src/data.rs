@@ -22,27 +22,7 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 
-/// One motion-capture frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MocapFrame {
-    /// Exposure time, s.
-    pub t_s: f64,
-    /// Position of the centre of mass, world, m.
-    pub position_m: Vector3<f64>,
-    /// Attitude, world_from_body.
-    pub attitude: UnitQuaternion<f64>,
-}
-
-/// One IMU sample.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ImuFrame {
-    /// Sample time, s.
-    pub t_s: f64,
-    /// Angular velocity, body frame, rad/s.
-    pub gyro_rad_s: Vector3<f64>,
-    /// Specific force, body frame, m/s^2.
-    pub accel_m_s2: Vector3<f64>,
-}
+pub use crate::frames::{ImuFrame, MocapFrame};
 
 /// Where the state at a segment's start came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -29,6 +29,7 @@ pub mod csv;
 pub mod data;
 mod error;
 pub mod fit;
+mod frames;
 pub mod model_out;
 pub mod params;
 pub mod synthetic;

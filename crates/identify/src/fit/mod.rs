@@ -1,0 +1,205 @@
+//! The fit: segments, residuals, the Levenberg-Marquardt solve and the statistics.
+//!
+//! **Segments** (multiple shooting). A hover log is flown closed loop around an unstable
+//! vehicle, so its controls replayed open loop over a whole second diverge from the
+//! measurements whatever the parameters. The flight is cut into segments of
+//! [`FitOptions::segment_wingbeats`] wingbeats, each started at a wingbeat start with a known
+//! state ([`crate::data::WingbeatStart`]: the log's `/vehicle/state` there, or an estimate
+//! from the motion capture) and flown on the logged controls of its wingbeats; segments do
+//! not overlap (a start inside the previous segment is skipped). A log at the default 2000 Hz
+//! holds the state at the first step of about one wingbeat in eleven (the decimation's
+//! buckets do not line up with the wingbeats); `--full-rate` logs have all.
+//!
+//! **Residuals**, each divided by its sensor's noise standard deviation from the model's
+//! `[sensors]` (so the cost is a chi-square): for each motion-capture frame in a segment,
+//! the simulated position (plus `mocap_bias_*`) minus the measured one (3, over
+//! `position_noise_m`) and the rotation vector of measured^-1 * simulated attitude (3, body
+//! axes, over `attitude_noise_deg`); with the IMU, each sample's simulated body rate (plus
+//! `gyro_bias_*`) minus the gyroscope's (over the white noise per sample, density x
+//! sqrt(rate)) and simulated specific force R^T (a - g) (plus `accel_bias_*`) minus the
+//! accelerometer's, a being the change of velocity over the step before, as flapsim's IMU
+//! computes it. The random walk of the biases is not modelled (constant biases).
+//!
+//! **Solver**: `levenberg-marquardt` (rust-cv's port of MINPACK's lmder, with its scaling and
+//! trust region), chosen over argmin because argmin has no Levenberg-Marquardt (only
+//! Gauss-Newton) and this one is the reference algorithm for small dense problems like this.
+//! It works on the parameters divided by their scales ([`crate::params::Param::scale`]). The
+//! Jacobian is by central differences with a step of [`FitOptions::fd_step`] (default 1e-3)
+//! of each parameter's scale: 0.1 % of an inertia, 25 nm of a fruit fly's CoM offset; the
+//! truncation error is second order in it (1e-6 relative) and the simulation is
+//! deterministic, so no noise is differenced. Each evaluation runs every segment, in
+//! parallel (rayon).
+//!
+//! **Statistics** at the solution, with m residuals and n parameters: sigma^2 = SSR / (m -
+//! n), covariance sigma^2 (J^T J)^-1 (through an SVD of J with normalized columns), standard
+//! errors its diagonal's roots, 95 % confidence intervals fitted +- t(0.975, m - n) SE with
+//! Student's t ([`t_quantile`], from flapstudy's `stats::student_t_cdf`). A parameter is
+//! reported **not identifiable** when the measurements do not depend on it (its Jacobian
+//! column below 1e-8 of the largest), when its column is (nearly) a combination of the others
+//! (variance inflation factor above 1e6, i.e. a standard error inflated a thousandfold, or a
+//! zero singular value), or when its 95 % half-width exceeds both its fitted value's
+//! magnitude and its scale.
+//!
+//! A segment whose simulation diverges for trial parameters keeps its last finite state for
+//! its remaining measurements (a large, finite cost the solver backs away from); a model the
+//! trial parameters make invalid (a negative inertia) gets residuals of [`PENALTY`] each.
+
+use std::cell::{Cell, RefCell};
+
+use levenberg_marquardt::LevenbergMarquardt;
+
+use crate::data::FlightData;
+use crate::error::Result;
+
+mod problem;
+mod report;
+mod segments;
+mod types;
+
+pub use types::{FitOptions, FitReport, NO_EFFECT, PENALTY, ParamResult, Progress};
+
+use problem::Problem;
+pub use report::t_quantile;
+use report::{describe, statistics};
+use segments::setup;
+
+/// Fits `opts.params` to `data` (see the module docs). `observer` sees the progress after
+/// every evaluation and stops the fit by returning false (the report then says
+/// `interrupted`). Errors: bad settings, a model that does not load or has no sensor noise,
+/// data without a segment to fit.
+pub fn identify(
+    data: &FlightData,
+    opts: &FitOptions,
+    observer: &mut dyn FnMut(&Progress) -> bool,
+) -> Result<FitReport> {
+    let started = std::time::Instant::now();
+    let setup = setup(data, opts)?;
+    let n = setup.params.len();
+    let starts: Vec<f64> = setup
+        .params
+        .iter()
+        .map(|p| p.nominal(&setup.base))
+        .collect();
+    let x0: Vec<f64> = starts
+        .iter()
+        .zip(&setup.scales)
+        .map(|(v, s)| v / s)
+        .collect();
+    let max_evals = (opts.patience * (n + 1)) as u64 + 1;
+    let all: Vec<usize> = (0..n).collect();
+    let mut problem = Problem {
+        setup: &setup,
+        x: x0.clone(),
+        free: all.clone(),
+        r: RefCell::new(None),
+        h: opts.fd_step,
+        simulations: Cell::new(0),
+        iterations: Cell::new(0),
+        // Each residual evaluation may come with a Jacobian (2 n more), and the final
+        // statistics take one more Jacobian and evaluation.
+        max_simulations: max_evals * (2 + 2 * n as u64) + 2 * n as u64 + 3,
+        observer: RefCell::new(observer),
+        stopped: Cell::new(false),
+    };
+    let (r0, _) = setup.residuals(&x0);
+    problem.tell(1, None);
+    let cost_before: f64 = r0.iter().map(|v| v * v).sum();
+    // Parameters the measurements do not depend on at the start are held there (the
+    // solver would wander along their flat direction) and reported as not identifiable.
+    let j0 = problem.jacobian_at(&x0, &all);
+    let norms: Vec<f64> = (0..n).map(|i| j0.column(i).norm()).collect();
+    let max_norm = norms.iter().cloned().fold(0.0, f64::max);
+    problem.free = all
+        .iter()
+        .copied()
+        .filter(|&i| norms[i] > NO_EFFECT * max_norm)
+        .collect();
+    let (problem, lm_termination) = if problem.free.is_empty() {
+        (problem, None::<levenberg_marquardt::TerminationReason>)
+    } else {
+        let (p, report) = LevenbergMarquardt::new()
+            .with_patience(opts.patience)
+            // The parameters are already scaled to O(1) (Param::scale): a trust region in
+            // them keeps a parameter the data barely see from taking absurd trial values,
+            // which MINPACK's column-norm scaling would allow.
+            .with_scale_diag(false)
+            .minimize(problem);
+        (p, Some(report.termination))
+    };
+    let interrupted = problem.stopped.get();
+    let x = problem.x.clone();
+    let (r, diverged_segments) = setup.residuals(&x);
+    let diverged_segments = diverged_segments.min(setup.segments.len());
+    let cost_after: f64 = r.iter().map(|v| v * v).sum();
+    let j = if interrupted {
+        None
+    } else {
+        Some(problem.jacobian_at(&x, &all))
+    };
+    problem.tell(1, Some(cost_after));
+    let m = setup.m;
+    let dof = m - n;
+    let t = t_quantile(0.975, dof as f64);
+    let sigma2 = cost_after / dof as f64;
+    let fitted = setup.values(&x);
+    let (params, condition_number) = match &j {
+        Some(j) => statistics(&setup, j, &starts, &fitted, sigma2, t),
+        None => (
+            setup
+                .params
+                .iter()
+                .zip(starts.iter().zip(&fitted))
+                .map(|(p, (s, f))| ParamResult {
+                    name: p.name(),
+                    model_field: p.model_field(),
+                    start: *s,
+                    fitted: *f,
+                    std_error: f64::NAN,
+                    ci95: [f64::NAN; 2],
+                    relative_ci: f64::NAN,
+                    identifiable: false,
+                    reason: Some("the fit was interrupted before its statistics".into()),
+                })
+                .collect(),
+            f64::NAN,
+        ),
+    };
+    let termination = if interrupted {
+        "interrupted (Ctrl-C)".to_owned()
+    } else {
+        match &lm_termination {
+            Some(t) => describe(t, opts.patience * (problem.free.len() + 1)),
+            None => "nothing to fit: the measurements depend on none of the parameters".into(),
+        }
+    };
+    Ok(FitReport {
+        source: data.source.display().to_string(),
+        format: data.format,
+        model: setup.base.name.clone(),
+        start_source: data.start_source,
+        segments: setup.segments.len(),
+        segment_wingbeats: opts.segment_wingbeats,
+        mocap_frames: setup.segments.iter().map(|s| s.mocap.len()).sum(),
+        imu_samples: setup.segments.iter().map(|s| s.imu.len()).sum(),
+        residuals: m,
+        dof,
+        simulations: problem.simulations.get(),
+        iterations: problem.iterations.get(),
+        cost_before,
+        cost_after,
+        rms_before: (cost_before / m as f64).sqrt(),
+        rms_after: (cost_after / m as f64).sqrt(),
+        converged: !interrupted
+            && lm_termination
+                .as_ref()
+                .is_some_and(levenberg_marquardt::TerminationReason::was_successful),
+        termination,
+        condition_number,
+        t_quantile: t,
+        fd_step: opts.fd_step,
+        diverged_segments,
+        interrupted,
+        runtime_s: started.elapsed().as_secs_f64(),
+        params,
+    })
+}

@@ -1,0 +1,340 @@
+//! The fit's segments and residuals: the flight cut into segments restarted from known states, flown on the logged controls at trial parameters, compared with the measurements (see the module documentation of [`crate::fit`]).
+
+use flapsim::{Controls, Mode, Simulation, State, Vehicle, VehicleSpec};
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use crate::data::{FlightData, controlled_wingbeats, timing};
+use crate::error::{Error, Result};
+use crate::params::Param;
+
+use super::types::{FitOptions, PENALTY};
+
+/// One segment of the flight.
+#[derive(Debug, Clone)]
+pub(super) struct Segment {
+    pub(super) state: State,
+    /// First global step.
+    pub(super) step0: u64,
+    pub(super) controls: Vec<Controls>,
+    pub(super) steps: usize,
+    /// (local step, frame index).
+    pub(super) mocap: Vec<(usize, usize)>,
+    pub(super) imu: Vec<(usize, usize)>,
+}
+
+/// The first step at or after `t_s` as flapsim's sensors pick it (a sample falls due at the
+/// step whose time is within `tol_s` of it or after).
+pub(super) fn step_at(t_s: f64, dt_s: f64, tol_s: f64) -> Option<u64> {
+    let x = ((t_s - tol_s) / dt_s).ceil();
+    if !(x.is_finite() && x > -1e15 && x < 1e15) {
+        return None;
+    }
+    let mut s = x.max(0.0) as i64;
+    while s > 0 && (s - 1) as f64 * dt_s >= t_s - tol_s {
+        s -= 1;
+    }
+    while (s as f64) * dt_s < t_s - tol_s {
+        s += 1;
+    }
+    Some(s as u64)
+}
+
+pub(super) struct Weights {
+    pub(super) pos: f64,
+    pub(super) att: f64,
+    pub(super) gyro: f64,
+    pub(super) accel: f64,
+}
+
+/// Everything fixed during a fit.
+pub(super) struct Setup<'a> {
+    pub(super) data: &'a FlightData,
+    pub(super) base: VehicleSpec,
+    pub(super) params: Vec<Param>,
+    pub(super) scales: Vec<f64>,
+    pub(super) segments: Vec<Segment>,
+    pub(super) weights: Weights,
+    pub(super) dt_s: f64,
+    pub(super) gravity_m_s2: f64,
+    pub(super) m: usize,
+}
+
+impl Setup<'_> {
+    pub(super) fn values(&self, x: &[f64]) -> Vec<f64> {
+        x.iter().zip(&self.scales).map(|(x, s)| x * s).collect()
+    }
+
+    /// Weighted residuals at scaled parameters `x`, and the segments that diverged
+    /// (`usize::MAX` when the parameters make the model invalid).
+    pub(super) fn residuals(&self, x: &[f64]) -> (Vec<f64>, usize) {
+        let values = self.values(x);
+        let mut spec = self.base.clone();
+        let mut mocap_bias = Vector3::zeros();
+        let mut gyro_bias = Vector3::zeros();
+        let mut accel_bias = Vector3::zeros();
+        for (p, v) in self.params.iter().zip(&values) {
+            p.apply(&mut spec, &self.base, *v);
+            match p {
+                Param::MocapBias(k) => mocap_bias[*k] = *v,
+                Param::GyroBias(k) => gyro_bias[*k] = *v,
+                Param::AccelBias(k) => accel_bias[*k] = *v,
+                _ => {}
+            }
+        }
+        let penalty = || (vec![PENALTY; self.m], usize::MAX);
+        let vehicle = match spec.build(&self.data.model_origin) {
+            Ok(v) => v,
+            Err(e) => {
+                if std::env::var_os("FLAPWING_IDENTIFY_DEBUG").is_some() {
+                    eprintln!("identify: trial model invalid: {e}");
+                }
+                return penalty();
+            }
+        };
+        let per_segment: Vec<(Vec<f64>, bool)> = self
+            .segments
+            .par_iter()
+            .map(|seg| self.segment_residuals(&vehicle, seg, &mocap_bias, &gyro_bias, &accel_bias))
+            .collect();
+        let mut r = Vec::with_capacity(self.m);
+        let mut diverged = 0;
+        for (v, d) in per_segment {
+            r.extend(v);
+            diverged += usize::from(d);
+        }
+        if r.len() != self.m {
+            return penalty();
+        }
+        for x in &mut r {
+            if !x.is_finite() {
+                *x = PENALTY;
+            }
+        }
+        (r, diverged)
+    }
+
+    pub(super) fn segment_residuals(
+        &self,
+        vehicle: &Vehicle,
+        seg: &Segment,
+        mocap_bias: &Vector3<f64>,
+        gyro_bias: &Vector3<f64>,
+        accel_bias: &Vector3<f64>,
+    ) -> (Vec<f64>, bool) {
+        let n_res = 6 * seg.mocap.len() + 6 * seg.imu.len();
+        let fail = || (vec![PENALTY; n_res], true);
+        // The vehicle starts with the first wingbeat's controls in force, its clock at the
+        // segment's first step (the wing phases of the original run).
+        let mut v = vehicle.clone();
+        if v.apply_controls(&seg.controls[0]).is_err() {
+            return fail();
+        }
+        let Ok(mut sim) = Simulation::try_new(v, Mode::Free) else {
+            return fail();
+        };
+        if sim.start_at_step(seg.step0).is_err() {
+            return fail();
+        }
+        sim.set_state(&seg.state);
+        let per = vehicle.sim.steps_per_wingbeat;
+        let mut states: Vec<State> = Vec::with_capacity(seg.steps);
+        let mut diverged = false;
+        let mut in_force = seg.controls[0];
+        for j in 0..seg.steps {
+            if j % per == 0 {
+                let c = seg.controls[j / per];
+                if self.data.controls_each_wingbeat || c != in_force {
+                    sim.set_controls(c);
+                    in_force = c;
+                }
+            }
+            if let Some(g) = &self.data.gust {
+                let t = (seg.step0 + j as u64) as f64 * self.dt_s;
+                let on = t >= g.start_s && t < g.start_s + g.duration_s;
+                sim.set_wind(if on {
+                    Vector3::from(g.velocity_m_s)
+                } else {
+                    Vector3::zeros()
+                });
+            }
+            match sim.step() {
+                Ok(out) => states.push(out.state),
+                Err(_) => {
+                    diverged = true;
+                    break;
+                }
+            }
+        }
+        let last = states.last().copied().unwrap_or(seg.state);
+        let at = |j: usize| states.get(j).copied().unwrap_or(last);
+        let w = &self.weights;
+        let mut r = Vec::with_capacity(n_res);
+        for &(j, i) in &seg.mocap {
+            let f = &self.data.mocap[i];
+            let s = at(j);
+            let dp = (s.position_m + mocap_bias - f.position_m) / w.pos;
+            let da = (f.attitude.inverse() * s.world_from_body).scaled_axis() / w.att;
+            r.extend([dp.x, dp.y, dp.z, da.x, da.y, da.z]);
+        }
+        for &(j, i) in &seg.imu {
+            let f = &self.data.imu[i];
+            let s = at(j);
+            let prev = at(j - 1);
+            let a = (s.velocity_m_s - prev.velocity_m_s) / self.dt_s;
+            let g = Vector3::new(0.0, 0.0, -self.gravity_m_s2);
+            let spec_force = s.world_from_body.inverse() * (a - g);
+            let dg = (s.angular_velocity_body_rad_s + gyro_bias - f.gyro_rad_s) / w.gyro;
+            let da = (spec_force + accel_bias - f.accel_m_s2) / w.accel;
+            r.extend([dg.x, dg.y, dg.z, da.x, da.y, da.z]);
+        }
+        (r, diverged)
+    }
+}
+
+/// Builds the segments and weights of a fit.
+pub(super) fn setup<'a>(data: &'a FlightData, opts: &FitOptions) -> Result<Setup<'a>> {
+    opts.check()?;
+    let origin = &data.model_origin;
+    let base = VehicleSpec::from_toml(&data.model_toml, origin)
+        .map_err(|e| Error::Model(format!("`{origin}` does not load: {e}")))?;
+    let vehicle = base
+        .build(origin)
+        .map_err(|e| Error::Model(format!("`{origin}` does not load: {e}")))?;
+    let sensors = vehicle.sensors.ok_or_else(|| {
+        Error::Model(format!(
+            "`{origin}` has no [sensors] table: the fit weighs each residual by the sensors' noise ([sensors.mocap] position_noise_m and attitude_noise_deg; see models/drosophila.toml)"
+        ))
+    })?;
+    let mocap = sensors.mocap.ok_or_else(|| {
+        Error::Model(format!(
+            "`{origin}` has no [sensors.mocap] table: the fit weighs the motion-capture residuals by its position_noise_m and attitude_noise_deg"
+        ))
+    })?;
+    let use_imu = opts.use_imu;
+    if use_imu && data.imu.is_empty() {
+        return Err(Error::Log {
+            path: data.source.clone(),
+            detail: "the IMU was asked for as a measurement but the data hold no IMU samples (`/sensors/imu` in a log, the gyro_*/accel_* columns of a CSV)".into(),
+        });
+    }
+    if let Some(p) = opts.params.iter().find(|p| p.needs_imu())
+        && !use_imu
+    {
+        return Err(Error::Setting(format!(
+            "parameter `{}` is seen only by the IMU's samples: fit with the IMU (--imu)",
+            p.name()
+        )));
+    }
+    let (freq_hz, per) = timing(&vehicle);
+    let dt_s = Simulation::try_new(vehicle.clone(), Mode::Free)
+        .map_err(|e| Error::Model(format!("`{origin}`: {e}")))?
+        .dt_s();
+    let floor = 1e-12;
+    let weights = Weights {
+        pos: mocap.position_noise_m.max(floor),
+        att: mocap.attitude_noise_rad.max(floor),
+        gyro: (sensors.imu.gyro_noise_density * sensors.imu.rate_hz.sqrt()).max(floor),
+        accel: (sensors.imu.accel_noise_density * sensors.imu.rate_hz.sqrt()).max(floor),
+    };
+    let mocap_tol = 1e-6 / mocap.rate_hz;
+    let imu_tol = 1e-6 / sensors.imu.rate_hz;
+    let controls = controlled_wingbeats(data);
+    let end_t = opts.max_duration_s.unwrap_or(f64::INFINITY);
+    let k = u64::from(opts.segment_wingbeats);
+    let mut segments = Vec::new();
+    let mut next_free = 0u64;
+    for start in &data.starts {
+        let w0 = start.wingbeat;
+        if w0 < next_free {
+            continue;
+        }
+        let mut ctl = Vec::new();
+        for w in w0..w0 + k {
+            let t_end = (w + 1) as f64 / freq_hz;
+            match controls.get(&w) {
+                Some(c) if t_end <= end_t + 1e-12 => ctl.push(*c),
+                _ => break,
+            }
+        }
+        if ctl.is_empty() {
+            continue;
+        }
+        let step0 = w0 * per;
+        let steps = ctl.len() * per as usize;
+        let in_segment = |t: f64, tol: f64| -> Option<usize> {
+            let s = step_at(t, dt_s, tol)?;
+            (s >= step0 && s < step0 + steps as u64).then(|| (s - step0) as usize)
+        };
+        let t0 = step0 as f64 * dt_s;
+        let t1 = (step0 + steps as u64) as f64 * dt_s;
+        let lo = data.mocap.partition_point(|f| f.t_s < t0 - dt_s);
+        let mut seg_mocap = Vec::new();
+        for (i, f) in data.mocap.iter().enumerate().skip(lo) {
+            if f.t_s > t1 + dt_s {
+                break;
+            }
+            if let Some(j) = in_segment(f.t_s, mocap_tol) {
+                seg_mocap.push((j, i));
+            }
+        }
+        let mut seg_imu = Vec::new();
+        if use_imu {
+            let lo = data.imu.partition_point(|f| f.t_s < t0 - dt_s);
+            for (i, f) in data.imu.iter().enumerate().skip(lo) {
+                if f.t_s > t1 + dt_s {
+                    break;
+                }
+                // The accelerometer needs the step before (the velocity change).
+                if let Some(j) = in_segment(f.t_s, imu_tol).filter(|j| *j >= 1) {
+                    seg_imu.push((j, i));
+                }
+            }
+        }
+        if seg_mocap.is_empty() && seg_imu.is_empty() {
+            continue;
+        }
+        segments.push(Segment {
+            state: start.state,
+            step0,
+            controls: ctl,
+            steps,
+            mocap: seg_mocap,
+            imu: seg_imu,
+        });
+        next_free = w0 + k;
+    }
+    if segments.is_empty() {
+        return Err(Error::Data(format!(
+            "`{}`: no segment to fit: {} wingbeat starts with a known state, {} wingbeats with controls, {} motion-capture frames; a segment needs a wingbeat start with a state (a `/vehicle/state` sample at the wingbeat's first step, or {} motion-capture frames on each side), the controls of its wingbeats and a measurement",
+            data.source.display(),
+            data.starts.len(),
+            controls.len(),
+            data.mocap.len(),
+            crate::data::START_FIT_FRAMES
+        )));
+    }
+    let m: usize = segments
+        .iter()
+        .map(|s| 6 * s.mocap.len() + 6 * s.imu.len())
+        .sum();
+    let scales: Vec<f64> = opts.params.iter().map(|p| p.scale(&base)).collect();
+    if m <= opts.params.len() {
+        return Err(Error::Data(format!(
+            "`{}`: {m} residuals cannot determine {} parameters (more measurements are needed)",
+            data.source.display(),
+            opts.params.len()
+        )));
+    }
+    Ok(Setup {
+        data,
+        base,
+        params: opts.params.clone(),
+        scales,
+        segments,
+        weights,
+        dt_s,
+        gravity_m_s2: vehicle.gravity_m_s2,
+        m,
+    })
+}

@@ -1,0 +1,169 @@
+//! What a fit takes and gives: its options, its progress, each parameter's result and the
+//! report (below the fit's parts, which all use them).
+
+use serde::Serialize;
+
+use crate::data::StartSource;
+use crate::error::{Error, Result};
+use crate::params::Param;
+
+/// A Jacobian column below this fraction of the largest: the measurements do not depend on
+/// the parameter.
+pub const NO_EFFECT: f64 = 1e-8;
+
+/// The residual given to each measurement when trial parameters make the model invalid.
+pub const PENALTY: f64 = 1e3;
+
+/// How to fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitOptions {
+    /// The parameters to fit.
+    pub params: Vec<Param>,
+    /// Wingbeats per segment (see the module docs).
+    pub segment_wingbeats: u32,
+    /// Use the IMU's samples as measurements too.
+    pub use_imu: bool,
+    /// Central-difference step, fraction of each parameter's scale.
+    pub fd_step: f64,
+    /// The solver's patience: it stops after this many times (n + 1) residual evaluations.
+    pub patience: usize,
+    /// Fit only the first `max_duration_s` of the flight (`None`: all of it).
+    pub max_duration_s: Option<f64>,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            params: vec![Param::InertiaYy, Param::ComOffsetX, Param::ComOffsetZ],
+            segment_wingbeats: 4,
+            use_imu: false,
+            fd_step: 1e-3,
+            patience: 30,
+            max_duration_s: None,
+        }
+    }
+}
+
+impl FitOptions {
+    /// Checks the settings.
+    pub fn check(&self) -> Result<()> {
+        if !(1..=1000).contains(&self.segment_wingbeats) {
+            return Err(Error::Setting(format!(
+                "segment length {} wingbeats is not allowed: an integer in [1, 1000]",
+                self.segment_wingbeats
+            )));
+        }
+        if !(self.fd_step.is_finite() && self.fd_step > 0.0 && self.fd_step <= 0.1) {
+            return Err(Error::Setting(format!(
+                "finite-difference step {} is not allowed: in (0, 0.1] of each parameter's scale",
+                self.fd_step
+            )));
+        }
+        if !(1..=10_000).contains(&self.patience) {
+            return Err(Error::Setting(format!(
+                "patience {} is not allowed: an integer in [1, 10000]",
+                self.patience
+            )));
+        }
+        if let Some(d) = self.max_duration_s
+            && !(d.is_finite() && d > 0.0)
+        {
+            return Err(Error::Setting(format!(
+                "duration {d} s is not allowed: a time > 0"
+            )));
+        }
+        if self.params.is_empty() {
+            return Err(Error::Setting("no parameter to fit".into()));
+        }
+        Ok(())
+    }
+}
+
+/// What the fit reports of one parameter.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ParamResult {
+    /// Name (with unit).
+    pub name: String,
+    /// The model field it changes (`None`: a measurement parameter, not written).
+    pub model_field: Option<&'static str>,
+    /// Start value (the model's).
+    pub start: f64,
+    /// Fitted value.
+    pub fitted: f64,
+    /// Standard error (infinite when not identifiable through dependence).
+    pub std_error: f64,
+    /// 95 % confidence interval.
+    pub ci95: [f64; 2],
+    /// Half-width of the interval over max(|fitted|, scale).
+    pub relative_ci: f64,
+    /// Whether the data determine it.
+    pub identifiable: bool,
+    /// Why not, when not.
+    pub reason: Option<String>,
+}
+
+/// The outcome of a fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FitReport {
+    /// The data file.
+    pub source: String,
+    /// "mcap" or "csv".
+    pub format: &'static str,
+    /// The model's name.
+    pub model: String,
+    /// Where the segments' start states came from.
+    pub start_source: StartSource,
+    /// Segments flown.
+    pub segments: usize,
+    /// Wingbeats per segment (at most).
+    pub segment_wingbeats: u32,
+    /// Motion-capture frames compared.
+    pub mocap_frames: usize,
+    /// IMU samples compared.
+    pub imu_samples: usize,
+    /// Residuals m.
+    pub residuals: usize,
+    /// Degrees of freedom m - n.
+    pub dof: usize,
+    /// Simulations of all segments run (residual evaluations, each Jacobian counts 2 n).
+    pub simulations: u64,
+    /// Jacobians evaluated (the solver's iterations).
+    pub iterations: u64,
+    /// Sum of squared weighted residuals at the start (chi-square).
+    pub cost_before: f64,
+    /// ... and at the end.
+    pub cost_after: f64,
+    /// sqrt(cost / m) at the start (1 for a model that fits to the noise).
+    pub rms_before: f64,
+    /// ... and at the end.
+    pub rms_after: f64,
+    /// True when the solver met its convergence test.
+    pub converged: bool,
+    /// The solver's termination reason.
+    pub termination: String,
+    /// Condition number of the column-normalized Jacobian (infinite when singular).
+    pub condition_number: f64,
+    /// Student's t quantile of the intervals.
+    pub t_quantile: f64,
+    /// Central-difference step, fraction of each scale.
+    pub fd_step: f64,
+    /// Segments whose simulation diverged at the fitted parameters.
+    pub diverged_segments: usize,
+    /// True when the observer stopped the fit (Ctrl-C).
+    pub interrupted: bool,
+    /// Wall-clock time, s.
+    pub runtime_s: f64,
+    /// Every parameter.
+    pub params: Vec<ParamResult>,
+}
+
+/// Progress of a fit, handed to the observer after every evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Progress {
+    /// Simulations of all segments so far.
+    pub simulations: u64,
+    /// An upper bound of the simulations the fit can take.
+    pub max_simulations: u64,
+    /// The cost of the last evaluation (for residual evaluations).
+    pub cost: Option<f64>,
+}
