@@ -438,7 +438,12 @@ INTERRUPTS = {
                            "w.evaluate_many(p, velocity_m_s=[0.1, 0, 0])"),
 }
 
+# The child handles SIGINT as an interpreter started from a terminal does (KeyboardInterrupt):
+# started from a non-interactive shell's background job it would inherit SIGINT ignored, and
+# Python then installs no handler at all.
 INTERRUPT_SCRIPT = PRELUDE + """
+import signal
+signal.signal(signal.SIGINT, signal.default_int_handler)
 exec(compile({setup!r}, "setup", "exec"))
 print("started", flush=True)
 try:
