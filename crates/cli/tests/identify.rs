@@ -2,25 +2,15 @@
 //! the fitted model written and loaded by `flapwing trim`; bad inputs and a fit that does
 //! not converge give clear messages and exit codes.
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
 
-struct Out {
-    code: i32,
-    stdout: String,
-    stderr: String,
-}
+use common::{Run as Out, flapwing_in};
 
+/// Runs the binary in the test's working directory (the paths below are absolute).
 fn flapwing(args: &[&str]) -> Out {
-    let out = Command::new(env!("CARGO_BIN_EXE_flapwing"))
-        .args(args)
-        .output()
-        .expect("run flapwing");
-    Out {
-        code: out.status.code().expect("exit code"),
-        stdout: String::from_utf8(out.stdout).unwrap(),
-        stderr: String::from_utf8(out.stderr).unwrap(),
-    }
+    flapwing_in(Path::new("."), args)
 }
 
 /// A 0.5 s closed-loop hover of the built-in fruit fly with its sensors, logged by `hover`.

@@ -355,10 +355,8 @@ impl Task {
 
     /// The estimator's newest state as an observation (see the module documentation).
     fn estimate_observation(&self, f: &Estimator) -> Vec<f64> {
-        let s = match f.time_s() {
-            Some(t) => f.state_in_history(t).unwrap_or_else(|| f.state_at(t)),
-            None => f.state_at(0.0),
-        };
+        // At its own newest sample time the filter's state is not carried anywhere.
+        let s = f.state_at(f.time_s().unwrap_or(0.0));
         let d = (self.trim.attitude().inverse() * s.world_from_body).scaled_axis();
         (s.position_m - self.reference_m)
             .iter()
