@@ -26,10 +26,12 @@ pub enum Command {
     Validate(ValidateArgs),
     /// Fly (or tether) a vehicle for a while and summarise the run.
     Simulate(crate::commands::simulate::SimulateArgs),
-    /// Find the hover trim: amplitude, mean stroke angle and body pitch that balance.
+    /// Find the trim (hover, or --speed-m-s / --climb-m-s): amplitude, mean stroke angle and body pitch that balance.
     Trim(crate::commands::trim::TrimArgs),
-    /// Hover stability: averaged-model modes and Floquet exponents.
+    /// Stability about a trim (hover, or --speed-m-s / --climb-m-s): averaged-model modes and Floquet exponents.
     Stability(crate::commands::stability::StabilityArgs),
+    /// The flight envelope: trim, power, limit margin and modes over a grid of speeds and climb rates.
+    Envelope(crate::commands::envelope::EnvelopeArgs),
     /// The main job: trimmed, controlled hover from a disturbance (or open loop).
     Hover(crate::commands::hover::HoverArgs),
     /// Refit the paper's wake-capture regressions (eq 17-19) to a CSV of runs.

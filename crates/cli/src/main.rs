@@ -4,6 +4,7 @@
 
 mod cli;
 mod commands;
+mod condition;
 mod error;
 mod input;
 mod interrupt;
@@ -35,6 +36,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => commands::simulate::run(args),
         Command::Trim(args) => commands::trim::run(args),
         Command::Stability(args) => commands::stability::run(args),
+        Command::Envelope(args) => commands::envelope::run(args),
         Command::Hover(args) => commands::hover::run(args),
         Command::FitWake(args) => commands::fit_wake::run(args),
         Command::Sweep(args) => commands::sweep::run(args),

@@ -16,6 +16,7 @@ pub mod controls;
 pub mod derivatives;
 mod error;
 pub mod estimator;
+pub mod flight;
 pub mod frames;
 pub mod host;
 pub mod linear;

@@ -7,8 +7,10 @@
 //! bias (yaw), in radians; for an actuated vehicle the drive's bias (pitch), amplitude
 //! (height) and left-minus-right amplitude (roll), in volts, and the left-minus-right second
 //! harmonic (yaw) ([`Vehicle::control_channels`]). Loads are cycle averages at the frozen
-//! state (the averaged model of Sun and Xiong 2005); an actuated vehicle's wings are run
-//! into their periodic motion at that state ([`crate::actuated::periodic`]).
+//! state (the averaged model of Sun and Xiong 2005) plus the body's parasite drag
+//! ([`crate::flight`]); an actuated vehicle's wings are run into their periodic motion at
+//! that state ([`crate::actuated::periodic`]). The velocity is through still air, so a
+//! flight condition's trim state has its velocity in `x[3..6]`.
 
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 
@@ -94,7 +96,8 @@ impl AveragedModel {
             },
             self.samples,
         )?;
-        let acc = q * loads.total.force_n / v.mass_kg - Vector3::new(0.0, 0.0, v.gravity_m_s2);
+        let acc = (q * loads.total.force_n + v.body_drag_world_n(&vel_w)) / v.mass_kg
+            - Vector3::new(0.0, 0.0, v.gravity_m_s2);
         let i = &v.inertia_kg_m2;
         let i_inv = i.try_inverse().unwrap_or_else(nalgebra::Matrix3::zeros);
         let wdot = i_inv * (loads.total.moment_nm - w_b.cross(&(i * w_b)));

@@ -25,6 +25,11 @@ pub struct BodySpec {
     pub inertia_xz_kg_m2: f64,
     /// Body length, m (for reports: excursions in body lengths).
     pub length_m: f64,
+    /// The body's parasite drag area C_D S, m^2: in forward flight the body feels
+    /// 0.5 rho |V| V C_D S against its velocity V through the air, at the centre of mass
+    /// (`flapsim::flight`). 0 (the default) leaves body drag out; hover is unaffected.
+    #[serde(default)]
+    pub drag_area_m2: f64,
 }
 
 /// Where the wings attach.
@@ -190,6 +195,8 @@ pub struct Vehicle {
     pub inertia_kg_m2: Matrix3<f64>,
     /// Body length, m.
     pub length_m: f64,
+    /// The body's parasite drag area C_D S, m^2 (`[body] drag_area_m2`, [`crate::flight`]).
+    pub body_drag_area_m2: f64,
     /// Gravity magnitude, m/s^2.
     pub gravity_m_s2: f64,
     /// Left and right wings (index 0 left, 1 right), with the base kinematics.
@@ -248,6 +255,7 @@ impl VehicleSpec {
                 .into());
         }
         let length = v.positive("body.length_m", self.body.length_m)?;
+        let drag_area = v.within("body.drag_area_m2", self.body.drag_area_m2, 0.0, 1.0)?;
         let g = v.within("gravity_m_s2", self.gravity_m_s2, 0.0, 100.0)?;
         let mut aero = self.aero.build(&v, "aero")?;
         if self.aero.induced_inflow {
@@ -261,9 +269,7 @@ impl VehicleSpec {
                     .into());
             }
             // Hover: the pair carries the weight, each wing half of it (wingforce::inflow).
-            aero.induced_inflow = Some(wingforce::InducedInflow {
-                thrust_n: 0.5 * mass * g,
-            });
+            aero.induced_inflow = Some(wingforce::InducedInflow::hover(0.5 * mass * g));
         }
         let geometry = build_geometry(&self.wing, &v, "wing", &self.aero)?;
         let base = self
@@ -395,6 +401,7 @@ impl VehicleSpec {
             mass_kg: mass,
             inertia_kg_m2: Matrix3::new(ixx, 0.0, -ixz, 0.0, iyy, 0.0, -ixz, 0.0, izz),
             length_m: length,
+            body_drag_area_m2: drag_area,
             gravity_m_s2: g,
             wings: [make(Side::Left, &left_k), make(Side::Right, &right_k)],
             base_kinematics: [left_k, right_k],

@@ -396,7 +396,17 @@ impl Simulation {
         let q = out.state.world_from_body;
         rb.reset_forces(false);
         rb.reset_torques(false);
-        rb.add_force(to_glam(&(q * out.total.force_n)), false);
+        // The body's parasite drag (`[body] drag_area_m2`, crate::flight) in the air at its
+        // centre of mass: the uniform wind, or the wings' winds averaged with a wind field.
+        let air_m_s = if self.wing_winds_m_s.is_empty() {
+            self.uniform_wind_m_s
+        } else {
+            self.wing_winds_m_s.iter().sum::<Vector3<f64>>() / self.wing_winds_m_s.len() as f64
+        };
+        let drag_n = self
+            .vehicle
+            .body_drag_world_n(&(out.state.velocity_m_s - air_m_s));
+        rb.add_force(to_glam(&(q * out.total.force_n + drag_n)), false);
         rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
         self.world.step();
         self.out.insert(out)

@@ -1,16 +1,18 @@
-//! Hover stability: the averaged model's system matrices, eigenvalues, eigenvectors and
-//! modes (the method of Sun and Xiong 2005), and a Floquet analysis of the full
-//! time-periodic system (the monodromy matrix over one wingbeat by finite differences of
-//! full simulations) to compare with.
+//! Stability in hover or at a flight condition ([`crate::flight`]): the averaged model's
+//! system matrices, eigenvalues, eigenvectors and modes (the method of Sun and Xiong 2005;
+//! Xiong and Sun 2008 in forward flight), and a Floquet analysis of the full time-periodic
+//! system (the monodromy matrix over one wingbeat by finite differences of full
+//! simulations) to compare with.
 
 use nalgebra::{Complex, DMatrix, DVector, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
+use crate::flight::FlightCondition;
 use crate::linear::{AveragedModel, LATERAL, LONGITUDINAL, N_STATES, STATE_NAMES, submatrix};
 use crate::model::Vehicle;
 use crate::sim::{Mode as SimMode, Simulation, State};
-use crate::trim::{Trim, trim, trimmed_vehicle};
+use crate::trim::{Trim, trim_at, trimmed_vehicle};
 
 /// How a mode behaves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -196,7 +198,10 @@ pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
     let mut out: Vec<ModeInfo> = Vec::new();
     for l in eig.iter() {
         // Eigenvalues at round-off level are neutral (e.g. heading: nothing restores yaw).
-        let neutral = l.norm() <= 1e-9 * scale.max(1e-300);
+        // The threshold, 1e-6 of the fastest mode, is far above the finite differences'
+        // noise and far below any mode that matters (a time constant a million times the
+        // fastest one's).
+        let neutral = l.norm() <= 1e-6 * scale.max(1e-300);
         if l.im < -1e-9 * l.norm().max(1e-12) {
             continue; // keep one of each pair
         }
@@ -236,13 +241,36 @@ pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
     out
 }
 
-/// Trims `vehicle`, linearises the averaged model and classifies the modes; with
+/// Trims `vehicle` in hover, linearises the averaged model and classifies the modes; with
 /// `floquet`, also computes the longitudinal monodromy matrix from full simulations.
 pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
-    let t = trim(vehicle)?;
+    analyze_at(vehicle, &FlightCondition::HOVER, floquet)
+}
+
+/// [`analyze`] at a flight condition: trimmed there on the model's lift variable.
+pub fn analyze_at(
+    vehicle: &Vehicle,
+    condition: &FlightCondition,
+    floquet: bool,
+) -> Result<StabilityReport> {
+    let t = trim_at(vehicle, vehicle.trim_lift, condition)?;
+    analyze_trim(vehicle, &t, floquet)
+}
+
+/// The trim state of the averaged model: zero but for the velocity of the flight condition.
+pub fn trim_state(t: &Trim) -> DVector<f64> {
+    let mut x0 = DVector::zeros(N_STATES);
+    x0.rows_mut(3, 3)
+        .copy_from(&t.condition.velocity_world_m_s());
+    x0
+}
+
+/// [`analyze`] about a trim already found (of `vehicle` at `t.condition`).
+pub fn analyze_trim(vehicle: &Vehicle, t: &Trim, floquet: bool) -> Result<StabilityReport> {
+    let t = t.clone();
     let v = trimmed_vehicle(vehicle, &t)?;
     let model = AveragedModel::new(&v, t.attitude(), t.controls, 200);
-    let (a, _) = model.linearize(&DVector::zeros(N_STATES))?;
+    let (a, _) = model.linearize(&trim_state(&t))?;
     let lon_names: Vec<&str> = LONGITUDINAL.iter().map(|&i| STATE_NAMES[i]).collect();
     let lat_names: Vec<&str> = LATERAL.iter().map(|&i| STATE_NAMES[i]).collect();
     let a_lon = submatrix(&a, &LONGITUDINAL);
@@ -278,12 +306,13 @@ pub fn analyze(vehicle: &Vehicle, floquet: bool) -> Result<StabilityReport> {
     })
 }
 
-/// Longitudinal state (vx, vz, pitch error, q) of a simulation state relative to trim.
-fn lon_state(s: &State, q_trim: &UnitQuaternion<f64>) -> [f64; 4] {
+/// Longitudinal state (vx, vz, pitch error, q) of a simulation state relative to trim (at
+/// the trim's velocity `v_trim`, world).
+fn lon_state(s: &State, q_trim: &UnitQuaternion<f64>, v_trim: &Vector3<f64>) -> [f64; 4] {
     let delta = (q_trim.inverse() * s.world_from_body).scaled_axis();
     [
-        s.velocity_m_s.x,
-        s.velocity_m_s.z,
+        s.velocity_m_s.x - v_trim.x,
+        s.velocity_m_s.z - v_trim.z,
         delta.y,
         s.angular_velocity_body_rad_s.y,
     ]
@@ -297,13 +326,14 @@ fn one_wingbeat(
     v: &Vehicle,
     periodic: Option<&crate::actuated::PeriodicWings>,
     q_trim: &UnitQuaternion<f64>,
+    v_trim: &Vector3<f64>,
     y: &[f64],
 ) -> Result<Vec<f64>> {
     let mut sim = Simulation::new(v.clone(), SimMode::LONGITUDINAL);
     let s = State {
         position_m: Vector3::zeros(),
         world_from_body: q_trim * UnitQuaternion::from_scaled_axis(Vector3::new(0.0, y[2], 0.0)),
-        velocity_m_s: Vector3::new(y[0], 0.0, y[1]),
+        velocity_m_s: v_trim + Vector3::new(y[0], 0.0, y[1]),
         angular_velocity_body_rad_s: Vector3::new(0.0, y[3], 0.0),
     };
     sim.set_state(&s);
@@ -323,7 +353,7 @@ fn one_wingbeat(
     for _ in 0..v.sim.steps_per_wingbeat {
         sim.step()?;
     }
-    let mut out = lon_state(&sim.state(), q_trim).to_vec();
+    let mut out = lon_state(&sim.state(), q_trim, v_trim).to_vec();
     if let (Some(w0), Some([w, _])) = (reference, sim.wing_states()) {
         out.extend([
             w.phi_rad - w0.phi_rad,
@@ -348,10 +378,14 @@ pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
 /// modes: 8 multipliers, the body's 4 and the wings' 4, sorted by real exponent.
 pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
     let q = t.attitude();
+    let v_trim = t.condition.velocity_world_m_s();
     let periodic = if v.actuation.is_some() {
         Some(crate::actuated::periodic::settle(
             v,
-            &wingforce::BodyMotion::default(),
+            &wingforce::BodyMotion {
+                velocity_m_s: t.velocity_body_m_s(),
+                angular_velocity_rad_s: Vector3::zeros(),
+            },
         )?)
     } else {
         None
@@ -370,8 +404,8 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         yp[j] = eps[j];
         ym[j] = -eps[j];
         let (p, m) = (
-            one_wingbeat(v, periodic.as_ref(), &q, &yp)?,
-            one_wingbeat(v, periodic.as_ref(), &q, &ym)?,
+            one_wingbeat(v, periodic.as_ref(), &q, &v_trim, &yp)?,
+            one_wingbeat(v, periodic.as_ref(), &q, &v_trim, &ym)?,
         );
         for i in 0..n {
             phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);

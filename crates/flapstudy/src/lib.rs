@@ -11,8 +11,10 @@
 //!   parallel sweeps with deterministic CSV output, shards and their merge;
 //! - [`shard`] and [`slurm`]: the study content hash, atomic shard files and their merge, and
 //!   the Slurm job-array script that runs one shard per task;
-//! - [`optimize`]: Nelder-Mead, and lift per power under a weight-support penalty.
+//! - [`optimize`]: Nelder-Mead, and lift per power under a weight-support penalty;
+//! - [`envelope`]: trims, power, limit margins and modes over a grid of flight conditions.
 
+pub mod envelope;
 pub mod error;
 pub mod fit_wake;
 pub mod optimize;

@@ -30,7 +30,6 @@
 
 use nalgebra::Vector3;
 use wingforce::cycle::CycleMean;
-use wingforce::wing::WingFrame;
 use wingforce::{BodyMotion, Term};
 
 use flapsim::averaged::{FrozenState, mean_loads};
@@ -180,16 +179,13 @@ pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> flapsim::Result<Hover
         )
     };
     let mut means = [CycleMean::default(); 2];
-    let mut power = 0.0;
     let w = 1.0 / samples.len() as f64;
     for forces in &samples {
-        for ((wing, mean), f) in vehicle.wings.iter().zip(means.iter_mut()).zip(forces) {
+        for (mean, f) in means.iter_mut().zip(forces) {
             mean.accumulate(f, w);
-            let omega_body =
-                wing.body_from_stroke() * WingFrame::new(&f.angles, wing.mount().side).omega;
-            power -= w * f.total.moment_hinge_nm.dot(&omega_body);
         }
     }
+    let power = flapsim::flight::cycle_power(&vehicle.wings, samples.iter()).aero_w;
     let mut cl_mean = [0.0; 5];
     let mut cd_mean = [0.0; 5];
     for m in &means {

@@ -23,7 +23,7 @@ fn robofly() -> Wing {
 fn mounted(side: Side, thrust_n: Option<f64>) -> Wing {
     let base = robofly();
     let mut options = base.options().clone();
-    options.induced_inflow = thrust_n.map(|t| InducedInflow { thrust_n: t });
+    options.induced_inflow = thrust_n.map(InducedInflow::hover);
     Wing::builder(base.geometry().clone(), base.kinematics().clone())
         .fluid(*base.fluid())
         .options(options)

@@ -2,6 +2,8 @@
 
 pub mod analyze;
 pub mod contour;
+pub mod envelope;
+pub mod envelope_plot;
 pub mod fit_wake;
 pub mod forces;
 pub mod forces_plot;

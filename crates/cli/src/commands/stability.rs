@@ -19,6 +19,9 @@ pub struct StabilityArgs {
     /// Skip the Floquet analysis (full simulations over one wingbeat).
     #[arg(long = "no-floquet")]
     pub no_floquet: bool,
+    /// The flight condition to trim at and analyse about (hover by default).
+    #[command(flatten)]
+    pub condition: crate::condition::ConditionArgs,
     /// Write a plot of the eigenvalues in the complex plane (SVG, or PNG by extension).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
@@ -34,11 +37,13 @@ pub struct StabilityArgs {
 pub fn run(args: StabilityArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
     let vehicle = build_vehicle(&src)?;
+    let condition = args.condition.check(&vehicle)?;
     if let Some(p) = &args.plot {
         // Fail before the analysis if the plot cannot be written.
         drop(crate::output::create_output_file(p, args.force, "plot")?);
     }
-    let report = flapsim::stability::analyze(&vehicle, !args.no_floquet).map_err(sim_error)?;
+    let report = flapsim::stability::analyze_at(&vehicle, &condition, !args.no_floquet)
+        .map_err(sim_error)?;
     if let Some(p) = &args.plot {
         plot(&report, p, &vehicle.name)?;
     }
@@ -49,7 +54,12 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     let t = &report.trim;
     writeln!(
         o,
-        "hover stability of {} about its trim (pitch {:.2} deg, {})",
+        "{} stability of {} about its trim (pitch {:.2} deg, {})",
+        if condition.is_hover() {
+            "hover".to_owned()
+        } else {
+            condition.describe()
+        },
         src.origin,
         t.pitch_rad.to_degrees(),
         crate::vehicle::trim_summary(&vehicle, t)

@@ -1,5 +1,5 @@
 //! `flapwing trim`: the kinematics and body pitch at which the cycle-averaged forces and
-//! moments balance in hover.
+//! moments balance, in hover or at a flight condition (`--speed-m-s`, `--climb-m-s`).
 
 use std::fmt::Write;
 
@@ -19,6 +19,9 @@ pub struct TrimArgs {
     /// (default: the model's `[trim] lift_variable`, else the amplitude).
     #[arg(long, value_enum)]
     pub vary: Option<Vary>,
+    /// The flight condition (hover by default).
+    #[command(flatten)]
+    pub condition: crate::condition::ConditionArgs,
     /// Write the trimmed model (controls and initial attitude set) to this TOML file.
     #[arg(long, value_name = "OUT.toml")]
     pub write: Option<std::path::PathBuf>,
@@ -44,10 +47,16 @@ pub enum Vary {
 #[derive(Serialize)]
 struct Report<'a> {
     model: &'a str,
+    forward_speed_m_s: f64,
+    climb_rate_m_s: f64,
     /// The trimmed controls (for prescribed kinematics, stroke amplitude and mean stroke
     /// angle in deg; for an actuated vehicle, drive amplitude and bias in V).
     controls: [TrimRow; 2],
     pitch_deg: f64,
+    /// The stroke plane's angle to the horizontal, deg, positive tilted forward (Dudley &
+    /// Ellington 1990's beta); 0 in hover for a model whose stroke plane is horizontal there.
+    stroke_plane_angle_deg: f64,
+    aero_power_w: f64,
     residual_fx_over_weight: f64,
     residual_fz_over_weight: f64,
     residual_my_over_weight_length: f64,
@@ -58,6 +67,16 @@ struct Report<'a> {
 pub fn run(args: TrimArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
     let vehicle = build_vehicle(&src)?;
+    let condition = args.condition.check(&vehicle)?;
+    if args.write.is_some() && !condition.is_hover() {
+        return Err(crate::error::input_error(format!(
+            "--write {}: a model file holds a hover trim only (its induced inflow is the hover downwash); allowed: --write without --speed-m-s / --climb-m-s",
+            args.write
+                .as_ref()
+                .map(|p| p.display().to_string())
+                .unwrap_or_default()
+        )));
+    }
     let out_file = match &args.write {
         Some(p) => Some(crate::output::create_output_file(
             p,
@@ -72,11 +91,16 @@ pub fn run(args: TrimArgs) -> Result<()> {
         Some(Vary::AngleOfAttack) => flapsim::trim::LiftVariable::AngleOfAttack,
         Some(Vary::Frequency) => flapsim::trim::LiftVariable::Frequency,
     };
-    let t = flapsim::trim::trim_on(&vehicle, lift).map_err(sim_error)?;
+    let t = flapsim::trim::trim_at(&vehicle, lift, &condition).map_err(sim_error)?;
+    let point = flapsim::flight::trim_point(&vehicle, &t).map_err(sim_error)?;
     let report = Report {
         model: &src.origin,
+        forward_speed_m_s: condition.forward_speed_m_s,
+        climb_rate_m_s: condition.climb_rate_m_s,
         controls: trim_rows(&vehicle, &t),
         pitch_deg: t.pitch_rad.to_degrees(),
+        stroke_plane_angle_deg: point.stroke_plane_angle_rad.to_degrees(),
+        aero_power_w: point.power.aero_w,
         residual_fx_over_weight: t.residual_fx_over_weight,
         residual_fz_over_weight: t.residual_fz_over_weight,
         residual_my_over_weight_length: t.residual_my_over_weight_length,
@@ -116,9 +140,14 @@ pub fn run(args: TrimArgs) -> Result<()> {
         return crate::output::print_json(&report);
     }
     let mut o = String::new();
+    let what = if condition.is_hover() {
+        "hover trim".to_owned()
+    } else {
+        format!("trim at {}", condition.describe())
+    };
     writeln!(
         o,
-        "hover trim of {} ({} Newton iterations)",
+        "{what} of {} ({} Newton iterations)",
         src.origin, t.iterations
     )?;
     for row in &report.controls {
@@ -129,6 +158,18 @@ pub fn run(args: TrimArgs) -> Result<()> {
         )?;
     }
     writeln!(o, "  {:<18} {:.4} deg", "body pitch", report.pitch_deg)?;
+    writeln!(
+        o,
+        "  {:<18} {:.4} deg (to the horizontal, tilted forward)",
+        "stroke plane", report.stroke_plane_angle_deg
+    )?;
+    writeln!(
+        o,
+        "  {:<18} {:.4e} W ({:.1} W/kg of body mass)",
+        "aerodynamic power",
+        report.aero_power_w,
+        report.aero_power_w / vehicle.mass_kg
+    )?;
     writeln!(
         o,
         "residuals: Fx/W {:.2e}, Fz/W - 1 {:.2e}, My/(W R) {:.2e}",

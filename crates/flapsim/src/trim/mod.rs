@@ -1,6 +1,8 @@
-//! Hover trim: the stroke amplitude (weight support), mean stroke angle (pitch-moment
-//! balance) and body pitch (no net horizontal force) at which the cycle-averaged forces and
-//! moments balance, found by Newton's method with finite-difference Jacobians. An actuated
+//! Trim: the stroke amplitude (weight support), mean stroke angle (pitch-moment balance) and
+//! body pitch (no net horizontal force) at which the cycle-averaged forces and moments
+//! balance, found by Newton's method with finite-difference Jacobians, in hover or at a
+//! flight condition ([`crate::flight`]: forward speed and climb rate, with the body's drag
+//! and the induced inflow of that condition). An actuated
 //! vehicle trims the same way on its drive: amplitude and bias voltage in place of stroke
 //! amplitude and mean stroke angle ([`Vehicle::control_channels`]), with its wings run into
 //! their periodic motion at every evaluation ([`crate::actuated::periodic`]).
@@ -10,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::{Error, Result};
+use crate::flight::FlightCondition;
 use crate::model::{Controls, Vehicle};
 
 pub mod spec;
@@ -19,9 +22,12 @@ pub const TRIM_SAMPLES: usize = 200;
 
 pub use spec::{LiftVariable, TrimSpec};
 
-/// A hover trim.
+/// A trim (in hover unless `condition` says otherwise).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Trim {
+    /// The flight condition trimmed at.
+    #[serde(default)]
+    pub condition: FlightCondition,
     /// Controls at trim (amplitude and mean stroke offsets from the model's base kinematics).
     pub controls: Controls,
     /// Body pitch at trim, rad (positive nose up).
@@ -43,6 +49,10 @@ impl Trim {
     /// world_from_body at trim.
     pub fn attitude(&self) -> UnitQuaternion<f64> {
         attitude_for_pitch(self.pitch_rad)
+    }
+    /// The body's velocity through the air at trim, body frame, m/s.
+    pub fn velocity_body_m_s(&self) -> Vector3<f64> {
+        self.attitude().inverse() * self.condition.velocity_world_m_s()
     }
     /// Largest residual (all non-dimensional).
     pub fn max_residual(&self) -> f64 {
@@ -70,20 +80,44 @@ fn trim_controls(vehicle: &Vehicle, lift: LiftVariable, x: &Vector3<f64>) -> Con
     c
 }
 
-fn residual(vehicle: &Vehicle, lift: LiftVariable, x: &Vector3<f64>) -> Result<Vector3<f64>> {
+/// The vehicle with trim variables `x` applied at `condition`: controls, and the induced
+/// inflow frozen at the condition for the force the wings must carry (weight and body drag).
+fn at_condition(
+    vehicle: &Vehicle,
+    lift: LiftVariable,
+    x: &Vector3<f64>,
+    condition: &FlightCondition,
+) -> Result<Vehicle> {
     let mut v = vehicle.clone();
     v.apply_controls(&trim_controls(vehicle, lift, x))?;
+    if !condition.is_hover() {
+        let q = attitude_for_pitch(x[2]);
+        let vel_w = condition.velocity_world_m_s();
+        let required = Vector3::new(0.0, 0.0, v.weight_n()) - v.body_drag_world_n(&vel_w);
+        v.set_flight_inflow(&(q.inverse() * vel_w), required.norm());
+    }
+    Ok(v)
+}
+
+fn residual(
+    vehicle: &Vehicle,
+    lift: LiftVariable,
+    x: &Vector3<f64>,
+    condition: &FlightCondition,
+) -> Result<Vector3<f64>> {
+    let v = at_condition(vehicle, lift, x, condition)?;
     let q = attitude_for_pitch(x[2]);
+    let vel_w = condition.velocity_world_m_s();
     let m = mean_loads(
         &v,
         &FrozenState {
             world_from_body: q,
-            velocity_body_m_s: Vector3::zeros(),
+            velocity_body_m_s: q.inverse() * vel_w,
             angular_velocity_body_rad_s: Vector3::zeros(),
         },
         TRIM_SAMPLES,
     )?;
-    let f = q * m.total.force_n;
+    let f = q * m.total.force_n + v.body_drag_world_n(&vel_w);
     let w = v.weight_n();
     let r_wing = v.wings[0].geometry().r_tip_m;
     Ok(Vector3::new(
@@ -101,19 +135,42 @@ pub fn trim(vehicle: &Vehicle) -> Result<Trim> {
 
 /// Finds the hover trim of `vehicle` varying `lift` to carry the weight.
 pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
+    trim_at(vehicle, lift, &FlightCondition::HOVER)
+}
+
+/// Finds the trim of `vehicle` at `condition` varying `lift` to carry the weight, starting
+/// from its current controls and initial pitch.
+pub fn trim_at(vehicle: &Vehicle, lift: LiftVariable, condition: &FlightCondition) -> Result<Trim> {
+    let (_, p0, _) = vehicle.initial_attitude.euler_angles();
+    trim_from(vehicle, lift, condition, Vector3::new(0.0, 0.0, -p0))
+}
+
+/// Finds the trim of `vehicle` at `condition` from the trim variables `x0` (offsets of the
+/// lift variable and the mean stroke angle from the current controls, and the body pitch),
+/// as a continuation from a neighbouring condition's trim does.
+pub fn trim_from(
+    vehicle: &Vehicle,
+    lift: LiftVariable,
+    condition: &FlightCondition,
+    x0: Vector3<f64>,
+) -> Result<Trim> {
+    let what = if condition.is_hover() {
+        "no hover trim".to_owned()
+    } else {
+        format!("no trim at {}", condition.describe())
+    };
     if vehicle.drive_controlled() && lift != LiftVariable::Amplitude {
         return Err(Error::Analysis(format!(
-            "no hover trim for `{}` on the {}: an actuated vehicle trims its drive amplitude (lift variable `amplitude`)",
+            "{what} for `{}` on the {}: an actuated vehicle trims its drive amplitude (lift variable `amplitude`)",
             vehicle.name,
             lift.name()
         )));
     }
-    let (_, p0, _) = vehicle.initial_attitude.euler_angles();
-    let mut x = Vector3::new(0.0, 0.0, -p0);
-    let fail =
-        |why: String| Error::Analysis(format!("no hover trim for `{}`: {why}", vehicle.name));
-    let mut r =
-        residual(vehicle, lift, &x).map_err(|e| fail(format!("at the starting controls: {e}")))?;
+    vehicle.check_flight_condition(condition)?;
+    let mut x = x0;
+    let fail = |why: String| Error::Analysis(format!("{what} for `{}`: {why}", vehicle.name));
+    let residual = |x: &Vector3<f64>| residual(vehicle, lift, x, condition);
+    let mut r = residual(&x).map_err(|e| fail(format!("at the starting controls: {e}")))?;
     // Finite-difference steps: 1e-6 rad of the kinematic channels, 1e-6 of a drive
     // channel's scale (Vehicle::control_scales), 1e-6 rad of body pitch.
     let scales = vehicle.control_scales();
@@ -125,7 +182,7 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
     let h = [h_lift, 1e-6 * scales[0], 1e-6];
     for it in 0..40 {
         if r.amax() < 1e-10 {
-            return Ok(finish(vehicle, lift, x, r, it));
+            return Ok(finish(vehicle, lift, condition, x, r, it));
         }
         let mut jac = Matrix3::zeros();
         for j in 0..3 {
@@ -133,10 +190,8 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
             let mut xm = x;
             xp[j] += h[j];
             xm[j] -= h[j];
-            let rp = residual(vehicle, lift, &xp)
-                .map_err(|e| fail(format!("during the search: {e}")))?;
-            let rm = residual(vehicle, lift, &xm)
-                .map_err(|e| fail(format!("during the search: {e}")))?;
+            let rp = residual(&xp).map_err(|e| fail(format!("during the search: {e}")))?;
+            let rm = residual(&xm).map_err(|e| fail(format!("during the search: {e}")))?;
             jac.set_column(j, &((rp - rm) / (2.0 * h[j])));
         }
         let Some(mut step) = jac.lu().solve(&(-r)) else {
@@ -161,7 +216,7 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
         let mut last_error = None;
         loop {
             let cand = x + lambda * step;
-            match residual(vehicle, lift, &cand) {
+            match residual(&cand) {
                 Ok(rc) if rc.norm() < r.norm() || lambda < 1e-3 => {
                     x = cand;
                     r = rc;
@@ -212,7 +267,7 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
         let _ = it;
     }
     if r.amax() < 1e-7 {
-        return Ok(finish(vehicle, lift, x, r, 40));
+        return Ok(finish(vehicle, lift, condition, x, r, 40));
     }
     Err(fail(format!(
         "Newton did not converge in 40 iterations (residual {:.3e})",
@@ -223,11 +278,13 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
 fn finish(
     vehicle: &Vehicle,
     lift: LiftVariable,
+    condition: &FlightCondition,
     x: Vector3<f64>,
     r: Vector3<f64>,
     iterations: usize,
 ) -> Trim {
     Trim {
+        condition: *condition,
         lift_variable: lift,
         controls: trim_controls(vehicle, lift, &x),
         pitch_rad: x[2],
@@ -238,12 +295,34 @@ fn finish(
     }
 }
 
-/// The vehicle at trim: trimmed controls applied and the initial attitude set to the trim pitch.
+/// The trim variables of `t` as [`trim_from`] takes them (for a vehicle whose controls are
+/// those `t` started from).
+pub fn trim_variables(vehicle: &Vehicle, t: &Trim) -> Vector3<f64> {
+    let lift = match t.lift_variable {
+        LiftVariable::Amplitude => {
+            (t.controls.amplitude_rad - vehicle.controls.amplitude_rad)
+                + (t.controls.amplitude_v - vehicle.controls.amplitude_v)
+        }
+        LiftVariable::AngleOfAttack => t.controls.aoa_rad - vehicle.controls.aoa_rad,
+        LiftVariable::Frequency => t.controls.freq_hz - vehicle.controls.freq_hz,
+    };
+    let mean = (t.controls.mean_stroke_rad - vehicle.controls.mean_stroke_rad)
+        + (t.controls.bias_v - vehicle.controls.bias_v);
+    Vector3::new(lift, mean, t.pitch_rad)
+}
+
+/// The vehicle at trim: trimmed controls applied, the induced inflow frozen at the trim's
+/// flight condition, and the initial attitude and velocity those of the trim.
 pub fn trimmed_vehicle(vehicle: &Vehicle, t: &Trim) -> Result<Vehicle> {
     let mut v = vehicle.clone();
     v.apply_controls(&t.controls)?;
+    if !t.condition.is_hover() {
+        let vel_w = t.condition.velocity_world_m_s();
+        let required = Vector3::new(0.0, 0.0, v.weight_n()) - v.body_drag_world_n(&vel_w);
+        v.set_flight_inflow(&t.velocity_body_m_s(), required.norm());
+    }
     v.initial_attitude = t.attitude();
-    v.initial_velocity_m_s = Vector3::zeros();
+    v.initial_velocity_m_s = t.condition.velocity_world_m_s();
     v.initial_angular_velocity_rad_s = Vector3::zeros();
     Ok(v)
 }

@@ -190,12 +190,18 @@ impl Wing {
 
     /// The induced downwash through the stroke plane at the current amplitude, m/s (zero
     /// without [`AeroOptions::induced_inflow`]).
+    /// In forward flight or climb ([`InducedInflow::flight_velocity_body_m_s`]) it is
+    /// Glauert's ([`crate::inflow`]).
     pub fn induced_downwash_m_s(&self) -> f64 {
         self.options.induced_inflow.map_or(0.0, |i| {
-            i.downwash_m_s(
+            let normal_body =
+                Rotation3::from_axis_angle(&Vector3::y_axis(), self.mount.stroke_plane_tilt_rad)
+                    * Vector3::z();
+            i.flight_downwash_m_s(
                 self.fluid.density_kg_m3,
                 self.kinematics.amplitude_rad,
                 self.geometry.r_tip_m,
+                &normal_body,
             )
         })
     }

@@ -1,0 +1,163 @@
+//! `flapwing envelope`: trim, power, limit margin and modes over a grid of forward speeds
+//! and climb rates (`flapstudy::envelope`), in parallel with a progress bar; a table on
+//! stdout, `--json`, `--csv` and `--plot` (power required and mode loci against speed).
+
+use std::fmt::Write;
+use std::path::PathBuf;
+
+use anyhow::Result;
+use flapstudy::envelope::{EnvelopeGrid, EnvelopeRow, INTERRUPTED, envelope, to_csv};
+
+use crate::error::InputContext;
+use crate::vehicle::{build_vehicle, read_vehicle};
+
+/// Arguments of `flapwing envelope`.
+#[derive(Debug, clap::Args)]
+pub struct EnvelopeArgs {
+    /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic; actuated: robobee, hummingbird).
+    #[arg(long, value_name = "FILE|NAME")]
+    pub model: Option<String>,
+    /// Forward speeds, m/s, comma separated (default: 10 speeds from 0 to 4.5 m/s, the
+    /// range Dudley & Ellington 1990 filmed bumblebees over).
+    #[arg(
+        long = "speeds-m-s",
+        value_name = "U,...",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    pub speeds_m_s: Vec<f64>,
+    /// Climb rates, m/s, comma separated (default: 0).
+    #[arg(
+        long = "climbs-m-s",
+        value_name = "W,...",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
+    pub climbs_m_s: Vec<f64>,
+    /// Write the table as CSV to this file.
+    #[arg(long, value_name = "FILE.csv")]
+    pub csv: Option<PathBuf>,
+    /// Plot the power required, the trim angles and the modes' real parts against speed
+    /// (SVG, or PNG by extension).
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+    /// Replace the --csv and --plot files if they exist.
+    #[arg(long)]
+    pub force: bool,
+    /// Print one JSON document on stdout instead of the text table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs the command.
+pub fn run(args: EnvelopeArgs) -> Result<()> {
+    let src = read_vehicle(args.model.as_deref())?;
+    let vehicle = build_vehicle(&src)?;
+    let speeds = if args.speeds_m_s.is_empty() {
+        (0..10).map(|i| 0.5 * i as f64).collect()
+    } else {
+        args.speeds_m_s.clone()
+    };
+    let climbs = if args.climbs_m_s.is_empty() {
+        vec![0.0]
+    } else {
+        args.climbs_m_s.clone()
+    };
+    let grid = EnvelopeGrid::new(speeds, climbs, "--speeds-m-s / --climbs-m-s")
+        .input_context("envelope grid")?;
+    // Fail before the work if an output cannot be written.
+    let csv_file = match &args.csv {
+        Some(p) => Some(crate::output::create_output_file(p, args.force, "CSV")?),
+        None => None,
+    };
+    if let Some(p) = &args.plot {
+        drop(crate::output::create_output_file(p, args.force, "plot")?);
+    }
+    let n = grid.conditions().len();
+    let bar =
+        crate::progress::progress_bar(n as u64, format!("envelope of {}", vehicle.name), "points");
+    let rows = envelope(
+        &vehicle,
+        &grid,
+        &|_| bar.inc(1),
+        &crate::interrupt::requested,
+    );
+    bar.finish_and_clear();
+    if let (Some(mut f), Some(path)) = (csv_file, &args.csv) {
+        std::io::Write::write_all(&mut f, to_csv(&rows).as_bytes())?;
+        crate::output::note(&format!("wrote {}", path.display()));
+    }
+    if let Some(p) = &args.plot {
+        crate::commands::envelope_plot::plot(&rows, p, &vehicle.name)?;
+        crate::output::note(&format!("wrote {}", p.display()));
+    }
+    if rows.iter().any(|r| r.no_trim_reason == INTERRUPTED) {
+        print_table(&src.origin, &rows, vehicle.mass_kg)?;
+        anyhow::bail!("interrupted: the points marked `interrupted` did not run");
+    }
+    if args.json {
+        return crate::output::print_json(&rows);
+    }
+    print_table(&src.origin, &rows, vehicle.mass_kg)
+}
+
+fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
+    let mut o = String::new();
+    writeln!(
+        o,
+        "flight envelope of {origin} (averaged model; modes about each trim)"
+    )?;
+    writeln!(
+        o,
+        "{:>7} {:>7} {:>8} {:>8} {:>8} {:>10} {:>7} {:>9} {:>9}  modes / reason",
+        "U m/s", "W m/s", "pitch", "plane", "ampl", "power W", "W/kg", "margin", "max Re"
+    )?;
+    for r in rows {
+        let c = &r.condition;
+        match &r.point {
+            Some(p) => {
+                let max_re = p
+                    .longitudinal_modes
+                    .iter()
+                    .chain(&p.lateral_modes)
+                    .map(|m| m.re_per_s)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                let unstable: Vec<&str> = p
+                    .longitudinal_modes
+                    .iter()
+                    .chain(&p.lateral_modes)
+                    .filter(|m| !m.stable && m.time_to_half_or_double_s.is_some())
+                    .map(|m| m.description.as_str())
+                    .collect();
+                writeln!(
+                    o,
+                    "{:>7.2} {:>7.2} {:>8.2} {:>8.2} {:>8.2} {:>10.3e} {:>7.1} {:>8.1}% {:>+9.3}  {}",
+                    c.forward_speed_m_s,
+                    c.climb_rate_m_s,
+                    p.trim.pitch_rad.to_degrees(),
+                    p.point.stroke_plane_angle_rad.to_degrees(),
+                    p.point.stroke_amplitude_rad.to_degrees(),
+                    p.point.power.aero_w,
+                    p.point.power.aero_w / mass_kg,
+                    100.0 * p.margin.fraction,
+                    max_re,
+                    if unstable.is_empty() {
+                        "all stable".to_owned()
+                    } else {
+                        unstable.join(", ")
+                    }
+                )?;
+            }
+            None => writeln!(
+                o,
+                "{:>7.2} {:>7.2}  no trim: {}",
+                c.forward_speed_m_s, c.climb_rate_m_s, r.no_trim_reason
+            )?,
+        }
+    }
+    writeln!(
+        o,
+        "pitch: body pitch, deg; plane: stroke plane to the horizontal, deg (tilted forward > 0); ampl: stroke amplitude, deg; power: aerodynamic, W (W/kg of body mass); margin: to the amplitude or voltage limit"
+    )?;
+    crate::output::print_stdout(&o)
+}
