@@ -3,7 +3,10 @@
 //! pitch, amplitude for height, left-right amplitude difference for roll, left-right pitch
 //! bias difference for yaw; on an actuated vehicle the drive's bias, amplitude, amplitude
 //! difference and second-harmonic difference), with an optional sensor delay in whole
-//! wingbeats.
+//! wingbeats. In hover it holds a point; at a flight condition ([`crate::flight`]) it is
+//! designed about that condition's trim and holds a point moving at the condition's velocity
+//! (the same regulator: the error dynamics about a steady flight are those of the averaged
+//! model linearised there).
 
 use std::collections::VecDeque;
 
@@ -86,6 +89,8 @@ pub struct HoverController {
     trim_controls: Controls,
     q_trim: UnitQuaternion<f64>,
     reference_m: Vector3<f64>,
+    /// The trim's velocity through the air, world, m/s (zero in hover).
+    velocity_ref_m_s: Vector3<f64>,
     delay_wingbeats: usize,
     history: VecDeque<DVector<f64>>,
     /// Saturation of each channel: three times its design excursion.
@@ -159,7 +164,7 @@ impl HoverController {
         delay_wingbeats: usize,
     ) -> Result<Self> {
         let model = AveragedModel::new(vehicle, trim.attitude(), trim.controls, 100);
-        let (a, b) = model.linearize(&DVector::zeros(N_STATES))?;
+        let (a, b) = model.linearize(&crate::stability::trim_state(trim))?;
         let period = 1.0 / vehicle.freq_hz();
         let (ad, bd) = discretize(&a, &b, period);
         let l = vehicle.length_m;
@@ -210,6 +215,7 @@ impl HoverController {
             trim_controls: trim.controls,
             q_trim: trim.attitude(),
             reference_m: vehicle.initial_position_m,
+            velocity_ref_m_s: trim.condition.velocity_world_m_s(),
             delay_wingbeats,
             history: VecDeque::new(),
             limits: umax.map(|u| 3.0 * u),
@@ -228,19 +234,27 @@ impl HoverController {
         &self.gain
     }
 
-    /// Sets the position to hold, world, m.
+    /// Sets the position to hold, world, m (at a flight condition: where the reference
+    /// point, moving at the trim's velocity, is at the time of the state the next update
+    /// reads).
     pub fn set_reference(&mut self, p: Vector3<f64>) {
         self.reference_m = p;
+    }
+
+    /// The trim's velocity the controller holds, world, m/s (zero in hover).
+    pub fn velocity_reference_m_s(&self) -> Vector3<f64> {
+        self.velocity_ref_m_s
     }
 
     /// The error state of `s` (see [`crate::linear`]).
     pub fn error_state(&self, s: &State) -> DVector<f64> {
         let d = (self.q_trim.inverse() * s.world_from_body).scaled_axis();
         let p = s.position_m - self.reference_m;
+        let v = s.velocity_m_s - self.velocity_ref_m_s;
         DVector::from_iterator(
             N_STATES,
             p.iter()
-                .chain(s.velocity_m_s.iter())
+                .chain(v.iter())
                 .chain(d.iter())
                 .chain(s.angular_velocity_body_rad_s.iter())
                 .copied(),
@@ -459,11 +473,21 @@ pub fn run_hover_with(
     mut feedback: Option<&mut EstimatedFeedback>,
     mut observer: impl FnMut(&HoverStep<'_>) -> bool,
 ) -> Result<HoverOutcome> {
-    let mut v = vehicle.clone();
-    v.apply_controls(&trim.controls)?;
+    // At a flight condition the induced inflow is frozen there (trimmed_vehicle).
+    let mut v = crate::trim::trimmed_vehicle(vehicle, trim)?;
     // An actuated vehicle starts with its wings on their periodic motion at the trim (as a
-    // hover that has been going on), not from rest.
-    let periodic = crate::actuated::periodic::settle_at_rest(&v)?;
+    // flight that has been going on), not from rest.
+    let velocity_ref = trim.condition.velocity_world_m_s();
+    let periodic = match &v.actuation {
+        Some(_) => Some(crate::actuated::periodic::settle(
+            &v,
+            &wingforce::BodyMotion {
+                velocity_m_s: trim.velocity_body_m_s(),
+                angular_velocity_rad_s: Vector3::zeros(),
+            },
+        )?),
+        None => None,
+    };
     let q_trim = trim.attitude();
     let start_q = q_trim
         * UnitQuaternion::from_scaled_axis(Vector3::new(
@@ -472,7 +496,7 @@ pub fn run_hover_with(
             0.0,
         ));
     v.initial_attitude = start_q;
-    v.initial_velocity_m_s = Vector3::from(disturbance.velocity_m_s);
+    v.initial_velocity_m_s = velocity_ref + Vector3::from(disturbance.velocity_m_s);
     v.initial_angular_velocity_rad_s = Vector3::zeros();
     let reference = v.initial_position_m;
     let length = v.length_m;
@@ -516,9 +540,14 @@ pub fn run_hover_with(
                 let u = match feedback.as_deref() {
                     Some(f) => {
                         let (s, wingbeats_ago) = f.controller_input(t, period_s);
+                        let t_s = t - wingbeats_ago as f64 * period_s;
+                        c.set_reference(reference + velocity_ref * t_s);
                         c.update_from_past(&s, wingbeats_ago)?
                     }
-                    None => c.update(&sim.state()),
+                    None => {
+                        c.set_reference(reference + velocity_ref * t);
+                        c.update(&sim.state())
+                    }
                 };
                 sim.set_controls(u);
             }
@@ -540,7 +569,7 @@ pub fn run_hover_with(
             break;
         }
         let s = out.state;
-        let pe = (s.position_m - reference).norm();
+        let pe = (s.position_m - (reference + velocity_ref * out.t_s)).norm();
         let ae = (q_trim.inverse() * s.world_from_body).angle().to_degrees();
         max_p = max_p.max(pe);
         max_a = max_a.max(ae);

@@ -1,7 +1,9 @@
 //! `flapwing hover`: the main job. Trim the vehicle, design the per-wingbeat LQR hover
 //! controller on the averaged model, and fly it from a disturbed start or through a gust;
 //! report how far it strayed and how fast it recovered. `--open-loop` holds the trim
-//! kinematics and shows the uncontrolled divergence.
+//! kinematics and shows the uncontrolled divergence. With `--speed-m-s` / `--climb-m-s` the
+//! vehicle is trimmed and the regulator designed at that flight condition, and it holds a
+//! point moving at the condition's velocity.
 
 use std::fmt::Write;
 
@@ -28,6 +30,10 @@ pub struct HoverArgs {
     /// vz_m_s, gust_x_m_s, gust_y_m_s, gust_z_m_s, gust_start_s, gust_duration_s.
     #[arg(long, default_value = "pitch_deg=5")]
     pub disturbance: String,
+    /// The flight condition to trim at, design the regulator about and fly (hover by
+    /// default); the velocities of --disturbance add to it.
+    #[command(flatten)]
+    pub condition: crate::condition::ConditionArgs,
     /// Hold the trim kinematics (no controller).
     #[arg(long = "open-loop")]
     pub open_loop: bool,
@@ -116,6 +122,8 @@ pub fn parse_disturbance(s: &str) -> Result<Disturbance> {
 #[derive(Serialize)]
 struct Report<'a> {
     model: &'a str,
+    /// The flight condition flown (hover: both zero).
+    condition: flapsim::flight::FlightCondition,
     disturbance: Disturbance,
     trim_pitch_deg: f64,
     /// The trimmed controls (stroke amplitude and mean stroke angle in deg, or an actuated
@@ -141,7 +149,14 @@ pub fn run(args: HoverArgs) -> Result<()> {
     let duration_s = check_duration(args.duration_s)?;
     let mut pacer = crate::pacing::check(&args.pace)?;
     let disturbance = parse_disturbance(&args.disturbance)?;
-    let trim = flapsim::trim::trim(&vehicle).map_err(sim_error)?;
+    let condition = args.condition.check(&vehicle)?;
+    if !condition.is_hover() && args.feedback == Feedback::Estimated {
+        return Err(input_error(
+            "--feedback estimated: the filter starts at rest, so it flies hover only; allowed: --feedback true with --speed-m-s / --climb-m-s",
+        ));
+    }
+    let trim =
+        flapsim::trim::trim_at(&vehicle, vehicle.trim_lift, &condition).map_err(sim_error)?;
     let mut trimmed = flapsim::trim::trimmed_vehicle(&vehicle, &trim).map_err(sim_error)?;
     // The wind (checked against the run) goes to run_hover in the vehicle's `[wind]`.
     let wind_text = crate::wind::start(&args.wind, &trimmed, &src.origin, duration_s)?
@@ -250,6 +265,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
     )?;
     let report = Report {
         model: &src.origin,
+        condition,
         disturbance,
         trim_pitch_deg: trim.pitch_rad.to_degrees(),
         trim_controls: crate::vehicle::trim_rows(&vehicle, &trim),
@@ -324,11 +340,16 @@ fn print_text(origin: &str, disturbance: &str, report: &Report<'_>) -> Result<()
     let mut w = String::new();
     writeln!(
         w,
-        "{} hover of {} for {:.3} s from {}",
+        "{} {} of {} for {:.3} s from {}",
         if o.closed_loop {
             "closed-loop"
         } else {
             "open-loop"
+        },
+        if report.condition.is_hover() {
+            "hover".to_owned()
+        } else {
+            format!("flight at {}", report.condition.describe())
         },
         origin,
         o.duration_s,
