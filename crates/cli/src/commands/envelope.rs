@@ -96,9 +96,17 @@ pub fn run(args: EnvelopeArgs) -> Result<()> {
         anyhow::bail!("interrupted: the points marked `interrupted` did not run");
     }
     if args.json {
-        return crate::output::print_json(&rows);
+        crate::output::print_json(&rows)?;
+    } else {
+        print_table(&src.origin, &rows, vehicle.mass_kg)?;
     }
-    print_table(&src.origin, &rows, vehicle.mass_kg)
+    if rows.iter().all(|r| r.point.is_none()) {
+        anyhow::bail!(
+            "no point of the envelope trims (each row says why): {}",
+            rows[0].no_trim_reason
+        );
+    }
+    Ok(())
 }
 
 fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
