@@ -487,12 +487,7 @@ impl VehicleSpec {
         // error names the controls field rather than a wing).
         for i in 0..vehicle.wings.len() {
             let k = vehicle.controlled_kinematics(i, &controls);
-            let side = match (i / 2, i % 2) {
-                (0, 0) => "left".to_string(),
-                (0, _) => "right".to_string(),
-                (p, 0) => format!("pairs[{}] left", p - 1),
-                (p, _) => format!("pairs[{}] right", p - 1),
-            };
+            let side = Vehicle::wing_name(i);
             v.within_open_low(
                 &format!("controls (resulting {side} stroke amplitude, deg)"),
                 k.amplitude_rad.to_degrees(),
@@ -605,6 +600,16 @@ impl Vehicle {
             .chunks(2)
             .all(|p| p.len() == 2 && p[0].kinematics() == p[1].kinematics());
         Ok(())
+    }
+
+    /// Wing `i`'s name in messages: `left` and `right` for the first pair, `pairs[k] left`
+    /// and `pairs[k] right` for the model file's `[[pairs]]` entry k.
+    pub fn wing_name(i: usize) -> String {
+        let side = if i % 2 == 0 { "left" } else { "right" };
+        match i / 2 {
+            0 => side.to_string(),
+            p => format!("pairs[{}] {side}", p - 1),
+        }
     }
 
     /// Number of wing pairs (1 for a two-winged vehicle).

@@ -155,6 +155,8 @@ impl HoverResponses {
 /// (an actuated vehicle: over one period of its wings' periodic motion, at the simulation's
 /// step; see [`flapsim::actuated::periodic`]).
 pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> flapsim::Result<HoverResponses> {
+    // The per-wing coefficient means and the wake-capture inputs are those of one pair.
+    vehicle.require_one_pair("flapstudy's hover responses")?;
     let still = BodyMotion::default();
     let state = FrozenState {
         world_from_body: vehicle.initial_attitude,
