@@ -12,9 +12,9 @@
 //! The second consequence is also the model's limit. Real tandem wings interact: the forewing's
 //! wake changes the hindwing's inflow, and the CFD of the same group that built the model
 //! dragonfly of Wang & Sun 2005 (J Exp Biol 208:3785) measured it: in hover, with the hindwing
-//! leading by 180 deg, "the interaction effect reduces the vertical forces on the fore- and
-//! hindwings by 14% and 16%, respectively, of that of the corresponding single wing" (Sun & Lan
-//! 2004, J Exp Biol 207:1887, abstract). flapwing leaves this out, so its cycle-mean forces do
+//! leading by 180 deg, the interaction lowers the fore- and hindwing's vertical forces by 14%
+//! and 16% of what each wing makes alone (Sun & Lan 2004, J Exp Biol 207:1887, abstract).
+//! flapwing leaves this out, so its cycle-mean forces do
 //! not depend on the fore/hind phase at all; the tests assert that flatness and state the size
 //! of what is missing.
 //!
@@ -80,8 +80,8 @@ stroke_plane_tilt_deg = 45.0
 /// - translational: per strip 0.5 rho |u|^2 C(alpha, Re) c dr with u the pitch axis's velocity,
 ///   which does not depend on the chord: linear;
 /// - wake capture: C(Re, dtau) 0.5 rho V_ref^2 S on the reference scale: linear;
-/// - rotational: sqrt(S_xx S_yy) grows as c^2 and S_x|x| as c^3: not linear (compared as a
-///   ratio instead, which must exceed 2);
+/// - rotational: sqrt(S_xx S_yy) grows as c^2 and S_x|x| as c^3: not linear (and its cycle
+///   mean on the fly's symmetric trapezoidal flip is zero to rounding, so it is only printed);
 /// - added mass: (pi/4) rho c^2 per strip: quadratic, and its cycle mean is zero anyway (the
 ///   impulse form), so there is nothing to compare.
 ///
@@ -113,7 +113,7 @@ fn a_hind_pair_on_the_fore_hinges_carries_what_twice_the_area_carries_in_the_lin
         );
         assert!(f4.z.abs() > 1e-3 * weight, "{term:?} carries something");
     }
-    // Rotational: grows faster than the area (c^2 and c^3 parts), both its parts lift-side here.
+    // Rotational: not linear in the chord; its mean is zero to rounding on this fly.
     let (r4, r2) = (
         a.terms[Term::Rotational as usize].force_n.z,
         b.terms[Term::Rotational as usize].force_n.z,
@@ -245,6 +245,19 @@ fn the_dragonfly_in_forward_flight_against_its_weight() {
         let f = m.terms[term as usize].force_n;
         eprintln!("  {term:?}: x {:.3} mN, z {:.3} mN", 1e3 * f.x, 1e3 * f.z);
     }
+    // Measured (docs/models.md): 5.958 mN up, 0.769 of the weight, and 0.630 mN of net drag,
+    // 0.081 of the weight, where steady flight says 1 and 0 (within the body drag's 0.005).
+    // The quasi-steady wings carry 77% of the weight at the published kinematics: the gap is
+    // the model's (no forewing-hindwing interaction, no unsteady lift beyond its four terms,
+    // rigid wings without the measured spanwise twist), not tuned away. Pinned to 0.01 of
+    // the weight so that a change in the model shows here.
+    assert!(
+        (fz / w - 0.769).abs() <= 0.01,
+        "vertical {fz} N against the weight {w} N"
+    );
+    assert!((fx / w + 0.081).abs() <= 0.01, "horizontal {fx} N");
+    // Published: steady flight, vertical = weight; the gap asserted, not hidden.
+    assert!((fz / w - 1.0).abs() > 0.2 && (fz / w - 1.0).abs() < 0.25);
     for (i, pair) in [(0, "fore"), (2, "hind")] {
         let mut z = 0.0;
         let mut x = 0.0;
@@ -267,7 +280,7 @@ fn the_dragonfly_in_forward_flight_against_its_weight() {
 #[test]
 fn the_mean_force_does_not_depend_on_the_fore_hind_phase() {
     let offsets = [0.0, 90.0, 180.0, 270.0];
-    let mut means = Vec::new();
+    let (mut means, mut swings) = (Vec::new(), Vec::new());
     for deg in offsets {
         let v = dragonfly_with_offset(deg);
         let m = mean_loads(&v, &forward_flight(), 400).unwrap();
@@ -287,20 +300,27 @@ fn the_mean_force_does_not_depend_on_the_fore_hind_phase() {
         let (lo, hi) = fz
             .iter()
             .fold((f64::MAX, f64::MIN), |(l, h), &x| (l.min(x), h.max(x)));
-        let peaks = (0..400)
-            .filter(|&k| {
-                let (p, n) = (fz[(k + 399) % 400], fz[(k + 1) % 400]);
-                fz[k] > p && fz[k] >= n && fz[k] > 0.5 * (lo + hi)
-            })
-            .count();
         eprintln!(
-            "offset {deg:>5.1} deg: mean vertical {:.4} mN, peak-to-peak {:.3} mN, peaks above mid-range {peaks}",
+            "offset {deg:>5.1} deg: mean vertical {:.4} mN, peak-to-peak over the wingbeat {:.3} mN",
             1e3 * m.total.force_n.z,
             1e3 * (hi - lo)
         );
         means.push(m.total.force_n.z);
+        swings.push(hi - lo);
     }
-    // Flat: each wing's cycle mean is a mean over its whole period, wherever it starts.
+    // The published trend in time: Rüppell 1989 (J Exp Biol 144:13, abstract) filmed
+    // dragonflies' flight as uniform when fore and hind wings counterstroke (antiphase) and
+    // irregular when they stroke phase-shifted and, most of all, in parallel; Wang & Sun
+    // 2005 (abstract) likewise find two vertical-force peaks a cycle at 180 deg that merge
+    // into one at 90, 60 and 0 deg. Here: the vertical force swings least at 180 deg (14.2 mN
+    // peak to peak), most in phase (27.0 mN), 18.9 and 23.6 mN at 90 and 270 deg.
+    assert!(swings[2] < swings[1] && swings[2] < swings[3], "{swings:?}");
+    assert!(swings[0] > swings[1] && swings[0] > swings[3], "{swings:?}");
+    // The mean, though, is flat: each wing's cycle mean is a mean over its whole period,
+    // wherever it starts. The published CFD is not: in hover with the hindwing 180 deg ahead
+    // the interaction takes 14% and 16% off the fore- and hindwing's vertical force (Sun & Lan
+    // 2004, abstract), an effect of that order (about 15% of the weight, over 1 mN here) that
+    // flapwing leaves out and whose change with the phase it cannot show.
     // Tolerance: 1e-9 of the weight (the phases sampled differ by rounding only, 400 samples).
     let w = dragonfly_with_offset(0.0).weight_n();
     for m in &means {
