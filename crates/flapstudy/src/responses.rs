@@ -167,7 +167,7 @@ pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> flapsim::Result<Hover
     // periodic motion.
     let (loads, samples, wings) = if vehicle.actuation.is_some() {
         let p = flapsim::actuated::periodic::settle(vehicle, &still)?;
-        (p.mean, p.samples, p.wings)
+        (p.mean, p.samples, p.wings.to_vec())
     } else {
         let samples = (0..steps)
             .map(|k| {
