@@ -163,7 +163,9 @@ impl Recorder {
     /// address the live server cannot listen on, a vehicle with more than one wing pair.
     pub fn create(options: &LogOptions, info: &RunInfo, vehicle: &Vehicle) -> Result<Self> {
         // The log's wing channels (kinematics, forces, scene) are the two wings of one pair.
-        vehicle.require_one_pair("flight logging (the log's per-wing channels)")?;
+        vehicle.require_one_pair(
+            "flight logging (the log's per-wing channels; write no log: `--no-log`)",
+        )?;
         if let Some(r) = options.log_rate_hz
             && !(r.is_finite() && r > 0.0)
         {
