@@ -220,6 +220,41 @@ fn a_phase_offset_of_half_a_wingbeat_shifts_the_hind_pair_by_half_a_wingbeat() {
     }
 }
 
+/// The wing set's steps and the cycle mean evaluate the same wings at the same phases, the
+/// hind pair's offset included: over one wingbeat of 100 steps, the body still and level, the
+/// set's mean load is `mean_loads`' at 100 phases (to 1e-12 of the weight: the sums' order).
+#[test]
+fn the_wing_set_and_the_cycle_mean_agree_on_four_wings() {
+    let v = vehicle(flapsim::DRAGONFLY_TOML);
+    let mut set = WingSet::from_vehicle_sized(&v).unwrap();
+    assert_eq!(set.len(), 4);
+    let still = flapsim::State::at_rest();
+    let mut f = Vector3::zeros();
+    let mut m = Vector3::zeros();
+    for _ in 0..100 {
+        let out = set.step(&still).unwrap();
+        f += out.total.force_n / 100.0;
+        m += out.total.moment_nm / 100.0;
+    }
+    let frozen = FrozenState {
+        world_from_body: UnitQuaternion::identity(),
+        velocity_body_m_s: Vector3::zeros(),
+        angular_velocity_body_rad_s: Vector3::zeros(),
+    };
+    let mean = mean_loads(&v, &frozen, 100).unwrap();
+    let w = v.weight_n();
+    assert!(
+        (f - mean.total.force_n).norm() <= 1e-12 * w,
+        "{f:?} against {:?}",
+        mean.total.force_n
+    );
+    assert!(
+        (m - mean.total.moment_nm).norm() <= 1e-12 * w * v.length_m,
+        "{m:?} against {:?}",
+        mean.total.moment_nm
+    );
+}
+
 /// The dragonfly at its published forward flight (Azuma & Watanabe 1988, experiment 2):
 /// steady flight, so the wings' mean vertical force carries the weight (790 mg: 7.75 mN) and
 /// their mean horizontal force balances the body's drag, a small fraction of the weight
