@@ -659,7 +659,7 @@ pub fn vehicle_section() -> Result<VehicleSection> {
         false,
         || {
             format!(
-                "L/W {lw:.3} with a net drag of {:.3} of the weight: quasi-steady wings without the forewing wake on the hindwing (about 15% of each wing's force in CFD, Sun & Lan 2004), without unsteady lift beyond the four terms and without the measured spanwise twist (docs/models.md)",
+                "L/W {lw:.3} with a net drag of {:.3} of the weight: quasi-steady wings without the forewing wake on the hindwing (about 15% of each wing's force in CFD, Sun & Lan 2004), without unsteady lift beyond the four terms and without the measured spanwise twist; Lee et al.'s f_AR f_Ro take 24% off these AR 5, Ro 5 wings (0.952 without them; docs/models.md)",
                 -f.x / dragonfly.weight_n()
             )
         },
