@@ -206,7 +206,8 @@ pub fn open(
 /// Warnings about a model outside its coefficient models' fitted ranges (once per run).
 pub fn range_warnings(vehicle: &flapsim::Vehicle) -> Vec<String> {
     let mut out = Vec::new();
-    for (w, side) in vehicle.wings.iter().zip(["left", "right"]) {
+    for (i, w) in vehicle.wings.iter().enumerate() {
+        let side = flapsim::Vehicle::wing_name(i);
         if let Some(p) = w.wake_capture() {
             let f = p.flags;
             if f.any() {

@@ -22,7 +22,7 @@ pub fn read_vehicle(model: Option<&str>) -> anyhow::Result<VehicleSource> {
         });
     }
     let text = std::fs::read_to_string(name).input_context(format!(
-        "cannot read model file `{name}` (give a TOML path or a built-in model: drosophila, bumblebee, robobee_kinematic, and the actuated robobee and hummingbird)"
+        "cannot read model file `{name}` (give a TOML path or a built-in model: drosophila, bumblebee, robobee_kinematic, the four-winged dragonfly, and the actuated robobee and hummingbird)"
     ))?;
     Ok(VehicleSource {
         text,

@@ -100,7 +100,7 @@ pub unsafe extern "C" fn flapwing_wings_from_builtin(
             Failure::new(
                 FlapwingStatus::FLAPWING_MODEL_ERROR,
                 format!(
-                    "{F}: no built-in model named {name:?}; allowed: drosophila, bumblebee, robobee_kinematic, robobee, hummingbird (or a TOML file: flapwing_wings_from_file)"
+                    "{F}: no built-in model named {name:?}; allowed: drosophila, bumblebee, robobee_kinematic, dragonfly, robobee, hummingbird (or a TOML file: flapwing_wings_from_file)"
                 ),
             )
         })?;

@@ -52,8 +52,12 @@ pub const HUMMINGBIRD_TOML: &str = include_str!("../../../models/hummingbird.tom
 /// The built-in bumblebee of Sun and Xiong (2005).
 pub const BUMBLEBEE_TOML: &str = include_str!("../../../models/bumblebee.toml");
 
-/// A built-in model's text by name (`drosophila`, `bumblebee`, `robobee_kinematic`, and the
-/// actuated `robobee` and `hummingbird`).
+/// The built-in four-winged dragonfly of Azuma and Watanabe (1988) in forward flight (fore
+/// and hind pairs: `[[pairs]]`).
+pub const DRAGONFLY_TOML: &str = include_str!("../../../models/dragonfly.toml");
+
+/// A built-in model's text by name (`drosophila`, `bumblebee`, `robobee_kinematic`, the
+/// four-winged `dragonfly`, and the actuated `robobee` and `hummingbird`).
 pub fn builtin_model(name: &str) -> Option<&'static str> {
     match name {
         "drosophila" => Some(DROSOPHILA_TOML),
@@ -61,6 +65,7 @@ pub fn builtin_model(name: &str) -> Option<&'static str> {
         "robobee_kinematic" => Some(ROBOBEE_KINEMATIC_TOML),
         "bumblebee" => Some(BUMBLEBEE_TOML),
         "hummingbird" => Some(HUMMINGBIRD_TOML),
+        "dragonfly" => Some(DRAGONFLY_TOML),
         _ => None,
     }
 }

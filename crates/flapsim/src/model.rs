@@ -42,6 +42,31 @@ pub struct HingeSpec {
     pub stroke_plane_tilt_deg: f64,
 }
 
+/// A further pair of wings (`[[pairs]]`, after the first pair of `[wing]`, `[hinge]` and
+/// `[kinematics]`): a dragonfly's hindwings. Its own hinge (the left one, mirrored to the
+/// right) and stroke plane; its planform and kinematics, or the first pair's; and its
+/// wingbeat's lead over the first pair's. Every wing flaps at one frequency, and the
+/// controls act on every pair alike.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PairSpec {
+    /// How far this pair's wingbeat leads the first pair's, deg of the wingbeat (360 = one
+    /// whole wingbeat; a dragonfly's hindwings lead its forewings). Required: there is no
+    /// default phase between two pairs (`Option` only so that a missing value gets an error
+    /// naming the pair).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase_offset_deg: Option<f64>,
+    /// The pair's hinges and stroke plane (required).
+    pub hinge: HingeSpec,
+    /// The pair's planform; the first pair's `[wing]` when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wing: Option<WingSpec>,
+    /// The pair's kinematics (both wings); the first pair's (its left and right kinematics)
+    /// when absent. Same frequency as the first pair.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kinematics: Option<KinematicsSpec>,
+}
+
 /// Control parameters of the kinematics, changed once per wingbeat. Deltas are added to
 /// the base kinematics; `diff_*` are left minus right (half added to the left wing, half
 /// subtracted from the right).
@@ -151,6 +176,9 @@ pub struct VehicleSpec {
     /// Right-wing kinematics replacing the base (optional).
     #[serde(default)]
     pub right_kinematics: Option<KinematicsSpec>,
+    /// `[[pairs]]`: further wing pairs after the first (none for a two-winged vehicle).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pairs: Vec<PairSpec>,
     /// Control offsets applied from the start.
     #[serde(default)]
     pub controls: ControlSpec,
@@ -199,10 +227,12 @@ pub struct Vehicle {
     pub body_drag_area_m2: f64,
     /// Gravity magnitude, m/s^2.
     pub gravity_m_s2: f64,
-    /// Left and right wings (index 0 left, 1 right), with the base kinematics.
-    pub wings: [Wing; 2],
-    /// Base kinematics of each wing (controls are applied on top of these).
-    pub base_kinematics: [Kinematics; 2],
+    /// The wings, pair by pair, left then right: [L0, R0, L1, R1, ...] (index 0 left, 1 right
+    /// of the first pair; further pairs from `[[pairs]]`), with the kinematics in force.
+    pub wings: Vec<Wing>,
+    /// Base kinematics of each wing, in the order of `wings` (controls are applied on top of
+    /// these; a further pair's carry its phase offset).
+    pub base_kinematics: Vec<Kinematics>,
     /// Initial controls.
     pub controls: Controls,
     /// Simulation settings.
@@ -215,8 +245,9 @@ pub struct Vehicle {
     pub initial_velocity_m_s: Vector3<f64>,
     /// Initial angular velocity, body, rad/s.
     pub initial_angular_velocity_rad_s: Vector3<f64>,
-    /// Both wings have identical kinematics now (set by [`Vehicle::apply_controls`]), so the
-    /// right wing can be evaluated as the mirror image of the left.
+    /// Each pair's two wings have identical kinematics now (set by
+    /// [`Vehicle::apply_controls`]), so each right wing can be evaluated as the mirror image
+    /// of its left.
     pub mirror_symmetric: bool,
     /// The wings' dynamics and drives when the vehicle is actuated.
     pub actuation: Option<Actuation>,
@@ -258,7 +289,25 @@ impl VehicleSpec {
         let drag_area = v.within("body.drag_area_m2", self.body.drag_area_m2, 0.0, 1.0)?;
         let g = v.within("gravity_m_s2", self.gravity_m_s2, 0.0, 100.0)?;
         let mut aero = self.aero.build(&v, "aero")?;
+        if !self.pairs.is_empty() && self.actuation.is_some() {
+            return Err(v
+                .invalid(
+                    "pairs",
+                    format!("{} further pair(s)", self.pairs.len()),
+                    "no [[pairs]] on an actuated vehicle (its drives and wing dynamics are one left/right pair)",
+                )
+                .into());
+        }
         if self.aero.induced_inflow {
+            if !self.pairs.is_empty() {
+                return Err(v
+                    .invalid(
+                        "aero.induced_inflow",
+                        true,
+                        "false for a model with [[pairs]] (the momentum-theory downwash is that of one pair's disc; tandem pairs share and overlap theirs)",
+                    )
+                    .into());
+            }
             if self.actuation.is_some() {
                 return Err(v
                     .invalid(
@@ -284,18 +333,11 @@ impl VehicleSpec {
             None => base.clone(),
         };
         let fluid: Fluid = build_fluid(&self.fluid, &v, "fluid", &geometry, &base)?;
-        let [hx, hy, hz] = self.hinge.left_in_body_m;
-        for (i, x) in [hx, hy, hz].into_iter().enumerate() {
-            v.within(&format!("hinge.left_in_body_m[{i}]"), x, -1.0, 1.0)?;
+        let (hinge_left, tilt) = build_hinge(&v, "hinge", &self.hinge)?;
+        let mut pairs = Vec::with_capacity(self.pairs.len());
+        for (p, pair) in self.pairs.iter().enumerate() {
+            pairs.push(self.build_pair(&v, p, pair, &geometry, [&left_k, &right_k])?);
         }
-        let tilt = v
-            .within(
-                "hinge.stroke_plane_tilt_deg",
-                self.hinge.stroke_plane_tilt_deg,
-                -90.0,
-                90.0,
-            )?
-            .to_radians();
         let sim = &self.sim;
         if !(20..=100_000).contains(&sim.steps_per_wingbeat) {
             return Err(v
@@ -379,23 +421,29 @@ impl VehicleSpec {
         let att = vec("attitude_deg", init.attitude_deg, 180.0)?;
         let vel = vec("velocity_m_s", init.velocity_m_s, 100.0)?;
         let rate = vec("angular_velocity_deg_s", init.angular_velocity_deg_s, 1e5)?;
-        let hinge_left = Vector3::new(hx, hy, hz);
-        let mount = |side: Side| Mount {
-            side,
-            hinge_in_body_m: if side == Side::Left {
-                hinge_left
-            } else {
-                Vector3::new(hx, -hy, hz)
-            },
-            stroke_plane_tilt_rad: tilt,
-        };
-        let make = |side: Side, k: &Kinematics| {
+        let make = |geometry: &wingforce::Geometry,
+                    hinge_left: Vector3<f64>,
+                    tilt: f64,
+                    side: Side,
+                    k: &Kinematics| {
             Wing::builder(geometry.clone(), k.clone())
-                .mount(mount(side))
+                .mount(mount(hinge_left, tilt, side))
                 .fluid(fluid)
                 .options(aero.clone())
                 .build()
         };
+        let mut wings = vec![
+            make(&geometry, hinge_left, tilt, Side::Left, &left_k),
+            make(&geometry, hinge_left, tilt, Side::Right, &right_k),
+        ];
+        let mut base_kinematics = vec![left_k, right_k];
+        for pair in pairs {
+            let [kl, kr] = pair.kinematics;
+            for (side, k) in [(Side::Left, kl), (Side::Right, kr)] {
+                wings.push(make(&pair.geometry, pair.hinge_left, pair.tilt, side, &k));
+                base_kinematics.push(k);
+            }
+        }
         let mut vehicle = Vehicle {
             name: self.name.clone(),
             mass_kg: mass,
@@ -403,8 +451,8 @@ impl VehicleSpec {
             length_m: length,
             body_drag_area_m2: drag_area,
             gravity_m_s2: g,
-            wings: [make(Side::Left, &left_k), make(Side::Right, &right_k)],
-            base_kinematics: [left_k, right_k],
+            wings,
+            base_kinematics,
             controls,
             sim: sim.clone(),
             initial_position_m: pos,
@@ -444,9 +492,9 @@ impl VehicleSpec {
         }
         // The controlled kinematics must stay valid (checked before applying them, so the
         // error names the controls field rather than a wing).
-        for i in 0..2 {
+        for i in 0..vehicle.wings.len() {
             let k = vehicle.controlled_kinematics(i, &controls);
-            let side = if i == 0 { "left" } else { "right" };
+            let side = Vehicle::wing_name(i);
             v.within_open_low(
                 &format!("controls (resulting {side} stroke amplitude, deg)"),
                 k.amplitude_rad.to_degrees(),
@@ -477,9 +525,11 @@ impl Vehicle {
         self.mass_kg * self.gravity_m_s2
     }
 
-    /// The kinematics of wing `i` (0 left, 1 right) under `controls`.
+    /// The kinematics of wing `i` (even left, odd right; 0 and 1 the first pair) under
+    /// `controls`: every pair gets the same offsets (the left-minus-right ones split between
+    /// each pair's two wings).
     pub fn controlled_kinematics(&self, i: usize, c: &Controls) -> Kinematics {
-        let half = if i == 0 { 0.5 } else { -0.5 };
+        let half = if i % 2 == 0 { 0.5 } else { -0.5 };
         let base = &self.base_kinematics[i];
         // A measured table has no mid-stroke angle of attack; apply_controls refuses an
         // offset on one before it gets here.
@@ -493,7 +543,7 @@ impl Vehicle {
         k
     }
 
-    /// Applies control inputs to both wings (call between wingbeats): kinematic offsets for
+    /// Applies control inputs to every wing (call between wingbeats): kinematic offsets for
     /// prescribed kinematics, drive offsets (on the model's drives) for an actuated vehicle;
     /// offsets of the other kind are an error.
     pub fn apply_controls(&mut self, c: &Controls) -> Result<()> {
@@ -517,7 +567,7 @@ impl Vehicle {
                 self.name, c.bias_v, c.amplitude_v
             )));
         }
-        for i in 0..2 {
+        for i in 0..self.wings.len() {
             if c.aoa_rad != 0.0 {
                 let Some((down, up)) = self.base_kinematics[i].mid_stroke_aoa_rad() else {
                     return Err(crate::Error::Analysis(format!(
@@ -552,8 +602,48 @@ impl Vehicle {
             self.wings[i].set_kinematics(k);
         }
         self.controls = *c;
-        self.mirror_symmetric = self.wings[0].kinematics() == self.wings[1].kinematics();
+        self.mirror_symmetric = self
+            .wings
+            .chunks(2)
+            .all(|p| p.len() == 2 && p[0].kinematics() == p[1].kinematics());
         Ok(())
+    }
+
+    /// Wing `i`'s name in messages: `left` and `right` for the first pair, `pairs[k] left`
+    /// and `pairs[k] right` for the model file's `[[pairs]]` entry k.
+    pub fn wing_name(i: usize) -> String {
+        let side = if i % 2 == 0 { "left" } else { "right" };
+        match i / 2 {
+            0 => side.to_string(),
+            p => format!("pairs[{}] {side}", p - 1),
+        }
+    }
+
+    /// Number of wing pairs (1 for a two-winged vehicle).
+    pub fn pair_count(&self) -> usize {
+        self.wings.len() / 2
+    }
+
+    /// The wing pairs' wingbeat leads over the first pair, wingbeats (0 for the first).
+    pub fn pair_phase_offsets(&self) -> Vec<f64> {
+        self.wings
+            .chunks(2)
+            .map(|p| p[0].kinematics().phase_offset)
+            .collect()
+    }
+
+    /// Refuses a vehicle with more than one wing pair in a component that supports one pair
+    /// only: an error naming the model (`name`), what refuses it, and what is allowed.
+    pub fn require_one_pair(&self, what: &str) -> Result<()> {
+        if self.wings.len() == 2 {
+            return Ok(());
+        }
+        Err(crate::Error::Input(format!(
+            "{}: {} wings in {} pairs ([[pairs]] in the model file); {what} supports one left/right pair only (a model without [[pairs]])",
+            self.name,
+            self.wings.len(),
+            self.pair_count()
+        )))
     }
 
     /// Whether the control channels are drive parameters (an actuated vehicle).
@@ -595,6 +685,107 @@ impl Vehicle {
             Some(a) => a.drives[0].freq_hz,
             None => self.wings[0].kinematics().freq_hz,
         }
+    }
+}
+
+/// A validated further pair: its geometry, left hinge, stroke-plane tilt (rad) and the
+/// kinematics of its left and right wings (with the phase offset).
+struct BuiltPair {
+    geometry: wingforce::Geometry,
+    hinge_left: Vector3<f64>,
+    tilt: f64,
+    kinematics: [Kinematics; 2],
+}
+
+impl VehicleSpec {
+    /// Validates `[[pairs]]` entry `p`: its fields are named `pairs[p].…` in errors.
+    fn build_pair(
+        &self,
+        v: &Validator<'_>,
+        p: usize,
+        pair: &PairSpec,
+        first_geometry: &wingforce::Geometry,
+        first_kinematics: [&Kinematics; 2],
+    ) -> Result<BuiltPair> {
+        let field = format!("pairs[{p}]");
+        let allowed = "the pair's wingbeat lead over the first pair, deg: a finite number in [-360, 360] (required; 180 = half a wingbeat)";
+        let offset_deg = match pair.phase_offset_deg {
+            None => {
+                return Err(v
+                    .invalid(&format!("{field}.phase_offset_deg"), "missing", allowed)
+                    .into());
+            }
+            Some(x) if !(x.is_finite() && (-360.0..=360.0).contains(&x)) => {
+                return Err(v
+                    .invalid(&format!("{field}.phase_offset_deg"), x, allowed)
+                    .into());
+            }
+            Some(x) => x,
+        };
+        let (hinge_left, tilt) = build_hinge(v, &format!("{field}.hinge"), &pair.hinge)?;
+        let geometry = match &pair.wing {
+            Some(w) => build_geometry(w, v, &format!("{field}.wing"), &self.aero)?,
+            None => first_geometry.clone(),
+        };
+        let mut kinematics = match &pair.kinematics {
+            Some(k) => {
+                let k = k.build(v, &format!("{field}.kinematics"), geometry.r_gyration_m)?;
+                [k.clone(), k]
+            }
+            None => [first_kinematics[0].clone(), first_kinematics[1].clone()],
+        };
+        let f0 = first_kinematics[0].freq_hz;
+        if kinematics[0].freq_hz != f0 {
+            return Err(v
+                .invalid(
+                    &format!("{field}.kinematics (frequency, Hz)"),
+                    kinematics[0].freq_hz,
+                    &format!(
+                        "the first pair's frequency, {f0} Hz: all wings flap at one frequency"
+                    ),
+                )
+                .into());
+        }
+        for k in &mut kinematics {
+            k.phase_offset = offset_deg / 360.0;
+        }
+        Ok(BuiltPair {
+            geometry,
+            hinge_left,
+            tilt,
+            kinematics,
+        })
+    }
+}
+
+/// A `[hinge]` table validated: the left hinge in the body, m, and the stroke-plane tilt, rad.
+fn build_hinge(v: &Validator<'_>, field: &str, h: &HingeSpec) -> Result<(Vector3<f64>, f64)> {
+    let [hx, hy, hz] = h.left_in_body_m;
+    for (i, x) in [hx, hy, hz].into_iter().enumerate() {
+        v.within(&format!("{field}.left_in_body_m[{i}]"), x, -1.0, 1.0)?;
+    }
+    let tilt = v
+        .within(
+            &format!("{field}.stroke_plane_tilt_deg"),
+            h.stroke_plane_tilt_deg,
+            -90.0,
+            90.0,
+        )?
+        .to_radians();
+    Ok((Vector3::new(hx, hy, hz), tilt))
+}
+
+/// The mount of the `side` wing of a pair whose left hinge is `hinge_left` (the right one
+/// mirrors it in y).
+fn mount(hinge_left: Vector3<f64>, tilt: f64, side: Side) -> Mount {
+    Mount {
+        side,
+        hinge_in_body_m: if side == Side::Left {
+            hinge_left
+        } else {
+            Vector3::new(hinge_left.x, -hinge_left.y, hinge_left.z)
+        },
+        stroke_plane_tilt_rad: tilt,
     }
 }
 

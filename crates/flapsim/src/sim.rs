@@ -58,9 +58,10 @@ pub struct StepOutput {
     pub phase: f64,
     /// State at t_k.
     pub state: State,
-    /// Each wing's forces (0 left, 1 right).
+    /// The first pair's forces (0 left, 1 right). A vehicle with further pairs (`[[pairs]]`)
+    /// has theirs in the totals below and each wing's in [`Simulation::wings`]' output.
     pub wings: [WingForces; 2],
-    /// Aerodynamic load of each term, both wings, about the CoM.
+    /// Aerodynamic load of each term, all wings, about the CoM.
     pub terms: [BodyLoad; 4],
     /// Inertial reaction of the wings' masses (zero for massless wings).
     pub wing_inertia: BodyLoad,

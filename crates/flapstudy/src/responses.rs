@@ -154,6 +154,8 @@ impl HoverResponses {
 /// (an actuated vehicle: over one period of its wings' periodic motion, at the simulation's
 /// step; see [`flapsim::actuated::periodic`]).
 pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> flapsim::Result<HoverResponses> {
+    // The per-wing coefficient means and the wake-capture inputs are those of one pair.
+    vehicle.require_one_pair("flapstudy's hover responses")?;
     let still = BodyMotion::default();
     let state = FrozenState {
         world_from_body: vehicle.initial_attitude,
@@ -164,7 +166,7 @@ pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> flapsim::Result<Hover
     // periodic motion.
     let (loads, samples, wings) = if vehicle.actuation.is_some() {
         let p = flapsim::actuated::periodic::settle(vehicle, &still)?;
-        (p.mean, p.samples, p.wings)
+        (p.mean, p.samples, p.wings.to_vec())
     } else {
         let samples = (0..steps)
             .map(|k| {

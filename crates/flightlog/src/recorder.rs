@@ -160,8 +160,12 @@ impl Recorder {
     ///
     /// Errors: an invalid `log_rate_hz` (not finite and > 0), an uncreatable file, a Rerun or
     /// Foxglove option without its feature, no Rerun viewer to spawn or connect to, an
-    /// address the live server cannot listen on.
+    /// address the live server cannot listen on, a vehicle with more than one wing pair.
     pub fn create(options: &LogOptions, info: &RunInfo, vehicle: &Vehicle) -> Result<Self> {
+        // The log's wing channels (kinematics, forces, scene) are the two wings of one pair.
+        vehicle.require_one_pair(
+            "flight logging (the log's per-wing channels; write no log: `--no-log`)",
+        )?;
         if let Some(r) = options.log_rate_hz
             && !(r.is_finite() && r > 0.0)
         {

@@ -13,7 +13,7 @@ use crate::vehicle::{build_vehicle, check_duration, read_vehicle, sim_error};
 /// Arguments of `flapwing simulate`.
 #[derive(Debug, clap::Args)]
 pub struct SimulateArgs {
-    /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic; actuated: robobee, hummingbird).
+    /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic, dragonfly; actuated: robobee, hummingbird).
     #[arg(long, value_name = "FILE|NAME")]
     pub model: Option<String>,
     /// Simulated time, s.

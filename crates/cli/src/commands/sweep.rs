@@ -284,7 +284,7 @@ pub fn load_study(path: &Path) -> anyhow::Result<Study> {
             let base_path = dir.join(&spec.base_model);
             let shown = base_path.display().to_string();
             let text = std::fs::read_to_string(&base_path).input_context(format!(
-                "{origin}: base_model `{}` is not a built-in model (drosophila, bumblebee, robobee_kinematic, robobee, hummingbird) and `{shown}` cannot be read",
+                "{origin}: base_model `{}` is not a built-in model (drosophila, bumblebee, robobee_kinematic, dragonfly, robobee, hummingbird) and `{shown}` cannot be read",
                 spec.base_model
             ))?;
             (text, shown)

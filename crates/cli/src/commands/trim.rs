@@ -11,7 +11,7 @@ use crate::vehicle::{TrimRow, build_vehicle, read_vehicle, sim_error, trim_rows}
 /// Arguments of `flapwing trim`.
 #[derive(Debug, clap::Args)]
 pub struct TrimArgs {
-    /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic; actuated: robobee, hummingbird).
+    /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic, dragonfly; actuated: robobee, hummingbird).
     #[arg(long, value_name = "FILE|NAME")]
     pub model: Option<String>,
     /// What carries the weight: the stroke amplitude, the mid-stroke angle of attack (both

@@ -164,7 +164,7 @@ pub fn run_tethered(
             vehicle.name
         ))
     })?;
-    let mut wings = vehicle.wings.clone();
+    let mut wings: [wingforce::Wing; 2] = [vehicle.wings[0].clone(), vehicle.wings[1].clone()];
     let mut dyns = Vec::with_capacity(2);
     for d in &act.drives {
         let mut drive = *d;

@@ -174,6 +174,7 @@ impl KinematicsSpec {
                     amplitude_rad,
                     mean_stroke_rad: mean(*mean_stroke_deg)?,
                     pitch_bias_rad: bias(*pitch_bias_deg)?,
+                    phase_offset: 0.0,
                 })
             }
             KinematicsSpec::Harmonic {
@@ -203,6 +204,7 @@ impl KinematicsSpec {
                 amplitude_rad: amp(*amplitude_deg)?,
                 mean_stroke_rad: mean(*mean_stroke_deg)?,
                 pitch_bias_rad: bias(*pitch_bias_deg)?,
+                phase_offset: 0.0,
             }),
             KinematicsSpec::HarmonicFlip {
                 freq_hz,
@@ -230,6 +232,7 @@ impl KinematicsSpec {
                 amplitude_rad: amp(*amplitude_deg)?,
                 mean_stroke_rad: mean(*mean_stroke_deg)?,
                 pitch_bias_rad: bias(*pitch_bias_deg)?,
+                phase_offset: 0.0,
             }),
             KinematicsSpec::Tabulated {
                 t_s,
@@ -345,6 +348,7 @@ impl KinematicsSpec {
                     amplitude_rad: amplitude,
                     mean_stroke_rad: mean,
                     pitch_bias_rad: 0.0,
+                    phase_offset: 0.0,
                 })
             }
         }

@@ -56,6 +56,12 @@ pub struct Kinematics {
     pub mean_stroke_rad: f64,
     /// Pitch bias added to theta, rad.
     pub pitch_bias_rad: f64,
+    /// Phase lead over the wingbeat clock, in wingbeats (cycles): the wing is evaluated at
+    /// `phase + phase_offset`, so its reversals, angles and t* come this fraction of a
+    /// wingbeat earlier. 0 for every wing of a single pair; a vehicle's further wing pairs
+    /// (a dragonfly's hindwings) carry their lead over the first pair here, so every place
+    /// that evaluates the wing (the wing set, cycle means, trim) sees it.
+    pub phase_offset: f64,
 }
 
 impl Kinematics {
@@ -64,8 +70,21 @@ impl Kinematics {
         1.0 / self.freq_hz
     }
 
-    /// Angles and derivatives at `phase` (in wingbeats; any real number).
+    /// The wing's own phase at wingbeat-clock `phase`: `phase + phase_offset` (exactly
+    /// `phase` when the offset is 0, so a wing without one is evaluated bit for bit as before).
+    #[inline]
+    pub fn own_phase(&self, phase: f64) -> f64 {
+        if self.phase_offset == 0.0 {
+            phase
+        } else {
+            phase + self.phase_offset
+        }
+    }
+
+    /// Angles and derivatives at wingbeat-clock `phase` (in wingbeats; any real number; the
+    /// wing's [`Kinematics::phase_offset`] is added).
     pub fn angles(&self, phase: f64) -> WingAngles {
+        let phase = self.own_phase(phase);
         let f = self.freq_hz;
         let tau = phase - phase.floor();
         let (phi_u, dphi_u, ddphi_u, theta, dtheta_u, ddtheta_u, eta, deta_u, ddeta_u) =
@@ -156,8 +175,10 @@ impl Kinematics {
         }
     }
 
-    /// Which half stroke `phase` lies in, and t* since its reversal.
+    /// Which half stroke wingbeat-clock `phase` lies in (the wing's phase offset added), and
+    /// t* since its reversal.
     pub fn stroke_phase(&self, phase: f64) -> StrokePhase {
+        let phase = self.own_phase(phase);
         match &self.shape {
             Shape::Tabulated(t) => {
                 let cycle = phase.floor();
