@@ -250,6 +250,36 @@ typedef struct FlapwingWingState {
   double hinge_moment_nm;
 } FlapwingWingState;
 
+/**
+ * A trim: what `flapwing_wings_trim` found and set.
+ */
+typedef struct FlapwingTrim {
+  /**
+   * The trimmed controls (now in force on the handle; `flapwing_wings_controls` reads them).
+   */
+  struct FlapwingControls controls;
+  /**
+   * Body pitch at trim, rad (nose up).
+   */
+  double pitch_rad;
+  /**
+   * The body's attitude at trim, world_from_body, w x y z.
+   */
+  double world_from_body_wxyz[4];
+  /**
+   * The body's velocity at trim, world, m/s (the flight condition's).
+   */
+  double velocity_world_m_s[3];
+  /**
+   * The first stroke plane's angle to the horizontal, rad (its normal tilted forward > 0).
+   */
+  double stroke_plane_angle_rad;
+  /**
+   * The wings' cycle-mean aerodynamic power at trim, W.
+   */
+  double aero_power_w;
+} FlapwingTrim;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -441,6 +471,23 @@ const char *flapwing_last_error(void);
  * The library version, e.g. "0.1.0" (static; never NULL).
  */
 const char *flapwing_version(void);
+
+/**
+ * Trims the handle's vehicle at a flight condition (forward speed along world x and climb
+ * rate, m/s, through still air; 0 and 0 is hover) and sets the handle to fly there: the
+ * trimmed controls in force and the induced inflow frozen at the condition, the body
+ * properties' initial attitude at the trim. Only before the first step (the handle's wing
+ * set is rebuilt at the trim); afterwards, or for a bad condition, FLAPWING_INVALID_ARGUMENT
+ * naming the value and what is allowed; no trim found: FLAPWING_INVALID_ARGUMENT with the
+ * reason, and the handle unchanged. `out` may be NULL when only the setting is wanted.
+ *
+ * # Safety
+ * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+ */
+enum FlapwingStatus flapwing_wings_trim(struct FlapwingWings *wings,
+                                        double forward_speed_m_s,
+                                        double climb_rate_m_s,
+                                        struct FlapwingTrim *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -28,6 +28,7 @@
 //! (and `FLAPWING_OK`) before the first step, as [`flapsim::WingSet::output`] does.
 
 mod error;
+mod flight;
 mod types;
 
 use std::ffi::{CStr, c_char};
@@ -37,6 +38,7 @@ use nalgebra::Vector3;
 
 pub use error::FlapwingStatus;
 use error::{Failure, guard};
+pub use flight::{FlapwingTrim, flapwing_wings_trim};
 pub use types::*;
 
 /// A C string argument as UTF-8.

@@ -9,6 +9,7 @@
 
 mod convert;
 mod env;
+mod flight;
 mod interrupt;
 mod logs;
 mod sim;
@@ -80,6 +81,7 @@ fn _flapwing(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(builtin_models, m)?)?;
     m.add_function(wrap_pyfunction!(builtin_wings, m)?)?;
+    m.add_function(wrap_pyfunction!(flight::envelope, m)?)?;
     m.add_class::<wing::Wing>()?;
     m.add_class::<vehicle::Vehicle>()?;
     m.add_class::<vehicle::HoverController>()?;

@@ -10,6 +10,7 @@ use pyo3::types::PyDict;
 use crate::convert::{arg_int, matrix, merge_record, model_text, record};
 use crate::sim_err;
 use crate::state::state_from_dict;
+use flapsim::flight::FlightCondition;
 
 /// The built-in vehicles, by name.
 pub const BUILTIN_VEHICLES: [&str; 5] = [
@@ -68,6 +69,17 @@ impl Vehicle {
     fn trim_value(&self) -> PyResult<flapsim::trim::Trim> {
         flapsim::trim::trim(&self.vehicle).map_err(sim_err)
     }
+
+    /// The trim at a flight condition (hover when both are zero).
+    fn trim_at(&self, condition: &FlightCondition) -> PyResult<flapsim::trim::Trim> {
+        flapsim::trim::trim_at(&self.vehicle, self.vehicle.trim_lift, condition).map_err(sim_err)
+    }
+}
+
+/// The flight condition of `speed_m_s` and `climb_m_s`, or a `ValueError` naming them.
+pub(crate) fn condition(speed_m_s: f64, climb_m_s: f64) -> PyResult<FlightCondition> {
+    FlightCondition::new(speed_m_s, climb_m_s)
+        .map_err(|e| PyValueError::new_err(format!("speed_m_s / climb_m_s: {e}")))
 }
 
 /// (Re, Im) pairs of modes as a complex numpy array.
@@ -195,17 +207,29 @@ impl Vehicle {
         Ok(v)
     }
 
-    /// Hover trim (flapsim::trim): controls, body pitch and residuals, as a dict.
-    /// Raises `AnalysisError` when no trim is found.
-    fn trim<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let t = py.detach(|| self.trim_value())?;
+    /// Trim (flapsim::trim) in hover or at a flight condition (forward speed `speed_m_s`,
+    /// climb rate `climb_m_s`; flapsim::flight): condition, controls, body pitch and
+    /// residuals, as a dict. Raises `AnalysisError` when no trim is found, `ValueError` for
+    /// a bad condition.
+    #[pyo3(signature = (speed_m_s = 0.0, climb_m_s = 0.0))]
+    fn trim<'py>(
+        &self,
+        py: Python<'py>,
+        speed_m_s: f64,
+        climb_m_s: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let c = condition(speed_m_s, climb_m_s)?;
+        let t = py.detach(|| self.trim_at(&c))?;
         record(py, &t)
     }
 
-    /// The vehicle flying at its hover trim (controls applied, attitude at the trim pitch).
-    fn trimmed(&self, py: Python<'_>) -> PyResult<Self> {
+    /// The vehicle flying at its trim (controls applied, attitude at the trim pitch, and at
+    /// a flight condition its velocity and the induced inflow frozen there).
+    #[pyo3(signature = (speed_m_s = 0.0, climb_m_s = 0.0))]
+    fn trimmed(&self, py: Python<'_>, speed_m_s: f64, climb_m_s: f64) -> PyResult<Self> {
+        let c = condition(speed_m_s, climb_m_s)?;
         let v = py.detach(|| -> PyResult<flapsim::Vehicle> {
-            let t = self.trim_value()?;
+            let t = self.trim_at(&c)?;
             let mut v = flapsim::trim::trimmed_vehicle(&self.vehicle, &t).map_err(sim_err)?;
             v.initial_attitude = t.attitude();
             Ok(v)
@@ -226,10 +250,18 @@ impl Vehicle {
     /// eigenvalues mu), `floquet_exponents` (ln(mu) / T, so mu = exp(exponent T) with T =
     /// `floquet_period_s`) and `floquet_eigenvectors` (complex, column k the eigenvector of
     /// multiplier k: Phi v = mu v, unit norm, largest entry real and positive).
-    #[pyo3(signature = (floquet = true))]
-    fn stability<'py>(&self, py: Python<'py>, floquet: bool) -> PyResult<Bound<'py, PyAny>> {
+    /// `speed_m_s` and `climb_m_s` analyse about the trim at that flight condition.
+    #[pyo3(signature = (floquet = true, speed_m_s = 0.0, climb_m_s = 0.0))]
+    fn stability<'py>(
+        &self,
+        py: Python<'py>,
+        floquet: bool,
+        speed_m_s: f64,
+        climb_m_s: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let c = condition(speed_m_s, climb_m_s)?;
         let r = py
-            .detach(|| flapsim::stability::analyze(&self.vehicle, floquet))
+            .detach(|| flapsim::stability::analyze_at(&self.vehicle, &c, floquet))
             .map_err(sim_err)?;
         let d = record(py, &r)?;
         let dict = d.cast::<PyDict>()?;

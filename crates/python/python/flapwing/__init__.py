@@ -6,7 +6,10 @@ body x forward, y left, z up, origin at the centre of mass).
 
 - `Wing`: one wing's four force terms (translational, rotational, added mass, wake capture)
   and their total at a phase, or over many phases in one call.
-- `Vehicle`: a vehicle model (built-in name or file): trim, stability, LQR design.
+- `Vehicle`: a vehicle model (built-in name or file): trim and stability in hover or at a
+  flight condition (`speed_m_s`, `climb_m_s`), LQR design.
+- `envelope(vehicle, speeds_m_s, climbs_m_s)`: trim, power, limit margin and modes over a
+  grid of flight conditions, in parallel.
 - `Simulation`: the vehicle on rapier3d-f64, stepped one step or many per call.
 - `WingSet`: the wings alone as a force element for your own simulator (PyBullet, Isaac, a
   numpy integrator): give it the body's state each step, apply the wrench it returns.
@@ -38,6 +41,7 @@ from ._flapwing import (
     Wing,
     WingSet,
     builtin_models,
+    envelope,
     log_damage,
     log_topics,
     read_channel,
@@ -64,6 +68,7 @@ __all__ = [
     "WingSet",
     "builtin_models",
     "builtin_wings",
+    "envelope",
     "log_damage",
     "log_topics",
     "read_channel",

@@ -38,6 +38,13 @@ def builtin_wings() -> list[str]:
     """Names of the built-in wing-only models (`robofly`); `Wing` takes these and every
     vehicle of `builtin_models()`."""
 
+def envelope(vehicle: "Vehicle", speeds_m_s: Sequence[float],
+             climbs_m_s: Optional[Sequence[float]] = None) -> list[dict[str, Any]]:
+    """Trim, power, limit margin and modes at every forward speed with every climb rate
+    (default [0.0]), in parallel: one dict per condition (climb rates outermost) with
+    `condition`, `point` (None when it does not trim) and `no_trim_reason`. ValueError for
+    an empty or non-finite grid; Ctrl-C raises KeyboardInterrupt."""
+
 def log_topics(path: str) -> list[str]:
     """The topics of a flapwing MCAP log."""
 
@@ -124,11 +131,14 @@ class Vehicle:
     def controls(self) -> dict[str, float]: ...
     def with_controls(self, **controls: float) -> "Vehicle": ...
     def with_initial_state(self, state: dict[str, Any]) -> "Vehicle": ...
-    def trim(self) -> dict[str, Any]:
-        """Hover trim: controls, pitch_rad, residuals, iterations, lift_variable."""
-    def trimmed(self) -> "Vehicle":
-        """The vehicle at its trim (controls applied, attitude at the trim pitch)."""
-    def stability(self, floquet: bool = True) -> dict[str, Any]:
+    def trim(self, speed_m_s: float = 0.0, climb_m_s: float = 0.0) -> dict[str, Any]:
+        """Trim in hover or at a flight condition (forward speed, climb rate, m/s):
+        condition, controls, pitch_rad, residuals, iterations, lift_variable."""
+    def trimmed(self, speed_m_s: float = 0.0, climb_m_s: float = 0.0) -> "Vehicle":
+        """The vehicle at its trim (controls applied, attitude at the trim pitch; at a
+        flight condition its velocity, and the induced inflow frozen there)."""
+    def stability(self, floquet: bool = True, speed_m_s: float = 0.0,
+                  climb_m_s: float = 0.0) -> dict[str, Any]:
         """a_longitudinal, a_lateral (arrays) with their state names, eigenvalues_* (complex
         arrays), *_modes (eigenvalue, eigenvector, description), derivatives, and with
         `floquet` the Floquet analysis of the longitudinal motion: floquet_monodromy (the

@@ -1,0 +1,36 @@
+//! `flapwing.envelope`: the flight envelope of flapstudy::envelope from Python, its points
+//! in parallel with the GIL released, Ctrl-C stopping the points not yet started.
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::sync::atomic::Ordering;
+
+use crate::convert::record;
+use crate::vehicle::Vehicle;
+
+/// The envelope of `vehicle` over every forward speed of `speeds_m_s` with every climb rate
+/// of `climbs_m_s` (default `[0.0]`): a list of dicts, one per condition in that order
+/// (climb rates outermost), each with `condition`, `point` (the trim, the stroke-plane angle,
+/// amplitude, power and downwash, the limit margin and the modes; `None` when the point does
+/// not trim) and `no_trim_reason`. Raises `ValueError` for an empty or non-finite grid and
+/// `KeyboardInterrupt` on Ctrl-C.
+#[pyfunction]
+#[pyo3(signature = (vehicle, speeds_m_s, climbs_m_s = None))]
+pub fn envelope<'py>(
+    py: Python<'py>,
+    vehicle: &Vehicle,
+    speeds_m_s: Vec<f64>,
+    climbs_m_s: Option<Vec<f64>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let grid = flapstudy::envelope::EnvelopeGrid::new(
+        speeds_m_s,
+        climbs_m_s.unwrap_or_else(|| vec![0.0]),
+        "speeds_m_s / climbs_m_s",
+    )
+    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let v = &vehicle.vehicle;
+    let rows = crate::interrupt::watch(py, |stop| {
+        flapstudy::envelope::envelope(v, &grid, &|_| {}, &|| stop.load(Ordering::Relaxed))
+    })?;
+    record(py, &rows)
+}
