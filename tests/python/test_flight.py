@@ -26,12 +26,12 @@ def test_hover_is_the_default_condition_and_speed_lowers_the_nose():
 def test_the_trimmed_vehicle_flies_on_at_its_speed():
     bee = flapwing.Vehicle("bumblebee").trimmed(speed_m_s=2.5)
     sim = flapwing.Simulation(bee, mode="longitudinal")
-    assert sim.state()["velocity_m_s"][0] == pytest.approx(2.5)
+    assert sim.state["velocity_m_s"][0] == pytest.approx(2.5)
     for _ in range(sim.steps_per_wingbeat):
         sim.step()
     # One wingbeat later it still flies at the trimmed speed (the trim is an equilibrium of
     # the averaged model; the wingbeat's oscillation is a few per cent at most).
-    assert sim.state()["velocity_m_s"][0] == pytest.approx(2.5, rel=0.03)
+    assert sim.state["velocity_m_s"][0] == pytest.approx(2.5, rel=0.03)
 
 
 def test_stability_at_a_condition_and_the_envelope():
