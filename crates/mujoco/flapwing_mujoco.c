@@ -22,8 +22,9 @@
  * non-finite wrench is a mju_warning (once per run of failures) and the wrench is zero.
  * Nothing here calls mju_error.
  *
- * Controls: the model's `[controls]`, with the control attributes in place of theirs, set at
- * load. At run time, actuators named `<plugin instance name>:<field>` (the field's SI name,
+ * Controls: the model's `[controls]` (or, with the `trim` attribute "U W", the trim at forward
+ * speed U and climb rate W, m/s: flapwing_wings_trim), with the control attributes in place
+ * of theirs, set at load. At run time, actuators named `<plugin instance name>:<field>` (the field's SI name,
  * e.g. `wings:diff_amplitude_rad`; give them zero gear so that they push nothing themselves)
  * drive those fields: their ctrl values (SI) go to the wings when they change and take effect
  * at the next wingbeat, as in flapwing's own hosts.
@@ -53,6 +54,7 @@
 enum {
   ATTR_MODEL = 0,
   ATTR_WIND,
+  ATTR_TRIM,
   ATTR_FIRST_CONTROL, /* the controls, in the order of kControls below */
 };
 
@@ -93,6 +95,8 @@ typedef struct Config {
   FlapwingControls controls;    /* SI; the given fields (the rest keep the model's) */
   int has_wind;
   double wind_world_m_s[3];
+  int has_trim;
+  double trim_m_s[2];           /* flight condition to trim at: forward speed, climb rate */
   double dt_s;                  /* m->opt.timestep */
 } Config;
 
@@ -171,6 +175,18 @@ static int read_config(const mjModel *m, int instance, Config *c, char *msg, siz
     c->has_wind = 1;
   }
 
+  const char *trim = attribute(m, instance, "trim");
+  if (trim) {
+    if (parse_numbers(trim, c->trim_m_s, 2) != 0) {
+      snprintf(msg, nmsg,
+               "attribute `trim` = \"%s\"; allowed: two finite numbers, the forward speed and "
+               "climb rate in m/s to trim at (0 0: hover)",
+               trim);
+      return -1;
+    }
+    c->has_trim = 1;
+  }
+
   for (int i = 0; i < NCONTROL; i++) {
     const char *text = attribute(m, instance, kControls[i].name);
     if (!text) continue;
@@ -212,6 +228,14 @@ static FlapwingWings *create_wings(const Config *c, FlapwingControls *base, char
     snprintf(msg, nmsg, "model `%s` (as %s, step %.17g s): %s", c->model,
              is_builtin_name(c->model) ? "a built-in name" : "a TOML file", c->dt_s,
              flapwing_last_error());
+    return NULL;
+  }
+  /* Trim first (flapwing_wings_trim sets the trimmed controls and freezes the induced inflow
+   * at the condition); the control attributes then replace their fields. */
+  if (c->has_trim && flapwing_wings_trim(w, c->trim_m_s[0], c->trim_m_s[1], NULL) != FLAPWING_OK) {
+    snprintf(msg, nmsg, "attribute `trim` (%.17g %.17g m/s): %s", c->trim_m_s[0], c->trim_m_s[1],
+             flapwing_last_error());
+    flapwing_wings_free(w);
     return NULL;
   }
   int any = 0;
@@ -469,6 +493,7 @@ static void plugin_advance(const mjModel *m, mjData *d, int instance) {
 mjPLUGIN_LIB_INIT(flapwing_wings) {
   kAttributes[ATTR_MODEL] = "model";
   kAttributes[ATTR_WIND] = "wind";
+  kAttributes[ATTR_TRIM] = "trim";
   for (int i = 0; i < NCONTROL; i++) kAttributes[ATTR_FIRST_CONTROL + i] = kControls[i].name;
 
   mjpPlugin plugin;

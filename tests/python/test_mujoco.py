@@ -173,6 +173,37 @@ def test_bad_attribute_fails_the_load_naming_it(native, config, names):
         assert n in str(e.value), str(e.value)
 
 
+def test_trim_attribute_flies_the_flight_condition(native):
+    """`trim="U W"` trims at load (flapwing_wings_trim): held at the trimmed attitude and
+    velocity, the wings' cycle-mean force carries the weight (no body drag in the fly's
+    model) as flapwing's trim says, to the averaged-versus-stepped difference (1e-3 of the
+    weight, the C ABI's own test)."""
+    import flapwing
+
+    fly = flapwing.Vehicle("drosophila")
+    t = fly.trim(speed_m_s=0.5)
+    m = mujoco.MjModel.from_xml_string(plugin.fly_xml(trim="0.5 0"))
+    m.opt.gravity[:] = 0
+    d = mujoco.MjData(m)
+    half = -0.5 * t["pitch_rad"]
+    d.qpos[3:7] = [math.cos(half), 0.0, math.sin(half), 0.0]
+    d.qvel[:] = 0
+    d.qvel[0] = 0.5
+    qpos0, qvel0 = d.qpos.copy(), d.qvel.copy()
+    f = np.zeros(3)
+    for _ in range(N):
+        mujoco.mj_step(m, d)
+        f += d.qfrc_passive[:3] / N  # free joint: world force on dofs 0-2
+        d.qpos[:], d.qvel[:] = qpos0, qvel0
+    weight = 1e-6 * 9.81
+    assert abs(f[2] - weight) < 1e-3 * weight, (f, weight)
+    assert abs(f[0]) < 1e-3 * weight, f
+    with pytest.raises(ValueError, match="attribute `trim`"):
+        load(model="drosophila", trim="0.5")
+    with pytest.raises(ValueError, match="no trim at 50.00 m/s"):
+        load(model="drosophila", trim="50 0")
+
+
 def test_bad_model_file_fails_the_load_naming_it(native, tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[body]\nmass_kg = -1\n")
