@@ -154,7 +154,7 @@ impl Simulation {
         // A built vehicle's drives were checked against the voltage limit and its two wings
         // are on opposite sides: the wing set accepts every vehicle `Vehicle::from_toml` built.
         Self::try_new(vehicle, mode)
-            .expect("a vehicle that was built checks out as a wing set (model.rs checks)")
+            .expect("a vehicle that was built checks out as a wing set (model/build.rs checks)")
     }
 
     /// [`Simulation::new`], with the wing set's objections (a vehicle assembled by hand with

@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::{Error, Result};
-use crate::flight::FlightCondition;
+use crate::flight::condition::FlightCondition;
 use crate::model::{Controls, Vehicle};
 
 pub mod spec;
