@@ -139,11 +139,46 @@ pub fn trim_on(vehicle: &Vehicle, lift: LiftVariable) -> Result<Trim> {
 }
 
 /// Finds the trim of `vehicle` at `condition` varying `lift` to carry the weight, starting
-/// from its current controls and initial pitch.
+/// from its current controls and initial pitch. Away from hover, when Newton's method does
+/// not converge from there, it continues from the hover trim along the straight path of
+/// conditions to `condition` ([`CONTINUATION_STEPS`] steps, each starting from the last
+/// trim), and reports the first attempt's failure if that does not reach it either.
 pub fn trim_at(vehicle: &Vehicle, lift: LiftVariable, condition: &FlightCondition) -> Result<Trim> {
     let (_, p0, _) = vehicle.initial_attitude.euler_angles();
-    trim_from(vehicle, lift, condition, Vector3::new(0.0, 0.0, -p0))
+    let start = Vector3::new(0.0, 0.0, -p0);
+    let direct = trim_from(vehicle, lift, condition, start);
+    if condition.is_hover() || !matches!(direct, Err(Error::Analysis(_))) {
+        return direct;
+    }
+    let continued = (|| {
+        let mut x = trim_variables(
+            vehicle,
+            &trim_from(vehicle, lift, &FlightCondition::HOVER, start)?,
+        );
+        let mut last = None;
+        for k in 1..=CONTINUATION_STEPS {
+            let f = k as f64 / CONTINUATION_STEPS as f64;
+            let c = FlightCondition {
+                forward_speed_m_s: f * condition.forward_speed_m_s,
+                climb_rate_m_s: f * condition.climb_rate_m_s,
+            };
+            let t = trim_from(vehicle, lift, &c, x)?;
+            x = trim_variables(vehicle, &t);
+            last = Some(t);
+        }
+        last.ok_or_else(|| Error::Analysis("no continuation steps".into()))
+    })();
+    match continued {
+        Ok(mut t) => {
+            t.condition = *condition;
+            Ok(t)
+        }
+        Err(_) => direct,
+    }
 }
+
+/// Steps of the continuation from hover in [`trim_at`].
+pub const CONTINUATION_STEPS: usize = 8;
 
 /// Finds the trim of `vehicle` at `condition` from the trim variables `x0` (offsets of the
 /// lift variable and the mean stroke angle from the current controls, and the body pitch),
