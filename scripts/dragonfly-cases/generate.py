@@ -175,8 +175,8 @@ velocity_m_s = [{s * math.cos(g):.4f}, 0.0, {s * math.sin(g):.4f}]
     open(f"models/dragonfly_azuma1988_exp{k}.toml", "w").write(text)
 
 
-A85 = """Azuma, Azuma, Watanabe & Furuta 1985 ("Flight mechanics of a dragonfly", J Exp
-# Biol 116:79-107): the specimen, flight and Fourier series as digitised in the public repository
+A85 = """Azuma et al. 1985 ("Flight mechanics of a dragonfly", J Exp Biol
+# 116:79-107): the specimen, flight and Fourier series as digitised in the public repository
 # github.com/jpecquet/dragonfly-flight-control (cases/azuma1985/case.yaml, commit fe767a9, and
 # its page docs/validation/azuma1985.md, Tables 1-4, commit cf19b0a). That repository writes
 # the series in its simulator's convention (flapping phi = -paper, pitch psi = paper theta - 90
@@ -194,10 +194,11 @@ def write_1985():
     g, s = math.radians(60.0), 0.54
     text = f'''# Azuma et al. 1985 ("Flight mechanics of a dragonfly", J Exp Biol 116:79-107): a dragonfly
 # (Sympetrum frequens, as Azuma & Watanabe 1988's introduction names it: "can make steady
-# climbing flight", journals.biologists.com/jeb/article/137/1/221) in steady climbing flight at 0.54 m/s, 60 deg above the horizontal, 41.5 Hz. The paper's own
-# calculation of the forces (local circulation method, its force curves as digitised in the
-# repository's cases/azuma1985/paper_data.csv) averages to 2.557 mN up over the wingbeat: the
-# weight (260 mg: 2.551 mN), 1.002 of it.
+# climbing flight", journals.biologists.com/jeb/article/137/1/221) in steady climbing flight at
+# 0.54 m/s, 60 deg above the horizontal, 41.5 Hz. The paper's own calculation of the forces
+# (local circulation method; its fore- and hindwing force curves as digitised in the
+# repository's cases/azuma1985/paper_data.csv, commit 6b22936) averages 2.557 up over the
+# wingbeat, read as mN: the weight (260 mg, 2.551 mN), 1.002 of it.
 #
 # Source of the numbers: {A85}.
 # Written by scripts/dragonfly-cases/generate.py with models/dragonfly.toml's sampling.
