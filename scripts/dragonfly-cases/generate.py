@@ -62,6 +62,17 @@ A88 = """Azuma & Watanabe 1988 (J Exp Biol 137:221), Table 2 (flight) and Table 
 # (data/case_studies/azuma1988/case.json, cases/azuma1988_exp*/case.yaml, commit cf19b0a)"""
 
 # Azuma & Watanabe 1988, Table 2 (flight) and Table 3 (feathering at 0.75R).
+# Where Table 2's flapping-to-feathering phase difference disagrees with Table 3's 0.75R phase
+# (the files use Table 3; docs/models.md gives the forces with Table 2's values).
+TABLE_NOTES = {
+    1: ("hind", "Table 2 gives the hindwing's flapping-to-feathering phase difference as 102 deg,\n"
+                "#     i.e. a first-harmonic phase of 51 + 102 = 153 deg, 29 deg from Table 3's -178 (used here)"),
+    3: ("hind", "Table 2 gives the hindwing's flapping-to-feathering phase difference as 95 deg,\n"
+                "#     i.e. a first-harmonic phase of 61 + 95 = 156 deg, 40 deg from Table 3's -164 (used here)"),
+    4: ("fore", "Table 2 gives the forewing's flapping-to-feathering phase difference as 89 deg,\n"
+                "#     10 deg from Table 3's 99 (used here)"),
+}
+
 EXPERIMENTS = {
     1: dict(fly="A", V=0.7, Gamma=-12.0, Theta=20.0, f=26.5, gf=40, gh=38, gfb=60, ghb=58, pf=36, ph=26, dh=51, n=1.1,
             tf=(100, [(54, 89), (2, -88), (7, 52), (1, -7)]), th=(107, [(38, -178), (6, -112), (2, -37), (1, -216)])),
@@ -90,6 +101,9 @@ def write_1988(k):
     hind, shifted = wing_tables(e["f"], 0.0, e["ph"], *e["th"], -2.0, float(e["dh"]))
     shifted = [(a, ((p + 180) % 360) - 180) for a, p in shifted]
     g, s = math.radians(e["Gamma"]), e["V"]
+    note = TABLE_NOTES.get(k)
+    fnote = f"\n#   note: {note[1]};" if note and note[0] == "fore" else ""
+    hnote = f"\n#   note: {note[1]};" if note and note[0] == "hind" else ""
     b_note = ("" if e["fly"] == "A" else
               "\n# Dragonfly B: its own morphology (the paper's Table 1) was not read in this session; the\n"
               "# repository's case data reuse dragonfly A's numbers for B, and so does this file (estimate).")
@@ -134,7 +148,7 @@ stroke_plane_tilt_deg = {float(e["gfb"]):.1f}
 [kinematics]
 # Table 2 and 3, sampled 48 times a wingbeat at f = {e["f"]} Hz:
 #   stroke: phi = -{e["pf"]} cos(w t) deg (flapping amplitude psi_f = {e["pf"]} deg, a {2 * e["pf"]} deg stroke; t = 0 the top);
-#   pitch (feathering at 0.75R): theta = {fmt_series(*e["tf"])} deg;
+#   pitch (feathering at 0.75R): theta = {fmt_series(*e["tf"])} deg;{fnote}
 #   deviation: the forewing's coning angle, +8 deg (A&W 1988, as models/dragonfly.toml).
 {fore}
 
@@ -160,7 +174,7 @@ pitch_axis_from_le_frac = 0.25      # estimate: as the forewing
 # Table 2 and 3, in the hindwing's own wingbeat (each pitch harmonic n moved by -{e["dh"]} n deg):
 #   stroke: phi = -{e["ph"]} cos(w t') deg (psi_h = {e["ph"]} deg);
 #   pitch, published: theta = {fmt_series(*e["th"])} deg,
-#     in the hindwing's time: theta = {fmt_series(e["th"][0], shifted, "w t'")} deg;
+#     in the hindwing's time: theta = {fmt_series(e["th"][0], shifted, "w t'")} deg;{hnote}
 #   deviation: coning -2 deg (A&W 1988, as models/dragonfly.toml).
 {hind}
 
