@@ -30,7 +30,7 @@
 //!
 //! | case | V, m/s | vertical / weight | horizontal / weight | published | |
 //! |---|---|---|---|---|---|
-//! | 1985 climb | 0.54 at 60 deg | 1.411 | +0.992 | 1 and 0 (the paper's own forces: 1.002) | **miss**, 41% over and a large thrust |
+//! | 1985 climb | 0.54 at 60 deg | 1.411 | +0.992 | 1 and 0 (the paper's own forces: 1.002 and 0.065) | **miss**, 41% over and a large thrust |
 //! | 1988 exp. 1 | 0.7 | 0.853 | -0.220 | 1 and 0 (A&W's n = 1.1) | **miss**, 15% short |
 //! | 1988 exp. 2 | 1.5 | 0.769 | -0.081 | 1 and 0 (n = 0.97) | **miss**, 23% short |
 //! | 1988 exp. 3 | 2.3 | 0.882 | -0.310 | 1 and 0 (n = 1.25) | **miss**, 12% short |
