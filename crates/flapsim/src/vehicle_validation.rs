@@ -325,7 +325,7 @@ pub const ESTIMATES: [Estimate; 12] = [
 pub const NOT_FOUND: [(&str, &str); 6] = [
     (
         "dragonfly",
-        "Azuma & Watanabe 1988's tables read directly: the model's numbers are the public digitised case data of jpecquet/dragonfly-flight-control (the paper's specimen data and Fourier coefficients of experiment 2), cross-checked against nothing but the abstract",
+        "Azuma & Watanabe 1988's specimen data (Table 1, dragonflies A and B) read directly: the model's morphology is the public digitised case data of jpecquet/dragonfly-flight-control; its kinematics are cross-checked against the scans of the paper's Tables 2 and 3 in the same repository (commit b7816df)",
     ),
     (
         "dragonfly",

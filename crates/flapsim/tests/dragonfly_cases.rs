@@ -1,0 +1,365 @@
+//! The published dragonfly flights against flapwing's quasi-steady wings: Azuma et al. 1985
+//! (J Exp Biol 116:79, a *Sympetrum frequens* climbing at 0.54 m/s, 60 deg above the
+//! horizontal) and the four experiments of Azuma & Watanabe 1988 (J Exp Biol 137:221, *Anax
+//! parthenope julius* at 0.7, 1.5, 2.3 and 3.2 m/s), built as the model files
+//! `models/dragonfly_azuma1985.toml` and `models/dragonfly_azuma1988_exp{1,2,3,4}.toml`.
+//!
+//! Sources. The 1988 numbers are the paper's Table 2 (speed, flight-path angle, body attitude,
+//! frequency, stroke planes from the horizontal and from the body axis, flapping amplitudes,
+//! the hindwing's lead, and the paper's own "calculated load factor" n) and Table 3 (the
+//! feathering Fourier series at 0.75R), read from the scans of those tables in the public
+//! repository github.com/jpecquet/dragonfly-flight-control (commit b7816df) and cross-checked
+//! against its digitised case data (commit cf19b0a). The 1985 numbers are that repository's
+//! digitised reading of the paper's tables (commits fe767a9 and cf19b0a; the paper itself was
+//! not read). Each file says which numbers are estimates (hinges, inertia, r1, and for 1985
+//! the body attitude and the reference of the stroke-plane angle).
+//!
+//! Physics. Each flight was steady (Azuma & Watanabe: "steady trimmed flight"; Azuma et al.
+//! 1985: "steady climbing flight"), so the wings' cycle-mean aerodynamic force balances the
+//! weight and the body's drag: mean vertical force = weight and mean horizontal force = the
+//! body drag's small share (estimate: 0.5 rho V^2 C_D A with the 6 mm body's frontal area
+//! 2.8e-5 m^2 and C_D about 1 gives 0.5% of the weight at 1.5 m/s, 2.2% at 3.2 m/s), i.e.
+//! about 0. flapwing evaluates the wings at the published kinematics with the body at its
+//! published attitude moving at the published velocity (a frozen state: `mean_loads` over
+//! 400 phases), and reports both forces in the world frame over the weight. Its wings are
+//! quasi-steady and independent: no forewing wake on the hindwing, no induced velocity of
+//! the wake (Azuma's local circulation method, which gives the paper's n, has both), rigid
+//! wings without the measured spanwise twist (Table 3's 0.25R/0.5R/0.75R columns differ).
+//!
+//! Results (measured here, asserted as measured: nothing in the model files was tuned):
+//!
+//! | case | V, m/s | vertical / weight | horizontal / weight | published | |
+//! |---|---|---|---|---|---|
+//! | 1985 climb | 0.54 at 60 deg | 1.411 | +0.992 | 1 and 0 (the paper's own forces: 1.002 and 0.065) | **miss**, 41% over and a large thrust |
+//! | 1988 exp. 1 | 0.7 | 0.853 | -0.220 | 1 and 0 (A&W's n = 1.1) | **miss**, 15% short |
+//! | 1988 exp. 2 | 1.5 | 0.769 | -0.081 | 1 and 0 (n = 0.97) | **miss**, 23% short |
+//! | 1988 exp. 3 | 2.3 | 0.882 | -0.310 | 1 and 0 (n = 1.25) | **miss**, 12% short |
+//! | 1988 exp. 4 | 3.2 | 0.498 | -0.242 | 1 and 0 (n = 1.05) | **miss**, 50% short |
+//!
+//! None is a hit: the published flights all carry the weight, flapwing's wings carry
+//! between 0.50 and 1.41 of it at the published kinematics. Trimmed at each case's speed
+//! and climb rate (`trim_at`, which adds one stroke-amplitude offset to all four wings and
+//! sets the mean stroke angle and the body pitch), every case trims; the forewing's stroke
+//! at trim over the published stroke (twice Table 2's flapping amplitude) is 0.738 (1985),
+//! 1.113, 1.230, 1.348 and 1.197 (1988 exp. 1-4).
+
+use flapsim::Vehicle;
+use flapsim::averaged::{FrozenState, mean_loads};
+use flapsim::flight::FlightCondition;
+use flapsim::trim::{trim_at, trimmed_vehicle};
+use nalgebra::{UnitQuaternion, Vector3};
+use wingforce::BodyMotion;
+
+/// One published flight and what flapwing measured there.
+struct Case {
+    name: &'static str,
+    toml: &'static str,
+    /// Flight speed (m/s) and flight-path angle above the horizontal (deg).
+    speed_m_s: f64,
+    path_deg: f64,
+    /// The body attitude (deg, nose up) the file holds: the paper's (1988, Table 2), or the
+    /// file's estimate (1985: level).
+    attitude_deg: f64,
+    /// The published strokes (twice the flapping amplitude), fore and hind, deg.
+    stroke_deg: [f64; 2],
+    /// The paper's own calculated vertical force over the weight (1988: Table 2's load factor
+    /// n; 1985: the mean of its digitised force curves).
+    paper_model: f64,
+    /// Measured here: mean vertical and horizontal force over the weight, and the trimmed
+    /// forewing stroke (deg) and body pitch (deg).
+    vertical: f64,
+    horizontal: f64,
+    trimmed_stroke_deg: f64,
+    trimmed_pitch_deg: f64,
+}
+
+const AZUMA_1985: Case = Case {
+    name: "Azuma et al. 1985, climb",
+    toml: include_str!("../../../models/dragonfly_azuma1985.toml"),
+    speed_m_s: 0.54,
+    path_deg: 60.0,
+    attitude_deg: 0.0,
+    stroke_deg: [86.0, 94.0],
+    paper_model: 1.002,
+    vertical: 1.411,
+    horizontal: 0.992,
+    trimmed_stroke_deg: 63.48,
+    trimmed_pitch_deg: 28.86,
+};
+
+const EXPERIMENTS_1988: [Case; 4] = [
+    Case {
+        name: "Azuma & Watanabe 1988, experiment 1",
+        toml: include_str!("../../../models/dragonfly_azuma1988_exp1.toml"),
+        speed_m_s: 0.7,
+        path_deg: -12.0,
+        attitude_deg: 20.0,
+        stroke_deg: [72.0, 52.0],
+        paper_model: 1.1,
+        vertical: 0.853,
+        horizontal: -0.220,
+        trimmed_stroke_deg: 80.17,
+        trimmed_pitch_deg: 8.91,
+    },
+    Case {
+        name: "Azuma & Watanabe 1988, experiment 2",
+        toml: include_str!("../../../models/dragonfly_azuma1988_exp2.toml"),
+        speed_m_s: 1.5,
+        path_deg: -1.1,
+        attitude_deg: 12.0,
+        stroke_deg: [50.0, 52.0],
+        paper_model: 0.97,
+        vertical: 0.769,
+        horizontal: -0.081,
+        trimmed_stroke_deg: 61.49,
+        trimmed_pitch_deg: 14.60,
+    },
+    Case {
+        name: "Azuma & Watanabe 1988, experiment 3",
+        toml: include_str!("../../../models/dragonfly_azuma1988_exp3.toml"),
+        speed_m_s: 2.3,
+        path_deg: 4.8,
+        attitude_deg: 4.0,
+        stroke_deg: [50.0, 52.0],
+        paper_model: 1.25,
+        vertical: 0.882,
+        horizontal: -0.310,
+        trimmed_stroke_deg: 67.40,
+        trimmed_pitch_deg: 1.33,
+    },
+    Case {
+        name: "Azuma & Watanabe 1988, experiment 4",
+        toml: include_str!("../../../models/dragonfly_azuma1988_exp4.toml"),
+        speed_m_s: 3.2,
+        path_deg: 0.0,
+        attitude_deg: 2.0,
+        stroke_deg: [76.0, 68.0],
+        paper_model: 1.05,
+        vertical: 0.498,
+        horizontal: -0.242,
+        trimmed_stroke_deg: 91.00,
+        trimmed_pitch_deg: 8.56,
+    },
+];
+
+impl Case {
+    fn vehicle(&self) -> Vehicle {
+        Vehicle::from_toml(self.toml, self.name).unwrap()
+    }
+
+    /// The flight velocity, world frame (x forward, z up).
+    fn velocity_world_m_s(&self) -> Vector3<f64> {
+        let (s, c) = self.path_deg.to_radians().sin_cos();
+        self.speed_m_s * Vector3::new(c, 0.0, s)
+    }
+
+    /// Cycle-mean world force over the weight, [horizontal, vertical], at the published
+    /// flight, and the fore pair's share of the vertical force.
+    fn mean_force_over_weight(&self) -> ([f64; 2], f64) {
+        let v = self.vehicle();
+        let q = v.initial_attitude;
+        let velocity_body_m_s = q.inverse() * self.velocity_world_m_s();
+        let m = mean_loads(
+            &v,
+            &FrozenState {
+                world_from_body: q,
+                velocity_body_m_s,
+                angular_velocity_body_rad_s: Vector3::zeros(),
+            },
+            400,
+        )
+        .unwrap();
+        let f = q * m.total.force_n;
+        let body = BodyMotion {
+            velocity_m_s: velocity_body_m_s,
+            angular_velocity_rad_s: Vector3::zeros(),
+        };
+        let fore: f64 = (0..400)
+            .map(|k| {
+                v.wings[..2]
+                    .iter()
+                    .map(|w| (q * w.evaluate(k as f64 / 400.0, &body).total.force_n).z)
+                    .sum::<f64>()
+                    / 400.0
+            })
+            .sum();
+        let w = v.weight_n();
+        ([f.x / w, f.z / w], fore / f.z)
+    }
+
+    /// Checks the file's flight against the case, the forces against the measured values,
+    /// and trims at the case's speed and climb rate; returns the vertical force over weight.
+    fn check(&self) -> f64 {
+        let v = self.vehicle();
+        assert_eq!(v.wings.len(), 4, "{}", self.name);
+        // The file's flight is the case's.
+        let (_, pitch, _) = v.initial_attitude.euler_angles();
+        assert!((-pitch.to_degrees() - self.attitude_deg).abs() < 1e-9);
+        assert!((v.initial_velocity_m_s - self.velocity_world_m_s()).norm() < 1e-4);
+        for (i, stroke) in [(0, self.stroke_deg[0]), (2, self.stroke_deg[1])] {
+            let amp = v.base_kinematics[i].amplitude_rad.to_degrees();
+            assert!((amp - stroke).abs() < 1e-6, "{}: wing {i} {amp}", self.name);
+        }
+        let ([fx, fz], fore_share) = self.mean_force_over_weight();
+        eprintln!(
+            "{} ({} m/s at {} deg, body {} deg): mean vertical {:.4} of the weight (fore pair {:.0}%), horizontal {:+.4}; published 1 and 0 (the paper's own model: {})",
+            self.name,
+            self.speed_m_s,
+            self.path_deg,
+            self.attitude_deg,
+            fz,
+            100.0 * fore_share,
+            fx,
+            self.paper_model
+        );
+        // Tolerance: 0.005 of the weight around the measured value (printed to 3 decimals),
+        // so that a change in the model shows here.
+        assert!(
+            (fz - self.vertical).abs() <= 0.005,
+            "{}: vertical {fz}",
+            self.name
+        );
+        assert!(
+            (fx - self.horizontal).abs() <= 0.005,
+            "{}: horizontal {fx}",
+            self.name
+        );
+        // Steady flight publishes 1 and about 0: each case misses by more than 10% of the
+        // weight in the vertical, and by more than the body drag's 2.2% in the horizontal.
+        assert!((fz - 1.0).abs() > 0.1 && fx.abs() > 0.05, "{}", self.name);
+
+        // Trim at the case's speed and climb rate.
+        let u = self.velocity_world_m_s();
+        let condition = FlightCondition::new(u.x, u.z).unwrap();
+        let t = trim_at(&v, v.trim_lift, &condition).unwrap();
+        assert!(t.max_residual() < 1e-7, "{}: {t:?}", self.name);
+        let tv = trimmed_vehicle(&v, &t).unwrap();
+        let fore = tv.wings[0].kinematics().amplitude_rad.to_degrees();
+        let hind = tv.wings[2].kinematics().amplitude_rad.to_degrees();
+        eprintln!(
+            "  trimmed at {}: fore stroke {fore:.2} deg ({:.3} of the published {}), hind {hind:.2} deg ({:.3} of {}), mean stroke {:+.2} deg, body pitch {:.2} deg (the file's body attitude {})",
+            condition.describe(),
+            fore / self.stroke_deg[0],
+            self.stroke_deg[0],
+            hind / self.stroke_deg[1],
+            self.stroke_deg[1],
+            t.controls.mean_stroke_rad.to_degrees(),
+            t.pitch_rad.to_degrees(),
+            self.attitude_deg,
+        );
+        // Tolerance: 0.05 deg around the measured trim (Newton converged to 1e-7 of the
+        // weight; the values are printed to 2 decimals).
+        assert!(
+            (fore - self.trimmed_stroke_deg).abs() < 0.05,
+            "{}: {fore}",
+            self.name
+        );
+        assert!(
+            (t.pitch_rad.to_degrees() - self.trimmed_pitch_deg).abs() < 0.05,
+            "{}: pitch {}",
+            self.name,
+            t.pitch_rad.to_degrees()
+        );
+        // One amplitude offset for all four wings.
+        assert!((hind - fore - (self.stroke_deg[1] - self.stroke_deg[0])).abs() < 1e-9);
+        fz
+    }
+}
+
+/// Azuma et al. 1985: steady climb at 0.54 m/s, 60 deg above the horizontal. The paper's own
+/// forces (local circulation method) average 1.002 of the weight. flapwing: 1.411 up and
+/// 0.992 of the weight forward, a **miss** in both; trimmed, the forewing's stroke is 63.5 deg
+/// (0.738 of the published 86) with the body pitched 28.9 deg nose up, which turns the stroke
+/// planes to 8-11 deg from the horizontal (the file holds the body level and reads Table 4's
+/// 37 and 40 deg as from the horizontal, both estimates: measured from the body axis on a
+/// pitched body, as Azuma & Watanabe 1988's Table 2 also gives them, they would tilt the
+/// force less forward).
+#[test]
+fn azuma_1985_climb_against_its_weight() {
+    AZUMA_1985.check();
+}
+
+/// Azuma & Watanabe 1988, experiment 1 (0.7 m/s descending at 12 deg, body at 20 deg):
+/// 0.853 of the weight, **miss** (15% short; the paper's own model: n = 1.1). Trimmed: the
+/// forewing's stroke 80.2 deg, 1.113 of the published 72.
+#[test]
+fn azuma_watanabe_1988_experiment_1_against_its_weight() {
+    EXPERIMENTS_1988[0].check();
+}
+
+/// Experiment 2 (1.5 m/s, body at 12 deg; models/dragonfly.toml's flight): 0.769 of the
+/// weight, **miss** (23% short; n = 0.97). Trimmed: 61.5 deg, 1.230 of the published 50.
+/// The same world forces as models/dragonfly.toml, which holds the body level with the
+/// stroke planes at their angles to the horizontal (to 1e-9 of the weight: only the frames
+/// differ).
+#[test]
+fn azuma_watanabe_1988_experiment_2_against_its_weight() {
+    EXPERIMENTS_1988[1].check();
+    let level = Vehicle::from_toml(flapsim::DRAGONFLY_TOML, "dragonfly").unwrap();
+    let velocity = EXPERIMENTS_1988[1].velocity_world_m_s();
+    let m = mean_loads(
+        &level,
+        &FrozenState {
+            world_from_body: UnitQuaternion::identity(),
+            velocity_body_m_s: velocity,
+            angular_velocity_body_rad_s: Vector3::zeros(),
+        },
+        400,
+    )
+    .unwrap();
+    let w = level.weight_n();
+    let ([fx, fz], _) = EXPERIMENTS_1988[1].mean_force_over_weight();
+    assert!((m.total.force_n.z / w - fz).abs() < 1e-9);
+    assert!((m.total.force_n.x / w - fx).abs() < 1e-9);
+}
+
+/// Experiment 3 (2.3 m/s climbing at 4.8 deg, body at 4 deg): 0.882 of the weight, **miss**
+/// (12% short; n = 1.25). Trimmed: 67.4 deg, 1.348 of the published 50.
+#[test]
+fn azuma_watanabe_1988_experiment_3_against_its_weight() {
+    EXPERIMENTS_1988[2].check();
+}
+
+/// Experiment 4 (dragonfly B, with dragonfly A's morphology as an estimate; 3.2 m/s level,
+/// body at 2 deg): 0.498 of the weight, **miss** (50% short; n = 1.05), the hindwings on
+/// their steep (68 deg) stroke plane carrying only 17% of it. Trimmed: 91.0 deg, 1.197 of the
+/// published 76.
+#[test]
+fn azuma_watanabe_1988_experiment_4_against_its_weight() {
+    EXPERIMENTS_1988[3].check();
+}
+
+/// The trend over Azuma & Watanabe's speeds. Published: every flight was steady, so the mean
+/// vertical force is the weight at 0.7, 1.5, 2.3 and 3.2 m/s, flat; the paper's own model
+/// (Table 2's n) gives 1.1, 0.97, 1.25, 1.05. flapwing: 0.853, 0.769, 0.882, 0.498, none
+/// carrying the weight, spread over 0.38 of it (**miss**), and not monotonic in the speed.
+/// Over experiments 1-3 (dragonfly A) it ranks the flights as the paper's model does
+/// (lowest at 1.5 m/s, highest at 2.3 m/s), 0.71-0.79 of the paper's n; experiment 4
+/// (dragonfly B, at the highest speed) drops to 0.47 of it.
+#[test]
+fn vertical_force_over_the_1988_speeds_against_the_published_trend() {
+    let fz: Vec<f64> = EXPERIMENTS_1988
+        .iter()
+        .map(|c| c.mean_force_over_weight().0[1])
+        .collect();
+    for (c, f) in EXPERIMENTS_1988.iter().zip(&fz) {
+        eprintln!(
+            "{} m/s: flapwing {f:.3} of the weight, published 1 (the paper's n {}: flapwing/n {:.3})",
+            c.speed_m_s,
+            c.paper_model,
+            f / c.paper_model
+        );
+    }
+    // Published flat at 1: none of flapwing's carries the weight, and they spread.
+    assert!(fz.iter().all(|f| *f < 0.9), "{fz:?}");
+    let (lo, hi) = fz
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(l, h), &f| (l.min(f), h.max(f)));
+    assert!((hi - lo - 0.384).abs() < 0.01, "{fz:?}");
+    // The paper's model and flapwing rank experiments 1-3 alike: 2 < 1 < 3.
+    assert!(fz[1] < fz[0] && fz[0] < fz[2], "{fz:?}");
+    let n: Vec<f64> = EXPERIMENTS_1988.iter().map(|c| c.paper_model).collect();
+    assert!(n[1] < n[0] && n[0] < n[2]);
+    // Experiment 4 departs from both: the lowest here, above 1 in the paper's model.
+    assert!(fz[3] < fz[1] && n[3] > 1.0);
+}
