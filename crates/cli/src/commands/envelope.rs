@@ -130,13 +130,21 @@ fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
                     .chain(&p.lateral_modes)
                     .map(|m| m.re_per_s)
                     .fold(f64::NEG_INFINITY, f64::max);
-                let unstable: Vec<&str> = p
-                    .longitudinal_modes
-                    .iter()
-                    .chain(&p.lateral_modes)
-                    .filter(|m| !m.stable && m.time_to_half_or_double_s.is_some())
-                    .map(|m| m.description.as_str())
-                    .collect();
+                let unstable = |what: &str, modes: &[flapsim::stability::ModeInfo]| {
+                    let u: Vec<&str> = modes
+                        .iter()
+                        .filter(|m| !m.stable && m.time_to_half_or_double_s.is_some())
+                        .map(|m| m.description.as_str())
+                        .collect();
+                    (!u.is_empty()).then(|| format!("{what}: {}", u.join(", ")))
+                };
+                let unstable: Vec<String> = [
+                    unstable("lon", &p.longitudinal_modes),
+                    unstable("lat", &p.lateral_modes),
+                ]
+                .into_iter()
+                .flatten()
+                .collect();
                 writeln!(
                     o,
                     "{:>7.2} {:>7.2} {:>8.2} {:>8.2} {:>8.2} {:>10.3e} {:>7.1} {:>8.1}% {:>+9.3}  {}",
@@ -152,7 +160,7 @@ fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
                     if unstable.is_empty() {
                         "all stable".to_owned()
                     } else {
-                        unstable.join(", ")
+                        unstable.join("; ")
                     }
                 )?;
             }
@@ -165,7 +173,7 @@ fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
     }
     writeln!(
         o,
-        "pitch: body pitch, deg; plane: stroke plane to the horizontal, deg (tilted forward > 0); ampl: stroke amplitude, deg; power: aerodynamic, W (W/kg of body mass); margin: to the amplitude or voltage limit"
+        "pitch: body pitch, deg; plane: stroke plane to the horizontal, deg (tilted forward > 0); ampl: stroke amplitude, deg; power: aerodynamic, W (W/kg of body mass); margin: to the amplitude or voltage limit; modes: the unstable ones, longitudinal (lon) and lateral (lat)"
     )?;
     crate::output::print_stdout(&o)
 }
