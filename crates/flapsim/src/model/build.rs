@@ -188,7 +188,9 @@ impl VehicleSpec {
             make(&geometry, hinge_left, tilt, Side::Right, &right_k),
         ];
         let mut base_kinematics = vec![left_k, right_k];
+        let mut pair_control_gains = vec![1.0];
         for pair in pairs {
+            pair_control_gains.push(pair.control_gain);
             let [kl, kr] = pair.kinematics;
             for (side, k) in [(Side::Left, kl), (Side::Right, kr)] {
                 wings.push(make(&pair.geometry, pair.hinge_left, pair.tilt, side, &k));
@@ -204,6 +206,7 @@ impl VehicleSpec {
             gravity_m_s2: g,
             wings,
             base_kinematics,
+            pair_control_gains,
             controls,
             sim: sim.clone(),
             initial_position_m: pos,
@@ -272,6 +275,7 @@ struct BuiltPair {
     hinge_left: Vector3<f64>,
     tilt: f64,
     kinematics: [Kinematics; 2],
+    control_gain: f64,
 }
 
 impl VehicleSpec {
@@ -326,11 +330,16 @@ impl VehicleSpec {
         for k in &mut kinematics {
             k.phase_offset = offset_deg / 360.0;
         }
+        let control_gain = match pair.control_gain {
+            None => 1.0,
+            Some(g) => v.within(&format!("{field}.control_gain"), g, -2.0, 2.0)?,
+        };
         Ok(BuiltPair {
             geometry,
             hinge_left,
             tilt,
             kinematics,
+            control_gain,
         })
     }
 }

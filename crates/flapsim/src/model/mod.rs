@@ -37,6 +37,9 @@ pub struct Vehicle {
     /// Base kinematics of each wing, in the order of `wings` (controls are applied on top of
     /// these; a further pair's carry its phase offset).
     pub base_kinematics: Vec<Kinematics>,
+    /// How the control channels move each pair (`[[pairs]] control_gain`; 1 for the first
+    /// pair): a factor on each kinematic offset but the frequency.
+    pub pair_control_gains: Vec<f64>,
     /// Initial controls.
     pub controls: Controls,
     /// Simulation settings.
@@ -81,14 +84,17 @@ impl Vehicle {
     pub fn controlled_kinematics(&self, i: usize, c: &Controls) -> Kinematics {
         let half = if i % 2 == 0 { 0.5 } else { -0.5 };
         let base = &self.base_kinematics[i];
+        let gain = self.pair_control_gains.get(i / 2).copied().unwrap_or(1.0);
+        // The first pair (gain 1) is moved exactly as before pairs had gains.
+        let g = |x: f64| if gain == 1.0 { x } else { gain * x };
         // A measured table has no mid-stroke angle of attack; apply_controls refuses an
         // offset on one before it gets here.
         let mut k = base
-            .with_aoa_offset(c.aoa_rad)
+            .with_aoa_offset(g(c.aoa_rad))
             .unwrap_or_else(|| base.clone());
-        k.mean_stroke_rad += c.mean_stroke_rad + half * c.diff_mean_stroke_rad;
-        k.amplitude_rad += c.amplitude_rad + half * c.diff_amplitude_rad;
-        k.pitch_bias_rad += c.pitch_bias_rad + half * c.diff_pitch_bias_rad;
+        k.mean_stroke_rad += g(c.mean_stroke_rad + half * c.diff_mean_stroke_rad);
+        k.amplitude_rad += g(c.amplitude_rad + half * c.diff_amplitude_rad);
+        k.pitch_bias_rad += g(c.pitch_bias_rad + half * c.diff_pitch_bias_rad);
         k.freq_hz += c.freq_hz;
         k
     }

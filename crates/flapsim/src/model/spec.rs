@@ -60,6 +60,13 @@ pub struct PairSpec {
     /// when absent. Same frequency as the first pair.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kinematics: Option<KinematicsSpec>,
+    /// How the control channels move this pair, a factor on each kinematic offset (mean
+    /// stroke, amplitude, pitch bias, angle of attack and their left-minus-right
+    /// differences; not the frequency, which all wings share): 1 (the default) moves it as
+    /// the first pair, 0 holds its base kinematics, -1 moves it the opposite way (a mean-stroke
+    /// command then shifts fore and hind pairs apart: a pitch couple).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub control_gain: Option<f64>,
 }
 
 /// Control parameters of the kinematics, changed once per wingbeat. Deltas are added to
