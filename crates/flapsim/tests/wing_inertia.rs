@@ -7,7 +7,7 @@
 //!
 //!   T = 1/2 B theta_dot^2 + 1/2 (J + B cos^2 theta) phi_dot^2 - C sin(theta) phi_dot theta_dot
 //!
-//! (derived in the module doc of `dynamics.rs` from omega^T I omega with
+//! (derived in the module doc of `dynamics/mod.rs` from omega^T I omega with
 //! omega = phi_dot k_phi + theta_dot k_theta and the plate's inertia tensor). Three checks:
 //!
 //! 1. Energy. Without drive, damping and aerodynamics the two-degree-of-freedom system

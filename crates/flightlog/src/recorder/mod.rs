@@ -7,32 +7,27 @@
 //! machine's second core. Rerun's SDK batches on its own threads; the live Foxglove server
 //! encodes only for subscribed channels. The file's bytes depend on the samples alone, never
 //! on thread timing.
+//!
+//! This file is the [`Recorder`] and its outputs' fan-out; `mcap_out.rs` is the MCAP
+//! output (the open chunk, and the file's start written when it is opened).
 
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use flapsim::{Controls, StepOutput, Vehicle};
 
-use crate::chunk::RawChunk;
-use crate::encode::SampleEncoder;
-use crate::mcap_write::McapWriter;
 #[cfg(any(feature = "rerun", feature = "live"))]
 use crate::sample::Sample;
 use crate::sample::{SampleBuilder, WingStatic, time_ns, timestamp};
 use crate::scene::ForceArrows;
-use crate::schema::{
-    self, CHANNELS, MESSAGE_ENCODING, OPT_ESTIMATE, OPT_WIND, OPTIONAL_CHANNELS, SCHEMA_ENCODING,
-    channel_id,
-};
+use crate::schema::{OPT_ESTIMATE, OPT_WIND};
 use crate::sensor_msg::SensorMessage;
-use crate::writer::{Flushed, Writer};
+use crate::writer::Flushed;
 use crate::{Error, Level, LogOptions, Result, RunInfo};
 
-/// Close the current chunk (so a killed run keeps it) at least this often, simulated time.
-const FLUSH_INTERVAL_NS: u64 = 50_000_000;
-/// Close the current chunk after this many samples (about 460 kB of protobuf).
-const CHUNK_SAMPLES: u64 = 200;
+use mcap_out::{McapOut, open_mcap};
+
+mod mcap_out;
 
 pub use crate::decimate::Decimator;
 
@@ -55,62 +50,6 @@ pub struct LogStats {
     pub rrd_path: Option<PathBuf>,
     /// Time of the last logged sample, s.
     pub last_t_s: f64,
-}
-
-/// The MCAP output: the chunk being filled here, and the writer thread.
-struct McapOut {
-    chunk: RawChunk,
-    /// Log time of the first sample of the open chunk, and its samples.
-    chunk_start_ns: u64,
-    chunk_samples: u64,
-    /// The run's samples so far and the newest one's time (what a closed chunk ends with).
-    upto: Flushed,
-    encoder: SampleEncoder,
-    /// The MCAP ids of the optional channels ([`OPTIONAL_CHANNELS`]) this log declares.
-    optional_ids: [Option<u16>; OPTIONAL_CHANNELS.len()],
-    writer: Writer,
-}
-
-impl McapOut {
-    /// Hands the open chunk (if it holds anything) to the writer thread.
-    fn close_chunk(&mut self) -> Result<()> {
-        if self.chunk.is_empty() {
-            return Ok(());
-        }
-        let next = self.writer.spare_chunk();
-        let full = std::mem::replace(&mut self.chunk, next);
-        self.chunk_samples = 0;
-        self.writer.chunk(full, self.upto)
-    }
-
-    /// Adds a sample; the number of messages written.
-    fn sample(&mut self, out: &StepOutput) -> Result<u64> {
-        let t_ns = time_ns(out.t_s);
-        if self.chunk_samples > 0 && t_ns.saturating_sub(self.chunk_start_ns) >= FLUSH_INTERVAL_NS {
-            self.close_chunk()?;
-        }
-        if self.chunk_samples == 0 {
-            self.chunk_start_ns = t_ns;
-        }
-        let messages = self.encoder.sample(out, &mut self.chunk);
-        self.chunk_samples += 1;
-        self.upto = Flushed {
-            samples: self.upto.samples + 1,
-            t_s: out.t_s,
-        };
-        if self.chunk_samples >= CHUNK_SAMPLES {
-            self.close_chunk()?;
-        }
-        Ok(messages)
-    }
-
-    /// The event in a chunk of its own; returns once it is in the file.
-    fn event(&mut self, t_ns: u64, log: &foxglove::messages::Log) -> Result<()> {
-        self.close_chunk()?;
-        self.encoder.event(t_ns, log, &mut self.chunk);
-        self.close_chunk()?;
-        self.writer.sync()
-    }
 }
 
 /// Writes a run's logs. Create it before the simulation starts, call [`Recorder::record`]
@@ -372,6 +311,8 @@ impl Recorder {
     /// (the log's sample times). The MCAP log must have been created with
     /// [`LogOptions::wind`]; Rerun shows it under `plots/wind_m_s/<wing>`; the live view does
     /// not.
+    ///
+    /// [`schema::WIND_CHANNEL`]: crate::schema::WIND_CHANNEL
     pub fn wind(
         &mut self,
         t_s: f64,
@@ -406,6 +347,8 @@ impl Recorder {
     /// The MCAP log must have been created with [`LogOptions::estimate`]; Rerun shows the
     /// estimate against the truth (`plots/estimate/...`, `world/estimate`); the live view
     /// does not.
+    ///
+    /// [`schema::ESTIMATE_CHANNEL`]: crate::schema::ESTIMATE_CHANNEL
     pub fn estimate(&mut self, t_s: f64, filter: &flapsim::estimator::Estimator) -> Result<()> {
         let Some((t_ns, truth)) = self.sampled(t_s) else {
             return Ok(());
@@ -583,116 +526,6 @@ fn wake_capture_warnings(vehicle: &Vehicle, wake_warned: &mut [bool; 2]) -> Vec<
     }
     out_messages
 }
-
-fn attachment_name(origin: &str) -> String {
-    Path::new(origin)
-        .file_name()
-        .and_then(|n| n.to_str())
-        .filter(|n| n.ends_with(".toml"))
-        .unwrap_or("model.toml")
-        .to_owned()
-}
-
-/// The `flapwing` metadata record.
-fn run_metadata(
-    info: &RunInfo,
-    vehicle: &Vehicle,
-    log_rate_hz: Option<f64>,
-) -> BTreeMap<String, String> {
-    BTreeMap::from([
-        ("version".to_owned(), env!("CARGO_PKG_VERSION").to_owned()),
-        ("command".to_owned(), info.command.clone()),
-        ("command_line".to_owned(), info.command_line.clone()),
-        ("model_toml".to_owned(), info.model_toml.clone()),
-        ("model_origin".to_owned(), info.model_origin.clone()),
-        ("settings".to_owned(), info.settings_json.clone()),
-        ("vehicle".to_owned(), vehicle.name.clone()),
-        (
-            "log_rate_hz".to_owned(),
-            log_rate_hz.map_or_else(|| "every step".to_owned(), |r| r.to_string()),
-        ),
-        (
-            "dt_s".to_owned(),
-            (1.0 / (vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64)).to_string(),
-        ),
-        ("weight_n".to_owned(), vehicle.weight_n().to_string()),
-        (
-            "added_mass_form".to_owned(),
-            vehicle.wings[0].options().added_mass.name().to_owned(),
-        ),
-        ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
-    ])
-}
-
-/// Creates the file and writes its start: header, the `flapwing` metadata, the model
-/// attachment and the schemas and channels (in a chunk of their own); then hands the file to
-/// a writer thread. A file that cannot be written is removed again.
-fn open_mcap(
-    path: &Path,
-    info: &RunInfo,
-    vehicle: &Vehicle,
-    options: &LogOptions,
-) -> Result<McapOut> {
-    let log_rate_hz = options.log_rate_hz;
-    let declared = schema::declared_channels(options);
-    let mut optional_ids = [None; OPTIONAL_CHANNELS.len()];
-    for (i, c) in declared.iter().enumerate().skip(CHANNELS.len()) {
-        if let Some(k) = OPTIONAL_CHANNELS.iter().position(|o| o == c) {
-            optional_ids[k] = Some(channel_id(i));
-        }
-    }
-    let file = File::create(path).map_err(|e| Error::io("cannot create", path, e))?;
-    let start = || -> std::io::Result<McapWriter<std::io::BufWriter<File>>> {
-        let mut w = McapWriter::new(
-            std::io::BufWriter::with_capacity(64 * 1024, file),
-            "",
-            &format!("flapwing-flightlog/{}", env!("CARGO_PKG_VERSION")),
-        )?;
-        w.metadata(
-            schema::METADATA_RUN,
-            &run_metadata(info, vehicle, log_rate_hz),
-        )?;
-        w.attachment(
-            0,
-            0,
-            &attachment_name(&info.model_origin),
-            "application/toml",
-            info.model_toml.as_bytes(),
-        )?;
-        for (i, (topic, name)) in declared.iter().enumerate() {
-            let data = schema::schema_data(name).unwrap_or_default();
-            let schema_id = w.add_schema(name, SCHEMA_ENCODING, &data)?;
-            let id = w.add_channel(schema_id, topic, MESSAGE_ENCODING)?;
-            if id != channel_id(i) {
-                return Err(std::io::Error::other(
-                    "internal: MCAP channel ids out of order",
-                ));
-            }
-        }
-        w.flush()?;
-        Ok(w)
-    };
-    let writer = start()
-        .map_err(|e| {
-            let _ = std::fs::remove_file(path);
-            Error::io("cannot write", path, e)
-        })
-        .and_then(|w| Writer::start(w, path))?;
-    Ok(McapOut {
-        chunk: RawChunk::default(),
-        chunk_start_ns: 0,
-        chunk_samples: 0,
-        upto: Flushed::default(),
-        encoder: SampleEncoder::new(
-            SampleBuilder::new(WingStatic::of(vehicle), vehicle.weight_n()),
-            ForceArrows::of(vehicle),
-            crate::scene::wing_scene(vehicle, 0),
-        ),
-        optional_ids,
-        writer,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     #[test]

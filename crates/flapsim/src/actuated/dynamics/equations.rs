@@ -1,0 +1,152 @@
+//! The right-hand side of the wing's equations of motion (stated in [`super`]): the
+//! inertia matrix with the added inertia, the accelerations under loads held over a
+//! sub-step, the angles a state stands for, and the mechanical energy.
+
+use wingforce::WingAngles;
+
+use super::model::{Hinge, Stroke};
+use super::wing::{DynamicWing, WingState};
+
+/// Held over a sub-step: aerodynamic generalized forces without the added mass's
+/// acceleration part, and the added inertia.
+#[derive(Debug, Clone, Copy, Default)]
+pub(in crate::actuated) struct Held {
+    pub(in crate::actuated) q: [f64; 2],
+    pub(in crate::actuated) added: [[f64; 2]; 2],
+    /// Integrate as if the hinge had no stops (the contact-free part of a step that
+    /// touches one).
+    pub(in crate::actuated) free: bool,
+}
+
+impl DynamicWing {
+    /// Mechanical energy (kinetic plus the springs', the stops' contact springs included),
+    /// J: conserved without aerodynamics, damping, drive and stop strikes (or with
+    /// perfectly elastic ones).
+    pub fn energy_j(&self) -> f64 {
+        let s = &self.state;
+        let m = self.mass_matrix(s.theta_rad, &[[0.0; 2]; 2]);
+        let v = [s.phi_dot_rad_s, s.theta_dot_rad_s];
+        let ke =
+            0.5 * (m[0][0] * v[0] * v[0] + 2.0 * m[0][1] * v[0] * v[1] + m[1][1] * v[1] * v[1]);
+        let k = self.model.stroke_stiffness_nm_rad();
+        let phi0 = self.stroke_rest();
+        let dth = s.theta_rad - self.model.hinge.rest_rad;
+        let stop = self.model.hinge.contact.map_or(0.0, |c| c.potential_j(dth));
+        ke + 0.5 * k * (s.phi_rad - phi0).powi(2)
+            + 0.5 * self.model.hinge.stiffness_nm_rad * dth * dth
+            + stop
+    }
+
+    fn stroke_rest(&self) -> f64 {
+        match &self.model.stroke {
+            Stroke::Driven { rest_rad, .. } => *rest_rad,
+            Stroke::Prescribed(_) => 0.0,
+        }
+    }
+
+    /// Inertia matrix about (phi, theta) plus the added inertia.
+    pub(in crate::actuated) fn mass_matrix(
+        &self,
+        theta: f64,
+        added: &[[f64; 2]; 2],
+    ) -> [[f64; 2]; 2] {
+        let i = &self.model.inertia;
+        let (st, ct) = theta.sin_cos();
+        let c = i.product_kg_m2();
+        let b = i.pitch_inertia_kg_m2;
+        [
+            [
+                self.model.stroke_inertia_kg_m2() + b * ct * ct + added[0][0],
+                -c * st + added[0][1],
+            ],
+            [-c * st + added[1][0], b + added[1][1]],
+        ]
+    }
+
+    /// The effective pitch inertia a stop strike meets, kg m^2: M_tt - M_tp^2 / M_pp with
+    /// the stroke free (driven), M_tt with the stroke prescribed.
+    pub(in crate::actuated) fn pitch_inertia_effective(&self, m: &[[f64; 2]; 2]) -> f64 {
+        match &self.model.stroke {
+            Stroke::Driven { .. } => m[1][1] - m[0][1] * m[1][0] / m[0][0],
+            Stroke::Prescribed(_) => m[1][1],
+        }
+    }
+
+    /// Accelerations at time t for y = (phi, theta, phi_dot, theta_dot).
+    pub(in crate::actuated) fn accelerations(&self, t: f64, y: &[f64; 4], held: &Held) -> [f64; 2] {
+        let [phi, theta, mut pd, td] = *y;
+        let prescribed = match &self.model.stroke {
+            Stroke::Prescribed(k) => {
+                let a = k.angles(t * k.freq_hz);
+                pd = a.phi_dot;
+                Some(a)
+            }
+            Stroke::Driven { .. } => None,
+        };
+        let i = &self.model.inertia;
+        let (st, ct) = theta.sin_cos();
+        let b = i.pitch_inertia_kg_m2;
+        let c = i.product_kg_m2();
+        let m = self.mass_matrix(theta, &held.added);
+        let m_eff = self.pitch_inertia_effective(&m);
+        let hinge = if held.free {
+            Hinge {
+                contact: None,
+                ..self.model.hinge
+            }
+        } else {
+            self.model.hinge
+        };
+        let q_theta = held.q[1] + hinge.moment_nm(theta, td, m_eff) - b * st * ct * pd * pd;
+        match &self.model.stroke {
+            Stroke::Driven {
+                actuator,
+                flexure_nm_rad,
+                damping_nm_s_rad,
+                rest_rad,
+            } => {
+                let r = actuator.reflected();
+                let q_phi = held.q[0] + r.torque_per_volt_nm_v * self.drive.voltage_v(t)
+                    - (r.stiffness_nm_rad + flexure_nm_rad) * (phi - rest_rad)
+                    - (r.damping_nm_s_rad + damping_nm_s_rad) * pd
+                    + 2.0 * b * st * ct * pd * td
+                    + c * ct * td * td;
+                let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+                [
+                    (m[1][1] * q_phi - m[0][1] * q_theta) / det,
+                    (m[0][0] * q_theta - m[1][0] * q_phi) / det,
+                ]
+            }
+            Stroke::Prescribed(_) => {
+                let a = prescribed.unwrap_or_default();
+                [a.phi_ddot, (q_theta - m[1][0] * a.phi_ddot) / m[1][1]]
+            }
+        }
+    }
+
+    /// Angles at the current time with the given accelerations (prescribed stroke: from the
+    /// kinematics).
+    pub(super) fn angles(&self, acc: [f64; 2]) -> WingAngles {
+        self.angles_at(&self.state, self.t_s, acc)
+    }
+
+    /// Angles of `state` at time `t` with the given accelerations.
+    pub(super) fn angles_at(&self, s: &WingState, t: f64, acc: [f64; 2]) -> WingAngles {
+        let mut a = WingAngles {
+            phi: s.phi_rad,
+            theta: s.theta_rad,
+            phi_dot: s.phi_dot_rad_s,
+            theta_dot: s.theta_dot_rad_s,
+            phi_ddot: acc[0],
+            theta_ddot: acc[1],
+            ..WingAngles::default()
+        };
+        if let Stroke::Prescribed(k) = &self.model.stroke {
+            let p = k.angles(t * k.freq_hz);
+            a.phi = p.phi;
+            a.phi_dot = p.phi_dot;
+            a.phi_ddot = p.phi_ddot;
+        }
+        a
+    }
+}

@@ -1,0 +1,164 @@
+//! A wing whose angles are integrated in time: its state, what one step reports, and the
+//! [`DynamicWing`] that holds them with its drive (built, driven and read here; its
+//! equations are in [`super::equations`], its step in [`super::step`]).
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+use wingforce::{AxisMoments, WingAngles, WingForces};
+
+use super::super::actuator::ActuatorState;
+use super::super::drive::Drive;
+use super::model::{Stroke, WingDynamics};
+use crate::error::{Error, Result};
+
+/// The dynamic state of a wing.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct WingState {
+    /// Stroke angle phi, rad.
+    pub phi_rad: f64,
+    /// Pitch angle theta, rad.
+    pub theta_rad: f64,
+    /// Stroke rate, rad/s.
+    pub phi_dot_rad_s: f64,
+    /// Pitch rate, rad/s.
+    pub theta_dot_rad_s: f64,
+}
+
+/// What one step of a dynamic wing produced (at the step's start).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WingStep {
+    /// The aerodynamic forces at the step's start (zero when aerodynamics is off), except
+    /// the impulse-form added mass: its mean over the step, the change of the fluid's
+    /// impulse across it over dt (see [`DynamicWing::step`]).
+    pub forces: WingForces,
+    /// Their moments about the stroke and pitch axes, N m.
+    pub aero_axis: AxisMoments,
+    /// Hinge spring, damper and stop moment on the wing about the pitch axis, N m.
+    pub hinge_moment_nm: f64,
+    /// Inertial reaction of the wing and actuator on the body, body frame: force N and
+    /// moment about the hinge N m.
+    pub inertial_force_n: Vector3<f64>,
+    /// See `inertial_force_n`.
+    pub inertial_moment_hinge_nm: Vector3<f64>,
+    /// The actuator's state.
+    pub actuator: ActuatorState,
+    /// Angles, rates and accelerations at the step's start.
+    pub angles: WingAngles,
+}
+
+/// The state of an actuated wing that a step reports (for logs and analyses).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct ActuatedWingOutput {
+    /// Angles, rates and accelerations.
+    pub angles: WingAngles,
+    /// Hinge spring, damper and stop moment on the wing about the pitch axis, N m.
+    pub hinge_moment_nm: f64,
+    /// Aerodynamic moment about the pitch axis, N m.
+    pub aero_pitch_nm: f64,
+    /// Aerodynamic moment about the stroke axis, N m.
+    pub aero_stroke_nm: f64,
+    /// The actuator's state.
+    pub actuator: ActuatorState,
+}
+
+impl WingStep {
+    /// The part of the step a log or an analysis keeps.
+    pub fn output(&self) -> ActuatedWingOutput {
+        ActuatedWingOutput {
+            angles: self.angles,
+            hinge_moment_nm: self.hinge_moment_nm,
+            aero_pitch_nm: self.aero_axis.pitch_nm,
+            aero_stroke_nm: self.aero_axis.stroke_nm,
+            actuator: self.actuator,
+        }
+    }
+}
+
+/// A wing whose angles are integrated in time.
+#[derive(Debug, Clone)]
+pub struct DynamicWing {
+    pub(super) model: WingDynamics,
+    pub(super) drive: Drive,
+    pub(super) state: WingState,
+    pub(super) t_s: f64,
+    pub(super) last_reversal_s: f64,
+    pub(super) half_stroke: i64,
+    pub(super) downstroke: bool,
+    /// (t, phi_dot) over the current drive period, to measure the stroke reference.
+    pub(super) samples: Vec<(f64, f64)>,
+    pub(super) period_index: i64,
+}
+
+impl DynamicWing {
+    /// A wing at rest at the springs' rest angles (or on its prescribed stroke at t = 0).
+    pub fn new(model: WingDynamics, drive: Drive) -> Result<Self> {
+        let phi0 = match &model.stroke {
+            Stroke::Driven { rest_rad, .. } => *rest_rad,
+            Stroke::Prescribed(k) => k.angles(0.0).phi,
+        };
+        let state = WingState {
+            phi_rad: phi0,
+            theta_rad: model.hinge.rest_rad,
+            phi_dot_rad_s: 0.0,
+            theta_dot_rad_s: 0.0,
+        };
+        let mut w = Self {
+            model,
+            drive,
+            state,
+            t_s: 0.0,
+            last_reversal_s: 0.0,
+            half_stroke: 0,
+            downstroke: true,
+            samples: Vec::new(),
+            period_index: 0,
+        };
+        w.set_drive(drive)?;
+        Ok(w)
+    }
+
+    /// Changes the drive (voltage past the actuator's limit is an error).
+    pub fn set_drive(&mut self, drive: Drive) -> Result<()> {
+        if let Stroke::Driven { actuator, .. } = &self.model.stroke {
+            let lim = actuator.voltage_limit_v();
+            if !(drive.peak_bound_v() <= lim) || !(drive.freq_hz > 0.0) {
+                return Err(Error::Analysis(format!(
+                    "drive of {} V bias, {} V amplitude (second harmonic {}) at {} Hz: peak |V| up to {:.1} V, the {} allows |V| <= {lim} V and a frequency > 0",
+                    drive.bias_v,
+                    drive.amplitude_v,
+                    drive.second_harmonic,
+                    drive.freq_hz,
+                    drive.peak_bound_v(),
+                    actuator.kind()
+                )));
+            }
+        }
+        self.drive = drive;
+        Ok(())
+    }
+
+    /// Sets the state (angles and rates) directly.
+    pub fn set_state(&mut self, state: WingState) {
+        self.state = state;
+    }
+
+    /// The state now.
+    pub fn state(&self) -> WingState {
+        self.state
+    }
+
+    /// Time now, s.
+    pub fn t_s(&self) -> f64 {
+        self.t_s
+    }
+
+    /// The model.
+    pub fn model(&self) -> &WingDynamics {
+        &self.model
+    }
+
+    /// The drive.
+    pub fn drive(&self) -> &Drive {
+        &self.drive
+    }
+}
