@@ -23,10 +23,12 @@ use std::path::Path;
 use nalgebra::Vector3;
 use serde::Serialize;
 
+use crate::decimate::Decimator;
+use crate::error::{Error, Result};
 use crate::json::Json;
+use crate::options::SimSettings;
 use crate::read::read_log;
 use crate::schema::{TOPIC_STATE, TOPIC_WIND};
-use crate::{Decimator, Error, Result, SimSettings};
 
 /// The verdict of [`check_log`].
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -19,11 +19,11 @@ use foxglove::{
     Context, PartialMetadata, RawChannel, Schema, WebSocketServer, WebSocketServerHandle,
 };
 
+use crate::error::{Error, Result};
 use crate::sample::{Encoded, Sample};
 use crate::schema::{
     self, CHANNELS, EVENTS, MESSAGE_ENCODING, SCENE_FORCES, SCENE_WINGS, SCHEMA_ENCODING,
 };
-use crate::{Error, Result};
 
 /// The running server and its channels (in the order of [`CHANNELS`]).
 pub(crate) struct LiveSink {

@@ -12,7 +12,7 @@ use crate::json::Json;
 use crate::schema;
 use serde::Serialize;
 
-use crate::{Error, Result};
+use crate::error::{Error, Result};
 
 /// One channel of a log.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]

@@ -32,11 +32,12 @@ use std::time::Duration;
 use flapsim::Vehicle;
 use rerun::{RecordingStream, RecordingStreamBuilder};
 
+use crate::error::{Error, Result};
 use crate::estimate_msg::EstimateView;
+use crate::options::{Level, LogOptions};
 use crate::sample::FrameData;
 use crate::scene::planform_mesh;
 use crate::schema::FORCE_PARTS;
-use crate::{Error, Level, LogOptions, Result};
 
 const APP_ID: &str = "flapwing";
 const TIMELINE: &str = "sim_time";

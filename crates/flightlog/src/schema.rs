@@ -141,7 +141,9 @@ pub(crate) const OPT_ESTIMATE: usize = 3;
 
 /// The channels a log with `options` declares, in order ([`CHANNELS`], then those of
 /// [`OPTIONAL_CHANNELS`] it asks for): (topic, schema name).
-pub fn declared_channels(options: &crate::LogOptions) -> Vec<(&'static str, &'static str)> {
+pub fn declared_channels(
+    options: &crate::options::LogOptions,
+) -> Vec<(&'static str, &'static str)> {
     let wanted = [
         options.sensors,
         options.sensors,

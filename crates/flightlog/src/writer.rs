@@ -26,9 +26,9 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
 use crate::chunk::{ChunkBuilder, RawChunk};
+use crate::error::{Error, Result};
 use crate::mcap_write::McapWriter;
 use crate::schema;
-use crate::{Error, Result};
 
 /// Chunks waiting for the writer thread at most, besides the one it is writing (the queue
 /// of `sync_channel(QUEUE)` holds jobs the thread has not taken yet).

@@ -23,14 +23,15 @@
 //! (both wings at the left wing's frequency, the right table stretched to it).
 
 mod body;
+mod output;
 mod step;
 
 use nalgebra::Vector3;
 use wingforce::{KinematicLoads, Kinematics, Side, Wing};
 
 pub use body::{BodyLoad, MeanLoads, State};
-pub use step::WingSetOutput;
-pub(crate) use step::zero_forces;
+pub use output::WingSetOutput;
+pub(crate) use output::zero_forces;
 
 use crate::actuated::{Drive, DynamicWing};
 use crate::error::{Error, Result};

@@ -13,66 +13,14 @@
 //! wing), so a run is bit for bit reproducible.
 
 use nalgebra::Vector3;
-use wingforce::{BodyMotion, KinematicLoads, Term, Wing, WingForces};
+use wingforce::{BodyMotion, KinematicLoads, Term, Wing};
 
-use super::{BodyLoad, State, WingSet};
+use super::WingSet;
+use super::body::{BodyLoad, State};
+use super::output::{WingSetOutput, zero_forces};
 use crate::actuated::ActuatedWingOutput;
 use crate::error::{Error, Result};
 use crate::model::Controls;
-
-/// What one step of a [`WingSet`] computed.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct WingSetOutput {
-    /// Step index k.
-    pub step: u64,
-    /// t_k, s.
-    pub t_s: f64,
-    /// Wingbeat phase at t_k (cycles).
-    pub phase: f64,
-    /// Each wing's forces, in the set's order.
-    pub wings: Vec<WingForces>,
-    /// Each actuated wing's hinge and actuator state (empty for prescribed kinematics).
-    pub actuated: Vec<ActuatedWingOutput>,
-    /// Aerodynamic load of each term ([`Term::ALL`] order), all wings, about the CoM.
-    pub terms: [BodyLoad; 4],
-    /// Inertial reaction of the wings' (and actuators') masses.
-    pub wing_inertia: BodyLoad,
-    /// Everything the wings apply to the body.
-    pub total: BodyLoad,
-    /// Controls in force during this step.
-    pub controls: Controls,
-}
-
-/// A wing's forces before any step: all zero.
-pub(crate) fn zero_forces() -> WingForces {
-    WingForces {
-        terms: Default::default(),
-        total: Default::default(),
-        angles: Default::default(),
-        phase: wingforce::StrokePhase {
-            half_stroke: 0,
-            t_star: 0.0,
-            downstroke: true,
-        },
-    }
-}
-
-impl WingSetOutput {
-    pub(super) fn empty(n: usize) -> Self {
-        let wing = zero_forces();
-        Self {
-            step: 0,
-            t_s: 0.0,
-            phase: 0.0,
-            wings: vec![wing; n],
-            actuated: Vec::new(),
-            terms: Default::default(),
-            wing_inertia: BodyLoad::default(),
-            total: BodyLoad::default(),
-            controls: Controls::default(),
-        }
-    }
-}
 
 /// The body's motion relative to air moving at `wind_world_m_s`, body frame.
 fn air_motion(body: &State, wind_world_m_s: &Vector3<f64>) -> BodyMotion {

@@ -10,14 +10,15 @@ use flapsim::{StepOutput, Vehicle};
 
 use crate::chunk::RawChunk;
 use crate::encode::SampleEncoder;
+use crate::error::{Error, Result};
 use crate::mcap_write::McapWriter;
+use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
     self, CHANNELS, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, channel_id,
 };
 use crate::writer::{Flushed, Writer};
-use crate::{Error, LogOptions, Result, RunInfo};
 
 /// Close the current chunk (so a killed run keeps it) at least this often, simulated time.
 const FLUSH_INTERVAL_NS: u64 = 50_000_000;

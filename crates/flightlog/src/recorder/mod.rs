@@ -16,6 +16,8 @@ use std::path::PathBuf;
 
 use flapsim::{Controls, StepOutput, Vehicle};
 
+use crate::error::{Error, Result};
+use crate::options::{Level, LogOptions, RunInfo};
 #[cfg(any(feature = "rerun", feature = "live"))]
 use crate::sample::Sample;
 use crate::sample::{SampleBuilder, WingStatic, time_ns, timestamp};
@@ -23,7 +25,6 @@ use crate::scene::ForceArrows;
 use crate::schema::{OPT_ESTIMATE, OPT_WIND};
 use crate::sensor_msg::SensorMessage;
 use crate::writer::Flushed;
-use crate::{Error, Level, LogOptions, Result, RunInfo};
 
 use mcap_out::{McapOut, open_mcap};
 

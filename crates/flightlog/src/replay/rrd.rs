@@ -6,10 +6,11 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::error::{Error, Result};
 use crate::json::Json;
+use crate::options::Level;
 use crate::read::read_log;
 use crate::schema::{TOPIC_EVENTS, TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT, TOPIC_STATE};
-use crate::{Error, Level, Result};
 
 /// What [`to_rrd`] wrote.
 #[cfg(feature = "rerun")]

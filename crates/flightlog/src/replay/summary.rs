@@ -7,10 +7,11 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
+use crate::error::Result;
 use crate::json::Json;
+use crate::options::{Level, SimSettings};
 use crate::read::{AttachmentSummary, ChannelSummary, LogFile, read_log};
 use crate::schema::{self, TOPIC_EVENTS, TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT, TOPIC_STATE};
-use crate::{Level, Result, SimSettings};
 
 /// A run event (from /events).
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -7,8 +7,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use crate::error::{Error, Result};
 use crate::read::read_log;
-use crate::{Error, Result};
 
 /// What [`export_csv`] wrote.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
