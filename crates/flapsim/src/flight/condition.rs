@@ -84,21 +84,27 @@ impl Vehicle {
             .any(|w| w.options().induced_inflow.is_some())
     }
 
-    /// Freezes the wings' induced inflow at a flight condition: the body moving at
-    /// `velocity_body_m_s` (body frame) through the air while the wings carry
-    /// `required_force_n` in all (shared equally). Hover (zero velocity) keeps the model's
-    /// own hover inflow untouched.
-    pub fn set_flight_inflow(&mut self, velocity_body_m_s: &Vector3<f64>, required_force_n: f64) {
-        if *velocity_body_m_s == Vector3::zeros() {
+    /// Freezes the wings' induced inflow at `condition` for a body at `world_from_body`: the
+    /// wings, moving with the body through the air, carry the weight and the body's drag
+    /// (shared equally). Hover keeps the model's own hover inflow untouched.
+    pub fn freeze_inflow_at(
+        &mut self,
+        condition: &FlightCondition,
+        world_from_body: &nalgebra::UnitQuaternion<f64>,
+    ) {
+        if condition.is_hover() {
             return;
         }
-        let n = self.wings.len() as f64;
+        let vel_w = condition.velocity_world_m_s();
+        let required = Vector3::new(0.0, 0.0, self.weight_n()) - self.body_drag_world_n(&vel_w);
+        let velocity_body_m_s: [f64; 3] = (world_from_body.inverse() * vel_w).into();
+        let thrust_n = required.norm() / self.wings.len() as f64;
         for w in self.wings.iter_mut() {
             let Some(mut inflow) = w.options().induced_inflow else {
                 continue;
             };
-            inflow.thrust_n = required_force_n / n;
-            inflow.flight_velocity_body_m_s = (*velocity_body_m_s).into();
+            inflow.thrust_n = thrust_n;
+            inflow.flight_velocity_body_m_s = velocity_body_m_s;
             let mut options = w.options().clone();
             options.induced_inflow = Some(inflow);
             w.set_options(options);

@@ -90,12 +90,7 @@ fn at_condition(
 ) -> Result<Vehicle> {
     let mut v = vehicle.clone();
     v.apply_controls(&trim_controls(vehicle, lift, x))?;
-    if !condition.is_hover() {
-        let q = attitude_for_pitch(x[2]);
-        let vel_w = condition.velocity_world_m_s();
-        let required = Vector3::new(0.0, 0.0, v.weight_n()) - v.body_drag_world_n(&vel_w);
-        v.set_flight_inflow(&(q.inverse() * vel_w), required.norm());
-    }
+    v.freeze_inflow_at(condition, &attitude_for_pitch(x[2]));
     Ok(v)
 }
 
@@ -351,11 +346,7 @@ pub fn trim_variables(vehicle: &Vehicle, t: &Trim) -> Vector3<f64> {
 pub fn trimmed_vehicle(vehicle: &Vehicle, t: &Trim) -> Result<Vehicle> {
     let mut v = vehicle.clone();
     v.apply_controls(&t.controls)?;
-    if !t.condition.is_hover() {
-        let vel_w = t.condition.velocity_world_m_s();
-        let required = Vector3::new(0.0, 0.0, v.weight_n()) - v.body_drag_world_n(&vel_w);
-        v.set_flight_inflow(&t.velocity_body_m_s(), required.norm());
-    }
+    v.freeze_inflow_at(&t.condition, &t.attitude());
     v.initial_attitude = t.attitude();
     v.initial_velocity_m_s = t.condition.velocity_world_m_s();
     v.initial_angular_velocity_rad_s = Vector3::zeros();
