@@ -36,8 +36,9 @@ pub struct IdentifyArgs {
     /// Wingbeats per segment (each restarted from the state at its first wingbeat).
     #[arg(long = "segment-wingbeats", default_value_t = 4)]
     pub segment_wingbeats: u32,
-    /// Use the IMU's samples as measurements too (needed for gyro_bias_*/accel_bias_*).
-    /// Experimental: not yet validated against flapsim's IMU (crates/identify/README.md).
+    /// Use the IMU's samples as measurements too (needed for gyro_bias_*/accel_bias_*). Fit
+    /// the biases of every axis with it: an unfitted 1 deg/s turn-on bias is many times a
+    /// MEMS gyroscope's noise per sample.
     #[arg(long)]
     pub imu: bool,
     /// The solver stops after this many times (n + 1) residual evaluations.
