@@ -174,6 +174,12 @@ def test_every_builtin_vehicle_runs_in_every_task(env_id, model):
         with pytest.raises(flapwing.AnalysisError, match="no hover trim"):
             gym.make(env_id, model=model)
         return
+    if model == "dragonfly":
+        # A forward-flight specimen (Azuma & Watanabe 1988) without sensors; it has no hover
+        # trim either. The task says what it needs.
+        with pytest.raises(flapwing.AnalysisError, match=r"no \[sensors\] table"):
+            gym.make(env_id, model=model)
+        return
     env = gym.make(env_id, model=model)
     obs, _ = env.reset(seed=7)
     assert obs.shape == env.observation_space.shape == (12,)

@@ -15,7 +15,7 @@ TERMS = ("translational", "rotational", "added_mass", "wake_capture")
 
 def test_builtin_models_are_the_vehicles_and_builtin_wings_the_wings():
     assert set(flapwing.builtin_models()) == {
-        "drosophila", "bumblebee", "robobee_kinematic", "robobee", "hummingbird"}
+        "drosophila", "bumblebee", "robobee_kinematic", "robobee", "hummingbird", "dragonfly"}
     assert flapwing.builtin_wings() == ["robofly"]
     for name in flapwing.builtin_models():  # every name listed loads as what it is listed as
         assert flapwing.Vehicle(name).name == name

@@ -56,6 +56,16 @@ pub const BUMBLEBEE_TOML: &str = include_str!("../../../models/bumblebee.toml");
 /// and hind pairs: `[[pairs]]`).
 pub const DRAGONFLY_TOML: &str = include_str!("../../../models/dragonfly.toml");
 
+/// The built-in vehicles' names, the lightest first (each loads with [`builtin_model`]).
+pub const BUILTIN_MODELS: [&str; 6] = [
+    "drosophila",
+    "bumblebee",
+    "robobee_kinematic",
+    "robobee",
+    "hummingbird",
+    "dragonfly",
+];
+
 /// A built-in model's text by name (`drosophila`, `bumblebee`, `robobee_kinematic`, the
 /// four-winged `dragonfly`, and the actuated `robobee` and `hummingbird`).
 pub fn builtin_model(name: &str) -> Option<&'static str> {

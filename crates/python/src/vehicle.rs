@@ -12,14 +12,8 @@ use crate::sim_err;
 use crate::state::state_from_dict;
 use flapsim::flight::FlightCondition;
 
-/// The built-in vehicles, by name.
-pub const BUILTIN_VEHICLES: [&str; 5] = [
-    "drosophila",
-    "bumblebee",
-    "robobee_kinematic",
-    "robobee",
-    "hummingbird",
-];
+/// The built-in vehicles, by name (flapsim's list).
+pub const BUILTIN_VEHICLES: [&str; 6] = flapsim::BUILTIN_MODELS;
 
 /// (name, TOML text) of every built-in vehicle.
 pub fn builtin_pairs() -> Vec<(&'static str, &'static str)> {

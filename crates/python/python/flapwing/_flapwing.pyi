@@ -31,8 +31,10 @@ __version__: str
 """The package version (the Rust crates' version, CARGO_PKG_VERSION)."""
 
 def builtin_models() -> list[str]:
-    """Names of the built-in vehicles (what `Vehicle`, `Simulation`, `HoverTask` and the
-    Gymnasium environments take; each has a `[sensors]` table)."""
+    """Names of the built-in vehicles (what `Vehicle` and `Simulation` take; `HoverTask` and
+    the Gymnasium environments take those that hover and have a `[sensors]` table: all but
+    the `robobee`, whose published drive lifts less than its weight, and the four-winged
+    forward-flight `dragonfly`)."""
 
 def builtin_wings() -> list[str]:
     """Names of the built-in wing-only models (`robofly`); `Wing` takes these and every

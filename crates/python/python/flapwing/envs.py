@@ -6,8 +6,9 @@
 - ``flapwing/Recover-v0``: the same from a random roll and pitch error of up to 10 deg and a
   random velocity of up to 1 body length per second.
 
-Both take keyword arguments: ``model`` (any of ``flapwing.builtin_models()``, every one
-with a ``[sensors]`` table, or a model file with one; default ``drosophila``), ``randomize`` (a domain-randomisation file, see
+Both take keyword arguments: ``model`` (a built-in vehicle that hovers and has a
+``[sensors]`` table: ``drosophila``, ``bumblebee``, ``robobee_kinematic``, ``hummingbird``;
+or a model file with one; default ``drosophila``), ``randomize`` (a domain-randomisation file, see
 flapsim::randomize; the draws are in ``info["draws"]``) and any TaskSpec field:
 ``duration_s``, ``action_wingbeats`` (wingbeats per action, default 1), ``disturbance_deg``,
 ``disturbance_body_lengths_s``, ``max_position_body_lengths``, ``max_attitude_deg``, and
