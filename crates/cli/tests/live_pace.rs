@@ -1,7 +1,9 @@
 //! `--realtime FACTOR` paces a run to the wall clock, and `--foxglove --wait-for-client`
 //! holds it until a Foxglove client has subscribed: the real binary serves a paced hover on
 //! a loopback port, and a WebSocket client speaking `foxglove.sdk.v1` counts the messages
-//! of one channel per wall-clock second.
+//! of one channel per wall-clock second. The live view serves the optional channels a run
+//! logs too: a hover on the estimate through a gust serves `/estimate`, `/wind` and the
+//! sensors.
 //!
 //! The bounds only ever ask for at least the paced wall time (pacing slows a run, it cannot
 //! speed a slow machine up), so a busy machine cannot make them fail.
@@ -95,6 +97,183 @@ fn ws_url(line: &str) -> String {
         .unwrap()
         .trim_end_matches([',', ';'])
         .to_owned()
+}
+
+/// Connects a `foxglove.sdk.v1` client to `url`; the advertised channels (topic -> (id,
+/// schema name)).
+fn connect(
+    url: &str,
+) -> (
+    tungstenite::WebSocket<TcpStream>,
+    std::collections::BTreeMap<String, (u64, String)>,
+) {
+    let addr: SocketAddr = url.trim_start_matches("ws://").parse().unwrap();
+    let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(10)).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
+    let mut request = tungstenite::client::IntoClientRequest::into_client_request(url).unwrap();
+    request.headers_mut().insert(
+        "sec-websocket-protocol",
+        tungstenite::http::HeaderValue::from_static("foxglove.sdk.v1"),
+    );
+    let (mut ws, _) = tungstenite::client(request, stream).unwrap();
+    let channels = loop {
+        match ws.read().unwrap() {
+            tungstenite::Message::Text(text) => {
+                let v: serde_json::Value = serde_json::from_str(text.as_str()).unwrap();
+                if v["op"] == "advertise" {
+                    break v["channels"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|c| {
+                            (
+                                c["topic"].as_str().unwrap().to_owned(),
+                                (
+                                    c["id"].as_u64().unwrap(),
+                                    c["schemaName"].as_str().unwrap_or("").to_owned(),
+                                ),
+                            )
+                        })
+                        .collect();
+                }
+            }
+            other => panic!("before the advertisement: {other:?}"),
+        }
+    };
+    (ws, channels)
+}
+
+#[test]
+fn the_live_view_serves_the_estimate_the_wind_and_the_sensors() {
+    let (duration_s, gust_start_s, gust_end_s) = (0.06, 0.02, 0.04);
+    let (mut guard, rx, _dir) = spawn(&[
+        "hover",
+        "--foxglove",
+        "127.0.0.1:0",
+        "--wait-for-client",
+        "--feedback",
+        "estimated",
+        "--disturbance",
+        "gust_x_m_s=0.2,gust_start_s=0.02,gust_duration_s=0.02",
+        "--duration-s",
+        "0.06",
+        // Paced (0.6 s of wall time): unpaced, the run outruns the socket and the server
+        // drops what its client's queue cannot hold.
+        "--realtime",
+        "0.1",
+        "--no-log",
+    ]);
+    let mut seen = Vec::new();
+    let url = ws_url(&line_with(&rx, "waiting for a Foxglove client", &mut seen));
+    let (mut ws, channels) = connect(&url);
+    let topics = [
+        ("/estimate", "flapwing.Estimate"),
+        ("/wind", "flapwing.Wind"),
+        ("/sensors/imu", "flapwing.ImuReading"),
+        ("/sensors/mocap", "flapwing.MocapReading"),
+    ];
+    let mut subscriptions = Vec::new();
+    for (k, (topic, schema)) in topics.iter().enumerate() {
+        let (id, name) = channels
+            .get(*topic)
+            .unwrap_or_else(|| panic!("{topic} not advertised: {channels:?}"));
+        assert_eq!(name, schema, "{topic}");
+        subscriptions.push(serde_json::json!({"id": k, "channelId": id}));
+    }
+    ws.send(tungstenite::Message::Text(
+        serde_json::json!({"op": "subscribe", "subscriptions": subscriptions})
+            .to_string()
+            .into(),
+    ))
+    .unwrap();
+    // Each subscription's messages: (log time, payload length).
+    let mut got: Vec<Vec<(f64, usize)>> = vec![Vec::new(); topics.len()];
+    let start = Instant::now();
+    loop {
+        assert!(start.elapsed() < LIMIT, "the run did not end");
+        match ws.read() {
+            Ok(tungstenite::Message::Binary(b)) => {
+                assert!(b.len() >= 13 && b[0] == 1, "not message data: {b:?}");
+                let k = u32::from_le_bytes(b[1..5].try_into().unwrap()) as usize;
+                let t_s = u64::from_le_bytes(b[5..13].try_into().unwrap()) as f64 * 1e-9;
+                got[k].push((t_s, b.len() - 13));
+            }
+            Ok(tungstenite::Message::Close(_)) | Err(_) => break,
+            Ok(_) => {}
+        }
+    }
+    assert_eq!(wait_exit(&mut guard), 0, "{seen:#?}");
+    for ((topic, _), msgs) in topics.iter().zip(&got) {
+        assert!(!msgs.is_empty(), "nothing on {topic}");
+        assert!(
+            msgs.iter()
+                .all(|(t, len)| *t >= 0.0 && *t <= duration_s + 0.02 && *len > 0),
+            "{topic}: {msgs:?}"
+        );
+    }
+    // The estimate and the wind come with the logged samples (2000 per second: 120), the IMU
+    // at its 1 kHz (60, after its 5 ms latency 55); at least half of each arrives (a server
+    // drops what a slow client's queue cannot hold; paced, here none was dropped).
+    eprintln!(
+        "messages: {:?}",
+        got.iter().map(Vec::len).collect::<Vec<_>>()
+    );
+    assert!(got[0].len() >= 60, "{} estimates", got[0].len());
+    assert!(got[1].len() >= 60, "{} winds", got[1].len());
+    assert!(got[2].len() >= 25, "{} IMU readings", got[2].len());
+    // The wind message is longer while the gust blows (its vectors are no longer zero, and
+    // protobuf leaves zeros out).
+    let len_at = |t: f64| {
+        got[1]
+            .iter()
+            .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
+            .unwrap()
+            .1
+    };
+    let (calm, gust) = (
+        len_at(0.5 * gust_start_s),
+        len_at(0.5 * (gust_start_s + gust_end_s)),
+    );
+    assert!(
+        gust > calm,
+        "wind message {calm} B calm, {gust} B in the gust"
+    );
+}
+
+#[test]
+fn a_run_without_an_estimator_advertises_no_estimate() {
+    let (mut guard, rx, _dir) = spawn(&[
+        "hover",
+        "--foxglove",
+        "127.0.0.1:0",
+        "--wait-for-client",
+        "--duration-s",
+        "0.01",
+        "--no-log",
+    ]);
+    let mut seen = Vec::new();
+    let url = ws_url(&line_with(&rx, "waiting for a Foxglove client", &mut seen));
+    let (mut ws, channels) = connect(&url);
+    assert!(!channels.contains_key("/estimate"), "{channels:?}");
+    assert!(!channels.contains_key("/wind"), "{channels:?}");
+    // Subscribing releases the run.
+    let (id, _) = channels
+        .get("/vehicle/pose")
+        .expect("/vehicle/pose advertised");
+    ws.send(tungstenite::Message::Text(
+        serde_json::json!({"op": "subscribe", "subscriptions": [{"id": 1, "channelId": id}]})
+            .to_string()
+            .into(),
+    ))
+    .unwrap();
+    while let Ok(m) = ws.read() {
+        if matches!(m, tungstenite::Message::Close(_)) {
+            break;
+        }
+    }
+    assert_eq!(wait_exit(&mut guard), 0, "{seen:#?}");
 }
 
 #[test]

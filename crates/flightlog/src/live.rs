@@ -1,6 +1,8 @@
 //! The live Foxglove view (feature `live`): the run served over the Foxglove WebSocket
 //! protocol (subprotocol `foxglove.sdk.v1`) by the foxglove SDK's server, on the same
-//! channels, schemas and protobuf messages as the MCAP file.
+//! channels, schemas and protobuf messages as the MCAP file: the run's channels, and the
+//! optional ones its options ask for (`/sensors/imu` and `/sensors/mocap`, `/wind`,
+//! `/estimate`; [`crate::schema::declared_channels`]).
 //!
 //! The channels live in a context of their own (nothing else logs to them). A channel has a
 //! sink only while a client subscribes to it, and a sample's message is encoded only for
@@ -20,15 +22,18 @@ use foxglove::{
 };
 
 use crate::error::{Error, Result};
+use crate::options::LogOptions;
 use crate::sample::{Encoded, Sample};
 use crate::schema::{
-    self, CHANNELS, EVENTS, MESSAGE_ENCODING, SCENE_FORCES, SCENE_WINGS, SCHEMA_ENCODING,
+    self, EVENTS, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCENE_FORCES, SCENE_WINGS, SCHEMA_ENCODING,
 };
 
-/// The running server and its channels (in the order of [`CHANNELS`]).
+/// The running server and its channels (in the order of [`schema::declared_channels`]).
 pub(crate) struct LiveSink {
     server: WebSocketServerHandle,
     channels: Vec<Arc<RawChannel>>,
+    /// Each of [`OPTIONAL_CHANNELS`]' index in `channels`, if declared.
+    optional: [Option<usize>; OPTIONAL_CHANNELS.len()],
     buf: Vec<u8>,
     /// Whether the current /scene/wings subscription has had the planforms.
     scene_sent: bool,
@@ -125,12 +130,18 @@ fn host_port(addr: &str) -> Result<(String, u16)> {
 }
 
 impl LiveSink {
-    /// Starts the server at `addr` (`host:port`; port 0 picks a free one).
-    pub fn start(addr: &str) -> Result<Self> {
+    /// Starts the server at `addr` (`host:port`; port 0 picks a free one) with the channels
+    /// a log with `options` declares.
+    pub fn start(addr: &str, options: &LogOptions) -> Result<Self> {
         let (host, port) = host_port(addr)?;
         let context = Context::new();
-        let mut channels = Vec::with_capacity(CHANNELS.len());
-        for (topic, name) in CHANNELS {
+        let declared = schema::declared_channels(options);
+        let mut optional = [None; OPTIONAL_CHANNELS.len()];
+        for (i, c) in OPTIONAL_CHANNELS.iter().enumerate() {
+            optional[i] = declared.iter().position(|d| d == c);
+        }
+        let mut channels = Vec::with_capacity(declared.len());
+        for (topic, name) in declared {
             let data = schema::schema_data(name).unwrap_or_default();
             let channel = context
                 .channel_builder(topic)
@@ -155,6 +166,7 @@ impl LiveSink {
         Ok(Self {
             server,
             channels,
+            optional,
             buf: Vec::new(),
             scene_sent: false,
             _context: context,
@@ -198,6 +210,19 @@ impl LiveSink {
     /// Sends a sample to the clients subscribed to its channels.
     pub fn sample(&mut self, s: &Sample) {
         s.each(|i, m| self.log(i, s.t_ns, m));
+    }
+
+    /// Sends a message on optional channel `opt` (an index into [`OPTIONAL_CHANNELS`]) if
+    /// the run declared it.
+    pub fn optional(&mut self, opt: usize, t_ns: u64, m: &dyn Encoded) {
+        if let Some(index) = self.optional[opt] {
+            self.log(index, t_ns, m);
+        }
+    }
+
+    /// True while a client subscribes to optional channel `opt`.
+    pub fn optional_wanted(&self, opt: usize) -> bool {
+        self.optional[opt].is_some_and(|i| self.channels[i].has_sinks())
     }
 
     /// Sends an event on /events.

@@ -130,7 +130,7 @@ impl Recorder {
         // Servers and viewers first (they fail most often), then files.
         #[cfg(feature = "live")]
         let live = match &options.foxglove {
-            Some(addr) => Some(crate::live::LiveSink::start(addr)?),
+            Some(addr) => Some(crate::live::LiveSink::start(addr, options)?),
             None => None,
         };
         #[cfg(feature = "rerun")]
@@ -278,22 +278,34 @@ impl Recorder {
 
     /// Logs one delivered sensor reading to `/sensors/imu` or `/sensors/mocap` at the
     /// simulation time `t_s` of the step it arrived at (every reading, no decimation). The
-    /// log must have been created with [`LogOptions::sensors`]; other outputs (Rerun, the
-    /// live view) do not show sensors.
+    /// log must have been created with [`LogOptions::sensors`]; the live view serves them
+    /// too, Rerun does not show sensors.
     pub fn sensor(&mut self, t_s: f64, reading: &flapsim::sensor_run::Reading) -> Result<()> {
-        let Some(m) = &mut self.mcap else {
-            return Ok(());
-        };
         let t_ns = time_ns(t_s);
+        #[cfg(feature = "live")]
+        let live = self.live.as_ref().is_some_and(|l| {
+            l.optional_wanted(crate::schema::OPT_IMU) || l.optional_wanted(crate::schema::OPT_MOCAP)
+        });
+        #[cfg(not(feature = "live"))]
+        let live = false;
+        if self.mcap.is_none() && !live {
+            return Ok(());
+        }
         let msg = SensorMessage::of(reading, t_ns);
-        let Some(id) = m.optional_ids[msg.channel()] else {
-            return Err(Error::Options(
-                "sensor readings need a log created with LogOptions::sensors".into(),
-            ));
-        };
-        m.encoder
-            .optional(msg.channel(), id, t_ns, msg.encoded(), &mut m.chunk);
-        self.stats.mcap_messages += 1;
+        if let Some(m) = &mut self.mcap {
+            let Some(id) = m.optional_ids[msg.channel()] else {
+                return Err(Error::Options(
+                    "sensor readings need a log created with LogOptions::sensors".into(),
+                ));
+            };
+            m.encoder
+                .optional(msg.channel(), id, t_ns, msg.encoded(), &mut m.chunk);
+            self.stats.mcap_messages += 1;
+        }
+        #[cfg(feature = "live")]
+        if let Some(l) = &mut self.live {
+            l.optional(msg.channel(), t_ns, msg.encoded());
+        }
         Ok(())
     }
 
@@ -311,8 +323,8 @@ impl Recorder {
     /// [`flapsim::Simulation::set_wind`]; world frame, m/s. Call it after
     /// [`Recorder::record`] of the same step: it is written only when that step was logged
     /// (the log's sample times). The MCAP log must have been created with
-    /// [`LogOptions::wind`]; Rerun shows it under `plots/wind_m_s/<wing>`; the live view does
-    /// not.
+    /// [`LogOptions::wind`] (the live view then serves `/wind` too); Rerun shows it under
+    /// `plots/wind_m_s/<wing>`.
     ///
     /// [`schema::WIND_CHANNEL`]: crate::schema::WIND_CHANNEL
     pub fn wind(
@@ -324,15 +336,28 @@ impl Recorder {
         let Some((t_ns, _)) = self.sampled(t_s) else {
             return Ok(());
         };
-        if let Some(m) = &mut self.mcap {
-            let Some(id) = m.optional_ids[OPT_WIND] else {
-                return Err(Error::Options(
-                    "wind messages need a log created with LogOptions::wind".into(),
-                ));
-            };
+        #[cfg(feature = "live")]
+        let live = self
+            .live
+            .as_ref()
+            .is_some_and(|l| l.optional_wanted(OPT_WIND));
+        #[cfg(not(feature = "live"))]
+        let live = false;
+        if self.mcap.is_some() || live {
             let msg = crate::estimate_msg::wind(t_ns, t_s, uniform_world_m_s, wing_winds_world_m_s);
-            m.encoder.optional(OPT_WIND, id, t_ns, &msg, &mut m.chunk);
-            self.stats.mcap_messages += 1;
+            if let Some(m) = &mut self.mcap {
+                let Some(id) = m.optional_ids[OPT_WIND] else {
+                    return Err(Error::Options(
+                        "wind messages need a log created with LogOptions::wind".into(),
+                    ));
+                };
+                m.encoder.optional(OPT_WIND, id, t_ns, &msg, &mut m.chunk);
+                self.stats.mcap_messages += 1;
+            }
+            #[cfg(feature = "live")]
+            if let Some(l) = &mut self.live {
+                l.optional(OPT_WIND, t_ns, &msg);
+            }
         }
         #[cfg(feature = "rerun")]
         if let Some(r) = &self.rerun {
@@ -346,9 +371,9 @@ impl Recorder {
     /// `t_s` at constant rates, [`flapsim::estimator::Estimator::state_at`]) for the step
     /// at `t_s` to `/estimate` ([`schema::ESTIMATE_CHANNEL`]). Call it after
     /// [`Recorder::record`] of the same step: it is written only when that step was logged.
-    /// The MCAP log must have been created with [`LogOptions::estimate`]; Rerun shows the
-    /// estimate against the truth (`plots/estimate/...`, `world/estimate`); the live view
-    /// does not.
+    /// The MCAP log must have been created with [`LogOptions::estimate`] (the live view then
+    /// serves `/estimate` too); Rerun shows the estimate against the truth
+    /// (`plots/estimate/...`, `world/estimate`).
     ///
     /// [`schema::ESTIMATE_CHANNEL`]: crate::schema::ESTIMATE_CHANNEL
     pub fn estimate(&mut self, t_s: f64, filter: &flapsim::estimator::Estimator) -> Result<()> {
@@ -361,7 +386,14 @@ impl Recorder {
         let rerun = self.rerun.is_some();
         #[cfg(not(feature = "rerun"))]
         let rerun = false;
-        if self.mcap.is_none() && !rerun {
+        #[cfg(feature = "live")]
+        let live = self
+            .live
+            .as_ref()
+            .is_some_and(|l| l.optional_wanted(OPT_ESTIMATE));
+        #[cfg(not(feature = "live"))]
+        let live = false;
+        if self.mcap.is_none() && !rerun && !live {
             return Ok(());
         }
         let msg = crate::estimate_msg::estimate(t_ns, t_s, filter);
@@ -374,6 +406,10 @@ impl Recorder {
             m.encoder
                 .optional(OPT_ESTIMATE, id, t_ns, &msg, &mut m.chunk);
             self.stats.mcap_messages += 1;
+        }
+        #[cfg(feature = "live")]
+        if let Some(l) = &mut self.live {
+            l.optional(OPT_ESTIMATE, t_ns, &msg);
         }
         #[cfg(feature = "rerun")]
         if let Some(r) = &self.rerun {
