@@ -78,6 +78,11 @@ pub struct FlightData {
     pub start_source: StartSource,
     /// A uniform gust to replay (hover logs).
     pub gust: Option<Gust>,
+    /// The run's wind field to replay (a log's `[wind]`: the hover settings' when the
+    /// run's flags set one, else the embedded model's), with its reference point, the
+    /// vehicle's start (world, m). The field is a deterministic function of the point and
+    /// the time for its seed, so a segment restarted anywhere meets the wind the run met.
+    pub wind: Option<(flapsim::WindSpec, Vector3<f64>)>,
     /// The controls were set at every wingbeat start (a closed-loop hover, a CSV): the
     /// replay sets them there too; otherwise only where they change (so that the wing
     /// phases are those of the original run, see `flapsim::Simulation::start_at_step`).
@@ -241,12 +246,17 @@ impl FlightData {
                 velocity_m_s: v,
             })
         });
-        if vehicle.wind.is_some() {
-            return Err(log_err(
-                path,
-                "the model has a [wind] field (turbulence or gusts), which the log does not record as a channel, so the fit cannot replay it; fit a flight in still air (or with a `--disturbance gust_*`, which is replayed)",
-            ));
-        }
+        // The run's wind field: the settings' (`hover` writes the one its flags made), else
+        // the model's `[wind]`.
+        let wind_spec = match settings.get("wind") {
+            Some(w) => Some(
+                serde_json::from_value::<flapsim::WindSpec>(w.clone()).map_err(|e| {
+                    log_err(path, format!("the settings' `wind` does not load: {e}"))
+                })?,
+            ),
+            None => vehicle.wind.clone(),
+        };
+        let wind = wind_spec.map(|w| (w, vehicle.initial_position_m));
 
         let mocap_t = required_table(path, TOPIC_MOCAP, "its poses are the measurements")?;
         let mut mocap = Vec::with_capacity(mocap_t.rows.len());
@@ -377,6 +387,7 @@ impl FlightData {
             starts,
             start_source,
             gust,
+            wind,
         })
     }
 
@@ -420,6 +431,7 @@ impl FlightData {
             starts,
             start_source: StartSource::Mocap,
             gust: None,
+            wind: None,
         })
     }
 

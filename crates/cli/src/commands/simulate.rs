@@ -93,6 +93,16 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let wind = crate::wind::start(&args.wind, &vehicle, &src.origin, duration_s)?;
     let wind_text = wind.as_ref().map(crate::wind::describe);
     let settings = flightlog::SimSettings::new(mode, duration_s, rate, [0.0; 3]).to_json();
+    // A wind field the flags made (not the embedded model's) goes into the settings, as
+    // `hover` does, so that `identify` replays the wind the run met.
+    let settings = match &wind_spec {
+        Some(w) if vehicle.wind.as_ref() != Some(w) => {
+            let mut v: serde_json::Value = serde_json::from_str(&settings)?;
+            v["wind"] = serde_json::to_value(w)?;
+            v.to_string()
+        }
+        _ => settings,
+    };
     let mut sensors = crate::sensing::start(&args.sensors, &vehicle)?;
     // `/wind` in runs with a wind field (the model's `[wind]` or the wind flags).
     let log_wind = wind.is_some();

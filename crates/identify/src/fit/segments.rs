@@ -209,6 +209,14 @@ impl Setup<'_> {
             return fail();
         }
         sim.set_state(start);
+        // The run's wind field, a function of the point and the time: the segment meets
+        // the wind the run met (a fresh field per segment; its samples are generated again).
+        if let Some((spec, reference)) = &self.data.wind {
+            match flapsim::wind::Wind::from_spec(spec, &self.data.model_origin, *reference) {
+                Ok(w) => sim.set_wind_model(Some(w)),
+                Err(_) => return fail(),
+            }
+        }
         let per = vehicle.sim.steps_per_wingbeat;
         let mut states: Vec<State> = Vec::with_capacity(seg.steps);
         let mut diverged = false;
