@@ -1,0 +1,64 @@
+"""The house (issue #28): in every crate, no two files import each other, directly or
+through others (scripts/house/import_circles.py, which follows `pub use` re-exports to the
+file that defines a name); its own cases show it finds a circle and passes a ladder."""
+
+import pathlib
+import subprocess
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SCRIPT = ROOT / "scripts" / "house" / "import_circles.py"
+
+
+def run(*dirs):
+    return subprocess.run([sys.executable, str(SCRIPT), *map(str, dirs)],
+                          capture_output=True, text=True)
+
+
+def crate(tmp_path, files):
+    src = tmp_path / "src"
+    for name, text in files.items():
+        (src / name).parent.mkdir(parents=True, exist_ok=True)
+        (src / name).write_text(text)
+    return src
+
+
+def test_no_crate_has_files_importing_each_other():
+    srcs = sorted(ROOT.glob("crates/*/src"))
+    assert len(srcs) >= 8, srcs
+    proc = run(*srcs)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_a_circle_through_a_third_file_is_found(tmp_path):
+    src = crate(tmp_path, {
+        "lib.rs": "mod a;\nmod b;\nmod c;\n",
+        "a.rs": "use crate::b::B;\npub struct A;\n",
+        "b.rs": "use crate::c::C;\npub struct B;\n",
+        "c.rs": "use crate::a::A;\npub struct C;\n",
+    })
+    proc = run(src)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert "a.rs, b.rs, c.rs" in proc.stdout, proc.stdout
+
+
+def test_a_circle_hidden_behind_a_re_export_is_found(tmp_path):
+    # a imports B from the module root, which re-exports it from b; b imports a.
+    src = crate(tmp_path, {
+        "lib.rs": "mod a;\nmod b;\npub use b::B;\n",
+        "a.rs": "use crate::B;\npub struct A;\n",
+        "b.rs": "use super::a::A;\npub struct B;\n",
+    })
+    proc = run(src)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert "a.rs, b.rs" in proc.stdout, proc.stdout
+
+
+def test_a_ladder_and_a_test_module_pass(tmp_path):
+    src = crate(tmp_path, {
+        "lib.rs": "mod a;\nmod b;\npub use a::A;\n",
+        "a.rs": "use crate::b::B;\npub struct A(B);\n",
+        "b.rs": "pub struct B;\n#[cfg(test)]\nmod tests {\n    use crate::a::A;\n}\n",
+    })
+    proc = run(src)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
