@@ -15,6 +15,14 @@
  * flapwing_wings_set_controls when an input changes: at the start of the next wingbeat
  * (immediately before the first step).
  *
+ * Trim (the Boolean parameter `trim`): when the model loads, the wings are trimmed at the
+ * flight condition (trim_forward_speed_m_s, trim_climb_rate_m_s) with
+ * flapwing_wings_trim, which sets the trimmed controls and freezes the induced inflow at
+ * the condition; the calculated parameters trim_* give the attitude, velocity and power at
+ * trim (the body state to hold for a trimmed flight), and the control inputs become offsets
+ * from the trimmed controls. A condition that does not trim fails initialization with the
+ * C ABI's message.
+ *
  * Errors: a bad model name or file (at the end of initialization), a NaN or infinite input
  * (C ABI FLAPWING_INVALID_ARGUMENT: fmi2Discard, the element not advanced), a communication
  * step that is no whole number of element steps, a diverged wing (fmi2Error): each logged
@@ -51,6 +59,8 @@ typedef struct {
   FlapwingWings *wings;             /* created at the end of initialization (or on demand) */
   FlapwingControls applied;         /* the controls last passed to the wing set */
   fmi2Boolean discarded;            /* the last doStep was discarded (a bad input) */
+  fmi2Boolean trim;                 /* the Boolean parameter */
+  FlapwingControls trimmed;         /* the controls trim found (zero without trim) */
   double start_time_s;
 } Fmu;
 
@@ -121,6 +131,7 @@ static void reset_values(Fmu *f) {
   f->element_steps = 0;
   f->discarded = fmi2False;
   memset(&f->applied, 0, sizeof f->applied);
+  memset(&f->trimmed, 0, sizeof f->trimmed);
   flapwing_wings_free(f->wings);
   f->wings = NULL;
 }
@@ -144,24 +155,45 @@ static fmi2Status ensure_wings(Fmu *f) {
   s = flapwing_wings_dt_s(f->wings, &f->real[VR_element_dt_s]);
   if (s != FLAPWING_OK) return fail(f, fmi2Error, "element step: %s: %s", status_name(s), flapwing_last_error());
   log_msg(f, fmi2OK, "logCalls", "model \"%s\": element step %.17g s", f->model, f->real[VR_element_dt_s]);
+  if (f->trim) {
+    double u = f->real[VR_trim_forward_speed_m_s], w = f->real[VR_trim_climb_rate_m_s];
+    FlapwingTrim t;
+    s = flapwing_wings_trim(f->wings, u, w, &t);
+    if (s != FLAPWING_OK) {
+      fmi2Status r = fail(f, fmi2Error, "trim at %g m/s forward, %g m/s climb: %s: %s", u, w,
+                          status_name(s), flapwing_last_error());
+      flapwing_wings_free(f->wings);
+      f->wings = NULL;
+      return r;
+    }
+    f->trimmed = t.controls;
+    f->applied = t.controls; /* in force on the wings already */
+    for (int i = 0; i < 4; i++) f->real[VR_trim_world_from_body_w + i] = t.world_from_body_wxyz[i];
+    for (int i = 0; i < 3; i++) f->real[VR_trim_velocity_world_m_s_x + i] = t.velocity_world_m_s[i];
+    f->real[VR_trim_aero_power_w] = t.aero_power_w;
+    log_msg(f, fmi2OK, "logCalls", "trimmed at %g m/s forward, %g m/s climb: body pitch %.6g rad", u, w,
+            t.pitch_rad);
+  }
   return fmi2OK;
 }
 
-static FlapwingControls controls_from_inputs(const double *r) {
+/* The controls of the inputs: offsets from the model's nominal kinematics, or with trim from
+ * the trimmed controls `base` (zero without trim). */
+static FlapwingControls controls_from_inputs(const double *r, const FlapwingControls *base) {
   FlapwingControls c = {
-      .mean_stroke_rad = r[VR_control_mean_stroke_rad],
-      .amplitude_rad = r[VR_control_amplitude_rad],
-      .pitch_bias_rad = r[VR_control_pitch_bias_rad],
-      .aoa_rad = r[VR_control_aoa_rad],
-      .freq_hz = r[VR_control_freq_hz],
-      .diff_amplitude_rad = r[VR_control_diff_amplitude_rad],
-      .diff_pitch_bias_rad = r[VR_control_diff_pitch_bias_rad],
-      .diff_mean_stroke_rad = r[VR_control_diff_mean_stroke_rad],
-      .bias_v = r[VR_control_bias_v],
-      .amplitude_v = r[VR_control_amplitude_v],
-      .diff_amplitude_v = r[VR_control_diff_amplitude_v],
-      .diff_bias_v = r[VR_control_diff_bias_v],
-      .diff_second_harmonic = r[VR_control_diff_second_harmonic],
+      .mean_stroke_rad = base->mean_stroke_rad + r[VR_control_mean_stroke_rad],
+      .amplitude_rad = base->amplitude_rad + r[VR_control_amplitude_rad],
+      .pitch_bias_rad = base->pitch_bias_rad + r[VR_control_pitch_bias_rad],
+      .aoa_rad = base->aoa_rad + r[VR_control_aoa_rad],
+      .freq_hz = base->freq_hz + r[VR_control_freq_hz],
+      .diff_amplitude_rad = base->diff_amplitude_rad + r[VR_control_diff_amplitude_rad],
+      .diff_pitch_bias_rad = base->diff_pitch_bias_rad + r[VR_control_diff_pitch_bias_rad],
+      .diff_mean_stroke_rad = base->diff_mean_stroke_rad + r[VR_control_diff_mean_stroke_rad],
+      .bias_v = base->bias_v + r[VR_control_bias_v],
+      .amplitude_v = base->amplitude_v + r[VR_control_amplitude_v],
+      .diff_amplitude_v = base->diff_amplitude_v + r[VR_control_diff_amplitude_v],
+      .diff_bias_v = base->diff_bias_v + r[VR_control_diff_bias_v],
+      .diff_second_harmonic = base->diff_second_harmonic + r[VR_control_diff_second_harmonic],
   };
   return c;
 }
@@ -282,6 +314,7 @@ fmi2Status fmi2Reset(fmi2Component c) {
   if (!model) return fail(f, fmi2Error, "fmi2Reset: out of memory");
   free(f->model);
   f->model = model;
+  f->trim = fmi2False;
   reset_values(f);
   f->start_time_s = 0.0;
   f->phase = INSTANTIATED;
@@ -302,9 +335,9 @@ fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nv
   if (!f) return fmi2Error;
   if (check_vrs(f, "fmi2GetReal", vr, nvr, FLAPWING_FMU_N_REALS) != fmi2OK) return fmi2Error;
   for (size_t i = 0; i < nvr; i++) {
-    /* The element step is known once the model is: create the wing set on demand in
-     * initialization mode (a master reads calculated parameters there). */
-    if (vr[i] == VR_element_dt_s && !f->wings && f->phase == INITIALIZATION &&
+    /* The element step and the trim are known once the model is: create the wing set on
+     * demand in initialization mode (a master reads calculated parameters there). */
+    if (real_causality[vr[i]][0] == 'c' && !f->wings && f->phase == INITIALIZATION &&
         ensure_wings(f) != fmi2OK)
       return fmi2Error;
     value[i] = f->real[vr[i]];
@@ -350,17 +383,25 @@ fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t
 }
 
 fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Boolean value[]) {
-  (void)value;
   Fmu *f = c;
   if (!f) return fmi2Error;
-  return check_vrs(f, "fmi2GetBoolean", vr, nvr, 0); /* there are no Boolean variables */
+  if (check_vrs(f, "fmi2GetBoolean", vr, nvr, 1) != fmi2OK) return fmi2Error;
+  for (size_t i = 0; i < nvr; i++) value[i] = f->trim;
+  return fmi2OK;
 }
 
 fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, const fmi2Boolean value[]) {
-  (void)value;
   Fmu *f = c;
   if (!f) return fmi2Error;
-  return check_vrs(f, "fmi2SetBoolean", vr, nvr, 0);
+  if (check_vrs(f, "fmi2SetBoolean", vr, nvr, 1) != fmi2OK) return fmi2Error;
+  for (size_t i = 0; i < nvr; i++) {
+    if (f->phase != INSTANTIATED && f->phase != INITIALIZATION)
+      return fail(f, fmi2Error, "fmi2SetBoolean: trim is a fixed parameter: set it before initialization ends");
+    f->trim = value[i] ? fmi2True : fmi2False;
+    flapwing_wings_free(f->wings); /* rebuilt (and trimmed) with the new value */
+    f->wings = NULL;
+  }
+  return fmi2OK;
 }
 
 fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2String value[]) {
@@ -415,7 +456,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
                 "fmi2DoStep: communication point %.17g s, but the wings are at %.17g s (%d element steps of %.17g s)",
                 currentCommunicationPoint, f->start_time_s + f->element_steps * dt_s, (int)f->element_steps, dt_s);
 
-  FlapwingControls controls = controls_from_inputs(f->real);
+  FlapwingControls controls = controls_from_inputs(f->real, &f->trimmed);
   if (memcmp(&controls, &f->applied, sizeof controls) != 0) {
     FlapwingStatus s = flapwing_wings_set_controls(f->wings, &controls);
     f->discarded = s == FLAPWING_INVALID_ARGUMENT;

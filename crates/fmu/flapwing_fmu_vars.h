@@ -51,13 +51,26 @@
   X(force_body_n_z, 30, "output", "continuous", NAN, "N", "Mean wing force over the last communication step, body z") \
   X(moment_body_nm_x, 31, "output", "continuous", NAN, "N.m", "Mean wing moment about the CoM over the last communication step, body x") \
   X(moment_body_nm_y, 32, "output", "continuous", NAN, "N.m", "Mean wing moment about the CoM over the last communication step, body y") \
-  X(moment_body_nm_z, 33, "output", "continuous", NAN, "N.m", "Mean wing moment about the CoM over the last communication step, body z")
+  X(moment_body_nm_z, 33, "output", "continuous", NAN, "N.m", "Mean wing moment about the CoM over the last communication step, body z") \
+  X(trim_forward_speed_m_s, 34, "parameter", "fixed", 0.0, "m/s", "With trim: the flight condition's forward speed (flapsim::flight)") \
+  X(trim_climb_rate_m_s, 35, "parameter", "fixed", 0.0, "m/s", "With trim: the flight condition's climb rate") \
+  X(trim_world_from_body_w, 36, "calculatedParameter", "fixed", NAN, "", "With trim: the body's attitude at trim, world_from_body, w (NaN without)") \
+  X(trim_world_from_body_x, 37, "calculatedParameter", "fixed", NAN, "", "With trim: the body's attitude at trim, world_from_body, x") \
+  X(trim_world_from_body_y, 38, "calculatedParameter", "fixed", NAN, "", "With trim: the body's attitude at trim, world_from_body, y") \
+  X(trim_world_from_body_z, 39, "calculatedParameter", "fixed", NAN, "", "With trim: the body's attitude at trim, world_from_body, z") \
+  X(trim_velocity_world_m_s_x, 40, "calculatedParameter", "fixed", NAN, "m/s", "With trim: the body's velocity at trim, world x") \
+  X(trim_velocity_world_m_s_y, 41, "calculatedParameter", "fixed", NAN, "m/s", "With trim: the body's velocity at trim, world y") \
+  X(trim_velocity_world_m_s_z, 42, "calculatedParameter", "fixed", NAN, "m/s", "With trim: the body's velocity at trim, world z") \
+  X(trim_aero_power_w, 43, "calculatedParameter", "fixed", NAN, "W", "With trim: the wings' cycle-mean aerodynamic power at trim")
 
 /* The one String variable (value reference 0) and the one Integer variable (value reference
  * 0), outside the table because there is only one of each. */
 #define FLAPWING_FMU_MODEL_DESCRIPTION \
-  "Vehicle model: a built-in name (drosophila, bumblebee, robobee_kinematic, robobee, hummingbird) or a path to a model TOML file"
+  "Vehicle model: a built-in name (drosophila, bumblebee, robobee_kinematic, robobee, hummingbird, dragonfly) or a path to a model TOML file"
 #define FLAPWING_FMU_STEPS_DESCRIPTION "Element steps taken since initialization"
+/* The one Boolean variable (value reference 0). */
+#define FLAPWING_FMU_TRIM_DESCRIPTION \
+  "Trim the wings at the flight condition (trim_forward_speed_m_s, trim_climb_rate_m_s) when the model loads: the control inputs are then offsets from the trimmed controls"
 
 enum {
 #define FLAPWING_FMU_VR_ENUM(name, vr, ...) VR_##name = vr,
@@ -75,6 +88,7 @@ enum {
   X("rad/s", 0, 0, -1, 0, 1)   \
   X("Hz", 0, 0, -1, 0, 0)      \
   X("V", 1, 2, -3, -1, 0)      \
+  X("W", 1, 2, -3, 0, 0)       \
   X("N", 1, 1, -2, 0, 0)       \
   X("N.m", 1, 2, -2, 0, 0)
 
@@ -84,7 +98,7 @@ enum {
 #define FLAPWING_FMU_STR(x) FLAPWING_FMU_STR2(x)
 static const char flapwing_fmu_table_text[] =
     FLAPWING_FMU_STR((FLAPWING_FMU_REALS(FLAPWING_FMU_STR_ROW))) FLAPWING_FMU_MODEL_DESCRIPTION
-        FLAPWING_FMU_STEPS_DESCRIPTION FLAPWING_FMU_DEFAULT_MODEL;
+        FLAPWING_FMU_STEPS_DESCRIPTION FLAPWING_FMU_TRIM_DESCRIPTION FLAPWING_FMU_DEFAULT_MODEL;
 
 static inline void flapwing_fmu_guid(char out[40]) {
   uint64_t h = 0xcbf29ce484222325ULL;

@@ -25,6 +25,7 @@ static const Real reals[] = {
 #define INDEX_MODEL 1
 #define INDEX_REAL(i) (2 + (i))
 #define INDEX_STEPS (2 + N_REALS)
+#define INDEX_TRIM (3 + N_REALS)
 
 int main(int argc, char **argv) {
   const char *version = argc > 1 ? argv[1] : "0.1.0";
@@ -84,6 +85,11 @@ int main(int argc, char **argv) {
          "variability=\"discrete\" initial=\"calculated\"\n      description=\"%s\">\n",
          FLAPWING_FMU_STEPS_DESCRIPTION);
   printf("      <Integer/>\n    </ScalarVariable>\n");
+  printf("    <!-- index %d -->\n", INDEX_TRIM);
+  printf("    <ScalarVariable name=\"trim\" valueReference=\"0\" causality=\"parameter\" "
+         "variability=\"fixed\" initial=\"exact\"\n      description=\"%s\">\n",
+         FLAPWING_FMU_TRIM_DESCRIPTION);
+  printf("      <Boolean start=\"false\"/>\n    </ScalarVariable>\n");
   printf("  </ModelVariables>\n");
 
   /* Outputs: computed by doStep from the inputs at the step's start, so no direct
@@ -99,6 +105,11 @@ int main(int argc, char **argv) {
     if (reals[i].vr == VR_element_dt_s)
       printf("      <Unknown index=\"%d\" dependencies=\"%d %d\"/>\n", INDEX_REAL(i), INDEX_MODEL,
              INDEX_REAL(VR_dt_s));
+    /* The trim's results depend on the model, the step and the trim's parameters. */
+    else if (reals[i].causality[0] == 'c')
+      printf("      <Unknown index=\"%d\" dependencies=\"%d %d %d %d %d\"/>\n", INDEX_REAL(i),
+             INDEX_MODEL, INDEX_REAL(VR_dt_s), INDEX_REAL(VR_trim_forward_speed_m_s),
+             INDEX_REAL(VR_trim_climb_rate_m_s), INDEX_TRIM);
     else if (reals[i].causality[0] == 'o')
       printf("      <Unknown index=\"%d\" dependencies=\"\"/>\n", INDEX_REAL(i));
   }

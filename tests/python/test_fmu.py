@@ -76,7 +76,7 @@ def simulate(built, ref, steps_per_comm, n_comm, **kw):
     h = steps_per_comm * ref["dt_s"]
     return fmpy.simulate_fmu(built["fmu"], start_time=0.0, stop_time=n_comm * h, output_interval=h,
                              start_values=kw.pop("start_values", tethered_start(ref)),
-                             output=FORCE + MOMENT + ["element_steps"], **kw)
+                             output=FORCE + MOMENT + ["element_steps"] + kw.pop("output", []), **kw)
 
 
 def wrench(result):
@@ -231,3 +231,59 @@ def test_a_c_host_runs_good_and_bad_instances_cleanly(built, tmp_path):
     assert "run 1 init 3" in lines and any('no built-in model named "no_such_fly"' in x for x in lines)
     assert "run 2 steps 0 status 2 fz 0" in lines
     assert any("velocity_world_m_s[2] = NaN" in x for x in lines)
+
+
+TRIM = [f"trim_world_from_body_{a}" for a in "wxyz"] + [f"trim_velocity_world_m_s_{a}" for a in "xyz"]
+
+
+@pytest.mark.parametrize("speed_m_s, climb_m_s", [(0.0, 0.0), (1.0, 0.0), (0.0, 0.3)])
+def test_trimmed_wings_carry_the_weight_at_the_flight_condition(built, speed_m_s, climb_m_s):
+    # With `trim`, the FMU trims the fruit fly at the condition (flapsim::flight: the
+    # cycle-averaged wing loads balance the weight; the fly has no body drag) and reports the
+    # attitude and velocity to hold. Held there, with zero control offsets, the wings' force
+    # over each wingbeat, turned into the world, is the weight straight up and their moment
+    # about the CoM zero. The FMU steps 200 element steps a wingbeat, the phases the trim
+    # averages over, so the two are the same sums: within 1e-9 of the weight, and of the
+    # weight times the body length (2.5 mm) for the moment (measured 2e-12; at the model's
+    # own 100 steps the stepped wingbeat differs from the 200-phase average by 1.4e-5 at
+    # hover and 5.6e-4 at 1 m/s, the discretisation, which this choice of step removes).
+    ref = reference(built, 1, 1)
+    per = 200  # element steps a wingbeat: the phases trim averages over
+    dt_s = 1.0 / (218.0 * per)  # the fruit fly's 218 Hz (models/drosophila.toml)
+    ref = {**ref, "dt_s": dt_s}
+    params = {"trim": True, "trim_forward_speed_m_s": speed_m_s, "trim_climb_rate_m_s": climb_m_s,
+              "dt_s": dt_s}
+    first = simulate(built, ref, 1, 1, start_values=params, output=TRIM)
+    trim = {n: first[n][0] for n in TRIM}
+    assert all(math.isfinite(v) for v in trim.values()), trim
+    assert trim["trim_velocity_world_m_s_x"] == pytest.approx(speed_m_s, abs=1e-12)
+    assert trim["trim_velocity_world_m_s_z"] == pytest.approx(climb_m_s, abs=1e-12)
+    held = {n.replace("trim_", ""): v for n, v in trim.items()}
+    result = simulate(built, ref, per, 3, start_values={**params, **held})
+    q = [held[f"world_from_body_{a}"] for a in "wxyz"]
+    w, x, y, z = q
+    world_from_body = np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])
+    weight = ref["weight_n"]
+    rows = wrench(result)
+    assert len(rows) >= 2
+    for row in rows:
+        force_world = world_from_body @ row[:3]
+        assert np.allclose(force_world, [0.0, 0.0, weight], rtol=0, atol=1e-9 * weight), force_world
+        assert np.allclose(row[3:], 0.0, rtol=0, atol=1e-9 * weight * 2.5e-3), row[3:]
+
+
+def test_without_trim_the_trim_parameters_are_nan_and_a_bad_condition_is_an_fmi_error(built):
+    ref = reference(built, 1, 1)
+    plain = simulate(built, ref, 1, 1, output=TRIM)
+    assert all(math.isnan(plain[n][0]) for n in TRIM)
+    log = Log()
+    with pytest.raises(FMICallException) as e:
+        simulate(built, ref, 1, 1, logger=log,
+                 start_values={"trim": True, "trim_climb_rate_m_s": -5.0})
+    assert e.value.status == 3  # fmi2Error
+    errors = [m for s, m in log.messages if s == 3]
+    assert errors and "trim at 0 m/s forward, -5 m/s climb" in errors[0], log.messages
