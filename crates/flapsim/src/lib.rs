@@ -39,7 +39,7 @@ pub use model::{Controls, Vehicle, VehicleSpec};
 pub use sim::{BodyLoad, Mode, Simulation, State, StepOutput};
 pub use summary::{RunSummary, SummaryBuilder};
 pub use wind::{Wind, WindSpec};
-pub use wings::{WingSet, WingSetBuilder, WingSetOutput};
+pub use wings::{FromVehicle, WingSet, WingSetBuilder, WingSetOutput};
 
 /// The built-in default vehicle (a hovering fruit fly).
 pub const DROSOPHILA_TOML: &str = include_str!("../../../models/drosophila.toml");

@@ -5,7 +5,7 @@ use wingforce::WingForces;
 
 use super::body::BodyLoad;
 use crate::actuated::ActuatedWingOutput;
-use crate::model::Controls;
+use crate::controls::Controls;
 
 /// What one step of a [`WingSet`] computed.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -30,8 +30,8 @@ pub struct WingSetOutput {
     pub controls: Controls,
 }
 
-/// A wing's forces before any step: all zero.
-pub(crate) fn zero_forces() -> WingForces {
+/// A wing's forces before any step: all zero (what a host reports before its first step).
+pub fn zero_forces() -> WingForces {
     WingForces {
         terms: Default::default(),
         total: Default::default(),
