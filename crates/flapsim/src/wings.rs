@@ -11,9 +11,9 @@ pub use wingset::set::{
     BodyLoad, ControlMap, MeanLoads, State, WingSet, WingSetBuilder, WingSetOutput, zero_forces,
 };
 
-use crate::actuated::{Drive, DynamicWing};
 use crate::error::Result;
 use crate::model::{Controls, Vehicle};
+use wingset::actuated::{Drive, DynamicWing};
 
 /// A vehicle model maps controls onto its wings ([`Vehicle::apply_controls`]).
 impl ControlMap for Vehicle {
