@@ -534,8 +534,9 @@ max = 0.18
 }
 
 /// KNOWN BUG: `hover --delay-wingbeats 18446744073709551615` panics ("Out of bounds access",
-/// crates/flapsim/src/control.rs:196: `delay_wingbeats + 1` wraps to 0), exit 101. Once fixed
-/// it must exit 0 (the delay is legal) or 2 (rejected as out of range).
+/// crates/flapsim/src/control.rs:196, now control/controller.rs: `delay_wingbeats + 1` wraps
+/// to 0), exit 101. Once fixed it must exit 0 (the delay is legal) or 2 (rejected as out of
+/// range).
 const KNOWN_BUG_DELAY: bool = false;
 
 #[test]

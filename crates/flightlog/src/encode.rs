@@ -52,7 +52,9 @@ impl SampleEncoder {
         }
     }
 
-    /// The messages of the last step given to [`SampleEncoder::sample`].
+    /// The messages of the last step given to [`SampleEncoder::sample`] (the views'
+    /// sample when an MCAP output built it).
+    #[cfg(any(feature = "rerun", feature = "live"))]
     pub fn last(&self) -> &Sample {
         &self.sample
     }

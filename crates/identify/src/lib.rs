@@ -36,6 +36,6 @@ pub mod synthetic;
 
 pub use data::FlightData;
 pub use error::{Error, Result};
-pub use fit::{FitOptions, FitReport, ParamResult, Progress, identify};
+pub use fit::{FitOptions, FitReport, ParamResult, Progress, StartStates, identify};
 pub use model_out::fitted_model_toml;
 pub use params::Param;

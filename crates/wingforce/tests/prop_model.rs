@@ -9,7 +9,7 @@
 //! documented field are rejected with that exact field named.
 //!
 //! The TOML-tree walkers, the mutation, text-mutation, table and range generators and
-//! `config` are in `support/toml_mutation.rs`, shared with `flapsim/tests/prop_vehicle.rs`.
+//! `config` are in `support/toml_mutation/`, shared with `flapsim/tests/prop_vehicle/`.
 //!
 //! Generated inputs per property (proptest `cases`; the whole file runs in about 2 s in
 //! release). `FLAPWING_PROP_SCALE=N` multiplies every proptest case count (for soak runs).

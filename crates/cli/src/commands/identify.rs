@@ -12,7 +12,7 @@ use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::Result;
-use flapwing_identify::{FitOptions, FlightData, Param, fitted_model_toml, identify};
+use flapwing_identify::{FitOptions, FlightData, Param, StartStates, fitted_model_toml, identify};
 
 use crate::error::input_error;
 
@@ -36,8 +36,9 @@ pub struct IdentifyArgs {
     /// Wingbeats per segment (each restarted from the state at its first wingbeat).
     #[arg(long = "segment-wingbeats", default_value_t = 4)]
     pub segment_wingbeats: u32,
-    /// Use the IMU's samples as measurements too (needed for gyro_bias_*/accel_bias_*).
-    /// Experimental: not yet validated against flapsim's IMU (crates/identify/README.md).
+    /// Use the IMU's samples as measurements too (needed for gyro_bias_*/accel_bias_*). Fit
+    /// the biases of every axis with it: an unfitted 1 deg/s turn-on bias is many times a
+    /// MEMS gyroscope's noise per sample.
     #[arg(long)]
     pub imu: bool,
     /// The solver stops after this many times (n + 1) residual evaluations.
@@ -46,6 +47,11 @@ pub struct IdentifyArgs {
     /// Central-difference step of the Jacobian, fraction of each parameter's scale.
     #[arg(long = "fd-step", default_value_t = 1e-3)]
     pub fd_step: f64,
+    /// Whether each segment's start state is fitted too (12 unknowns per segment: full
+    /// multiple shooting). auto: fitted when the starts are estimated from the motion
+    /// capture (a CSV flight), held when a log holds the state.
+    #[arg(long = "start-states", value_enum, default_value = "auto")]
+    pub start_states: StartStatesArg,
     /// Fit only the first this many seconds of the flight.
     #[arg(long = "duration-s")]
     pub duration_s: Option<f64>,
@@ -58,6 +64,24 @@ pub struct IdentifyArgs {
     /// Print the report as one JSON document on stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+/// `--start-states`.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum StartStatesArg {
+    Auto,
+    Fixed,
+    Fitted,
+}
+
+impl From<StartStatesArg> for StartStates {
+    fn from(a: StartStatesArg) -> Self {
+        match a {
+            StartStatesArg::Auto => StartStates::Auto,
+            StartStatesArg::Fixed => StartStates::Fixed,
+            StartStatesArg::Fitted => StartStates::Fitted,
+        }
+    }
 }
 
 fn classify(e: flapwing_identify::Error) -> anyhow::Error {
@@ -84,6 +108,7 @@ pub fn run(args: IdentifyArgs) -> Result<()> {
         fd_step: args.fd_step,
         patience: args.patience,
         max_duration_s: args.duration_s,
+        start_states: args.start_states.into(),
     };
     opts.check().map_err(classify)?;
     if let Some(out) = &args.out

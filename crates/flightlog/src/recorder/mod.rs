@@ -19,8 +19,9 @@ use flapsim::{Controls, StepOutput, Vehicle};
 use crate::error::{Error, Result};
 use crate::options::{Level, LogOptions, RunInfo};
 #[cfg(any(feature = "rerun", feature = "live"))]
-use crate::sample::Sample;
-use crate::sample::{SampleBuilder, WingStatic, time_ns, timestamp};
+use crate::sample::{Sample, SampleBuilder, WingStatic};
+use crate::sample::{time_ns, timestamp};
+#[cfg(feature = "live")]
 use crate::scene::ForceArrows;
 use crate::schema::{OPT_ESTIMATE, OPT_WIND};
 use crate::sensor_msg::SensorMessage;

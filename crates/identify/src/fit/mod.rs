@@ -10,6 +10,16 @@
 //! holds the state at the first step of about one wingbeat in eleven (the decimation's
 //! buckets do not line up with the wingbeats); `--full-rate` logs have all.
 //!
+//! **Start states** ([`FitOptions::start_states`]). A log's `/vehicle/state` is the truth
+//! and is held. A state estimated from the motion capture (a CSV flight) misses the
+//! within-wingbeat oscillation of the velocities, and a replay from it starts off the true
+//! state: then each segment's start state gets 12 unknowns too (corrections of position,
+//! attitude as a body-axes rotation vector, velocity and body rates), fitted with the
+//! parameters (full multiple shooting). A correction moves only its segment's residuals, so
+//! its Jacobian column flies that segment alone. The parameters' covariance is then the
+//! parameter block of the whole inverse, so the start states' uncertainty widens their
+//! intervals, and the degrees of freedom are m minus all the unknowns.
+//!
 //! **Residuals**, each divided by its sensor's noise standard deviation from the model's
 //! `[sensors]` (so the cost is a chi-square): for each motion-capture frame in a segment,
 //! the simulated position (plus `mocap_bias_*`) minus the measured one (3, over
@@ -56,7 +66,7 @@ mod report;
 mod segments;
 mod types;
 
-pub use types::{FitOptions, FitReport, NO_EFFECT, PENALTY, ParamResult, Progress};
+pub use types::{FitOptions, FitReport, NO_EFFECT, PENALTY, ParamResult, Progress, StartStates};
 
 use problem::Problem;
 pub use report::t_quantile;
@@ -85,8 +95,12 @@ pub fn identify(
         .zip(&setup.scales)
         .map(|(v, s)| v / s)
         .collect();
+    // The start-state corrections (when fitted) follow the parameters, starting at zero.
+    let mut x0 = x0;
+    x0.resize(setup.unknowns(), 0.0);
+    let n_all = x0.len();
     let max_evals = (opts.patience * (n + 1)) as u64 + 1;
-    let all: Vec<usize> = (0..n).collect();
+    let all: Vec<usize> = (0..n_all).collect();
     let mut problem = Problem {
         setup: &setup,
         x: x0.clone(),
@@ -95,12 +109,14 @@ pub fn identify(
         h: opts.fd_step,
         simulations: Cell::new(0),
         iterations: Cell::new(0),
-        // Each residual evaluation may come with a Jacobian (2 n more), and the final
-        // statistics take one more Jacobian and evaluation.
-        max_simulations: max_evals * (2 + 2 * n as u64) + 2 * n as u64 + 3,
+        // Each residual evaluation may come with a Jacobian, and the final statistics take
+        // one more Jacobian and evaluation (filled in below).
+        max_simulations: 0,
         observer: RefCell::new(observer),
         stopped: Cell::new(false),
     };
+    let jacobian = problem.jacobian_cost(n_all);
+    problem.max_simulations = max_evals * (1 + jacobian) + jacobian + 2;
     let (r0, _) = setup.residuals(&x0);
     problem.tell(1, None);
     let cost_before: f64 = r0.iter().map(|v| v * v).sum();
@@ -112,9 +128,9 @@ pub fn identify(
     problem.free = all
         .iter()
         .copied()
-        .filter(|&i| norms[i] > NO_EFFECT * max_norm)
+        .filter(|&i| i >= n || norms[i] > NO_EFFECT * max_norm)
         .collect();
-    let (problem, lm_termination) = if problem.free.is_empty() {
+    let (problem, lm_termination) = if problem.free.iter().all(|&i| i >= n) {
         (problem, None::<levenberg_marquardt::TerminationReason>)
     } else {
         let (p, report) = LevenbergMarquardt::new()
@@ -138,7 +154,7 @@ pub fn identify(
     };
     problem.tell(1, Some(cost_after));
     let m = setup.m;
-    let dof = m - n;
+    let dof = m - n_all;
     let t = t_quantile(0.975, dof as f64);
     let sigma2 = cost_after / dof as f64;
     let fitted = setup.values(&x);
@@ -177,6 +193,7 @@ pub fn identify(
         format: data.format,
         model: setup.base.name.clone(),
         start_source: data.start_source,
+        start_states_fitted: setup.fit_states,
         segments: setup.segments.len(),
         segment_wingbeats: opts.segment_wingbeats,
         mocap_frames: setup.segments.iter().map(|s| s.mocap.len()).sum(),

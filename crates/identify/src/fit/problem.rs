@@ -7,7 +7,7 @@ use nalgebra::DMatrix;
 use nalgebra_lm::{Dyn, Owned};
 use rayon::prelude::*;
 
-use super::segments::Setup;
+use super::segments::{STATE_UNKNOWNS, Setup};
 use super::types::Progress;
 
 pub(super) type LmVector = nalgebra_lm::DVector<f64>;
@@ -42,18 +42,23 @@ impl Problem<'_, '_, '_> {
         }
     }
 
-    /// The Jacobian of the residuals in the parameters `cols` at `x`.
+    /// The Jacobian of the residuals in the unknowns `which` at `x` (indices into `x`:
+    /// parameters first, then the start-state corrections).
     pub(super) fn jacobian_at(&self, x: &[f64], which: &[usize]) -> DMatrix<f64> {
-        let n = which.len();
         let m = self.setup.m;
+        let n_params = self.setup.params.len();
         let (setup, h) = (self.setup, self.h);
         let (r0, _) = setup.residuals(x);
+        let (params, states): (Vec<(usize, usize)>, Vec<(usize, usize)>) = which
+            .iter()
+            .copied()
+            .enumerate()
+            .partition(|&(_, i)| i < n_params);
         // Central differences; one-sided where a side makes the model invalid (a parameter
         // at a bound of the model's validation, e.g. an inertia at the triangle inequality).
-        let cols: Vec<Vec<f64>> = (0..n)
+        let cols: Vec<(usize, Vec<f64>)> = params
             .into_par_iter()
-            .map(|c| {
-                let i = which[c];
+            .map(|(c, i)| {
                 let mut xp = x.to_vec();
                 let mut xm = x.to_vec();
                 xp[i] += h;
@@ -66,18 +71,56 @@ impl Problem<'_, '_, '_> {
                     (false, true) => (&rp, &r0, h),
                     (true, true) => (&r0, &r0, h),
                 };
-                a.iter().zip(b).map(|(a, b)| (a - b) / d).collect()
+                (c, a.iter().zip(b).map(|(a, b)| (a - b) / d).collect())
             })
             .collect();
-        let mut j = DMatrix::zeros(m, n);
-        for (i, c) in cols.iter().enumerate() {
-            for (k, v) in c.iter().enumerate() {
-                j[(k, i)] = *v;
+        let mut j = DMatrix::zeros(m, which.len());
+        for (c, col) in &cols {
+            for (k, v) in col.iter().enumerate() {
+                j[(k, *c)] = *v;
+            }
+        }
+        // A start-state correction moves only its own segment's residuals: central
+        // differences of that segment alone, on the model at `x` (built once).
+        if !states.is_empty()
+            && let Some(trial) = setup.trial(x)
+        {
+            let state_cols: Vec<(usize, usize, Vec<f64>)> = states
+                .into_par_iter()
+                .map(|(c, i)| {
+                    let k = (i - n_params) / STATE_UNKNOWNS;
+                    let mut xp = x.to_vec();
+                    let mut xm = x.to_vec();
+                    xp[i] += h;
+                    xm[i] -= h;
+                    let (rp, _) = setup.segment_residuals(&trial, k, &setup.start_state(k, &xp));
+                    let (rm, _) = setup.segment_residuals(&trial, k, &setup.start_state(k, &xm));
+                    let col = rp
+                        .iter()
+                        .zip(&rm)
+                        .map(|(a, b)| (a - b) / (2.0 * h))
+                        .collect();
+                    (c, k, col)
+                })
+                .collect();
+            for (c, k, col) in &state_cols {
+                for (row, v) in setup.rows[*k].clone().zip(col) {
+                    j[(row, *c)] = *v;
+                }
             }
         }
         self.iterations.set(self.iterations.get() + 1);
-        self.tell(2 * n as u64 + 1, None);
+        self.tell(self.jacobian_cost(which.len()), None);
         j
+    }
+
+    /// A Jacobian in `n` unknowns in full simulations of the flight (a start-state column
+    /// flies one segment twice).
+    pub(super) fn jacobian_cost(&self, n: usize) -> u64 {
+        let n_params = n.min(self.setup.params.len()) as u64;
+        let n_states = (n - n_params as usize) as u64;
+        let segments = self.setup.segments.len().max(1) as u64;
+        2 * n_params + 1 + (2 * n_states).div_ceil(segments)
     }
 }
 

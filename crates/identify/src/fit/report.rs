@@ -168,9 +168,11 @@ impl std::fmt::Display for FitReport {
             self.format,
             self.model
         )?;
-        let start = match self.start_source {
-            StartSource::LoggedState => "the logged state",
-            StartSource::Mocap => "the motion capture",
+        let start = match (self.start_source, self.start_states_fitted) {
+            (StartSource::LoggedState, false) => "the logged state",
+            (StartSource::Mocap, false) => "the motion capture",
+            (StartSource::LoggedState, true) => "the logged state, fitted: 12 unknowns each",
+            (StartSource::Mocap, true) => "the motion capture, fitted: 12 unknowns each",
         };
         writeln!(
             f,

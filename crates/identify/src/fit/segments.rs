@@ -1,7 +1,9 @@
 //! The fit's segments and residuals: the flight cut into segments restarted from known states, flown on the logged controls at trial parameters, compared with the measurements (see the module documentation of [`crate::fit`]).
 
+use std::ops::Range;
+
 use flapsim::{Controls, Mode, Simulation, State, Vehicle, VehicleSpec};
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 use rayon::prelude::*;
 
 use crate::data::{FlightData, controlled_wingbeats, timing};
@@ -47,6 +49,10 @@ pub(super) struct Weights {
     pub(super) accel: f64,
 }
 
+/// Unknowns of a segment's start state when it is fitted: position (3, world), attitude (3,
+/// a rotation vector in body axes), velocity (3, world), body rates (3).
+pub(super) const STATE_UNKNOWNS: usize = 12;
+
 /// Everything fixed during a fit.
 pub(super) struct Setup<'a> {
     pub(super) data: &'a FlightData,
@@ -54,20 +60,66 @@ pub(super) struct Setup<'a> {
     pub(super) params: Vec<Param>,
     pub(super) scales: Vec<f64>,
     pub(super) segments: Vec<Segment>,
+    /// Each segment's rows of the residual vector.
+    pub(super) rows: Vec<Range<usize>>,
+    /// Whether the start states are unknowns: then the scaled unknowns are the parameters
+    /// followed by [`STATE_UNKNOWNS`] corrections per segment.
+    pub(super) fit_states: bool,
+    /// Scales of a start-state correction (m, rad, m/s, rad/s, three each).
+    pub(super) state_scales: [f64; STATE_UNKNOWNS],
     pub(super) weights: Weights,
     pub(super) dt_s: f64,
     pub(super) gravity_m_s2: f64,
     pub(super) m: usize,
 }
 
+/// A trial model: the vehicle at trial parameters and the sensors' trial biases.
+pub(super) struct Trial {
+    vehicle: Vehicle,
+    mocap_bias: Vector3<f64>,
+    gyro_bias: Vector3<f64>,
+    accel_bias: Vector3<f64>,
+}
+
 impl Setup<'_> {
+    /// The parameters' values at scaled unknowns `x` (the start-state corrections after them
+    /// are not parameters).
     pub(super) fn values(&self, x: &[f64]) -> Vec<f64> {
         x.iter().zip(&self.scales).map(|(x, s)| x * s).collect()
     }
 
-    /// Weighted residuals at scaled parameters `x`, and the segments that diverged
-    /// (`usize::MAX` when the parameters make the model invalid).
-    pub(super) fn residuals(&self, x: &[f64]) -> (Vec<f64>, usize) {
+    /// Number of scaled unknowns: the parameters, then the start-state corrections.
+    pub(super) fn unknowns(&self) -> usize {
+        self.params.len()
+            + if self.fit_states {
+                STATE_UNKNOWNS * self.segments.len()
+            } else {
+                0
+            }
+    }
+
+    /// Segment `k`'s start state at scaled unknowns `x`: the logged or estimated state
+    /// corrected by its unknowns when they are fitted.
+    pub(super) fn start_state(&self, k: usize, x: &[f64]) -> State {
+        let mut s = self.segments[k].state;
+        if !self.fit_states {
+            return s;
+        }
+        let at = self.params.len() + STATE_UNKNOWNS * k;
+        let d: Vec<f64> = (0..STATE_UNKNOWNS)
+            .map(|i| x[at + i] * self.state_scales[i])
+            .collect();
+        let v = |i: usize| Vector3::new(d[i], d[i + 1], d[i + 2]);
+        s.position_m += v(0);
+        s.world_from_body *= UnitQuaternion::from_scaled_axis(v(3));
+        s.velocity_m_s += v(6);
+        s.angular_velocity_body_rad_s += v(9);
+        s
+    }
+
+    /// The vehicle and biases at scaled unknowns `x`; `None` when the parameters make the
+    /// model invalid.
+    pub(super) fn trial(&self, x: &[f64]) -> Option<Trial> {
         let values = self.values(x);
         let mut spec = self.base.clone();
         let mut mocap_bias = Vector3::zeros();
@@ -82,20 +134,33 @@ impl Setup<'_> {
                 _ => {}
             }
         }
-        let penalty = || (vec![PENALTY; self.m], usize::MAX);
         let vehicle = match spec.build(&self.data.model_origin) {
             Ok(v) => v,
             Err(e) => {
                 if std::env::var_os("FLAPWING_IDENTIFY_DEBUG").is_some() {
                     eprintln!("identify: trial model invalid: {e}");
                 }
-                return penalty();
+                return None;
             }
         };
-        let per_segment: Vec<(Vec<f64>, bool)> = self
-            .segments
-            .par_iter()
-            .map(|seg| self.segment_residuals(&vehicle, seg, &mocap_bias, &gyro_bias, &accel_bias))
+        Some(Trial {
+            vehicle,
+            mocap_bias,
+            gyro_bias,
+            accel_bias,
+        })
+    }
+
+    /// Weighted residuals at scaled unknowns `x`, and the segments that diverged
+    /// (`usize::MAX` when the parameters make the model invalid).
+    pub(super) fn residuals(&self, x: &[f64]) -> (Vec<f64>, usize) {
+        let penalty = || (vec![PENALTY; self.m], usize::MAX);
+        let Some(trial) = self.trial(x) else {
+            return penalty();
+        };
+        let per_segment: Vec<(Vec<f64>, bool)> = (0..self.segments.len())
+            .into_par_iter()
+            .map(|k| self.segment_residuals(&trial, k, &self.start_state(k, x)))
             .collect();
         let mut r = Vec::with_capacity(self.m);
         let mut diverged = 0;
@@ -114,14 +179,21 @@ impl Setup<'_> {
         (r, diverged)
     }
 
+    /// Segment `k`'s weighted residuals (non-finite ones replaced by [`PENALTY`]) flown
+    /// from `start` on a trial model, and whether it diverged.
     pub(super) fn segment_residuals(
         &self,
-        vehicle: &Vehicle,
-        seg: &Segment,
-        mocap_bias: &Vector3<f64>,
-        gyro_bias: &Vector3<f64>,
-        accel_bias: &Vector3<f64>,
+        trial: &Trial,
+        k: usize,
+        start: &State,
     ) -> (Vec<f64>, bool) {
+        let seg = &self.segments[k];
+        let Trial {
+            vehicle,
+            mocap_bias,
+            gyro_bias,
+            accel_bias,
+        } = trial;
         let n_res = 6 * seg.mocap.len() + 6 * seg.imu.len();
         let fail = || (vec![PENALTY; n_res], true);
         // The vehicle starts with the first wingbeat's controls in force, its clock at the
@@ -136,7 +208,7 @@ impl Setup<'_> {
         if sim.start_at_step(seg.step0).is_err() {
             return fail();
         }
-        sim.set_state(&seg.state);
+        sim.set_state(start);
         let per = vehicle.sim.steps_per_wingbeat;
         let mut states: Vec<State> = Vec::with_capacity(seg.steps);
         let mut diverged = false;
@@ -166,7 +238,7 @@ impl Setup<'_> {
                 }
             }
         }
-        let last = states.last().copied().unwrap_or(seg.state);
+        let last = states.last().copied().unwrap_or(*start);
         let at = |j: usize| states.get(j).copied().unwrap_or(last);
         let w = &self.weights;
         let mut r = Vec::with_capacity(n_res);
@@ -187,6 +259,11 @@ impl Setup<'_> {
             let dg = (s.angular_velocity_body_rad_s + gyro_bias - f.gyro_rad_s) / w.gyro;
             let da = (spec_force + accel_bias - f.accel_m_s2) / w.accel;
             r.extend([dg.x, dg.y, dg.z, da.x, da.y, da.z]);
+        }
+        for x in &mut r {
+            if !x.is_finite() {
+                *x = PENALTY;
+            }
         }
         (r, diverged)
     }
@@ -326,12 +403,46 @@ pub(super) fn setup<'a>(data: &'a FlightData, opts: &FitOptions) -> Result<Setup
             opts.params.len()
         )));
     }
+    let fit_states = opts.start_states.fitted(data.start_source);
+    let mut rows = Vec::with_capacity(segments.len());
+    let mut at = 0;
+    for seg in &segments {
+        let len = 6 * seg.mocap.len() + 6 * seg.imu.len();
+        rows.push(at..at + len);
+        at += len;
+    }
+    let unknowns = opts.params.len()
+        + if fit_states {
+            STATE_UNKNOWNS * segments.len()
+        } else {
+            0
+        };
+    if m <= unknowns {
+        return Err(Error::Data(format!(
+            "`{}`: {m} residuals cannot determine {} parameters and {} start-state unknowns (more measurements or longer segments are needed)",
+            data.source.display(),
+            opts.params.len(),
+            unknowns - opts.params.len()
+        )));
+    }
+    // A start-state correction's scale: the motion capture's noise in position and
+    // attitude, and that noise over a tenth of a wingbeat in velocity and body rates (the
+    // size of the errors of a quadratic through the frames around a wingbeat start).
+    let (pos, att) = (weights.pos, weights.att);
+    let rate = 10.0 * freq_hz;
+    let mut state_scales = [0.0; STATE_UNKNOWNS];
+    for (i, v) in [pos, att, pos * rate, att * rate].into_iter().enumerate() {
+        state_scales[3 * i..3 * i + 3].fill(v);
+    }
     Ok(Setup {
         data,
         base,
         params: opts.params.clone(),
         scales,
         segments,
+        rows,
+        fit_states,
+        state_scales,
         weights,
         dt_s,
         gravity_m_s2: vehicle.gravity_m_s2,

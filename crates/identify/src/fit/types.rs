@@ -14,6 +14,31 @@ pub const NO_EFFECT: f64 = 1e-8;
 /// The residual given to each measurement when trial parameters make the model invalid.
 pub const PENALTY: f64 = 1e3;
 
+/// Whether the segments' start states are unknowns of the fit too.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StartStates {
+    /// Fitted when they are estimates (from the motion capture), fixed when logged.
+    #[default]
+    Auto,
+    /// Held at the logged or estimated states.
+    Fixed,
+    /// Twelve unknowns per segment (position, attitude, velocity, body rates), fitted with
+    /// the parameters: full multiple shooting.
+    Fitted,
+}
+
+impl StartStates {
+    /// Whether the start states are fitted for data whose starts come from `source`.
+    pub fn fitted(self, source: StartSource) -> bool {
+        match self {
+            StartStates::Auto => source == StartSource::Mocap,
+            StartStates::Fixed => false,
+            StartStates::Fitted => true,
+        }
+    }
+}
+
 /// How to fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FitOptions {
@@ -29,6 +54,8 @@ pub struct FitOptions {
     pub patience: usize,
     /// Fit only the first `max_duration_s` of the flight (`None`: all of it).
     pub max_duration_s: Option<f64>,
+    /// Whether the segments' start states are fitted too (see the module docs).
+    pub start_states: StartStates,
 }
 
 impl Default for FitOptions {
@@ -40,6 +67,7 @@ impl Default for FitOptions {
             fd_step: 1e-3,
             patience: 30,
             max_duration_s: None,
+            start_states: StartStates::Auto,
         }
     }
 }
@@ -113,6 +141,8 @@ pub struct FitReport {
     pub model: String,
     /// Where the segments' start states came from.
     pub start_source: StartSource,
+    /// Whether the segments' start states were fitted (12 unknowns each) or held.
+    pub start_states_fitted: bool,
     /// Segments flown.
     pub segments: usize,
     /// Wingbeats per segment (at most).
