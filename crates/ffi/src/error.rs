@@ -56,7 +56,8 @@ impl Failure {
     }
 
     /// A flapsim error with its code, the message prefixed by the function's name.
-    pub(crate) fn sim(function: &str, e: flapsim::Error) -> Self {
+    pub(crate) fn sim(function: &str, e: impl Into<flapsim::Error>) -> Self {
+        let e = e.into();
         let status = match &e {
             flapsim::Error::Model(_) => FlapwingStatus::FLAPWING_MODEL_ERROR,
             flapsim::Error::Diverged { .. } => FlapwingStatus::FLAPWING_DIVERGED,

@@ -1,8 +1,8 @@
 //! Trim at a flight condition through the C ABI: `flapwing_wings_trim`.
 
-use flapsim::WingSet;
 use flapsim::flight::{FlightCondition, trim_point};
 use flapsim::trim::{trim_at, trimmed_vehicle};
+use flapsim::{FromVehicle, WingSet};
 
 use crate::error::{Failure, FlapwingStatus, guard};
 use crate::types::{FlapwingControls, FlapwingWings, body_properties, wxyz};

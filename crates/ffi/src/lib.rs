@@ -33,7 +33,7 @@ mod types;
 
 use std::ffi::{CStr, c_char};
 
-use flapsim::Controls;
+use flapsim::{Controls, FromVehicle};
 use nalgebra::Vector3;
 
 pub use error::FlapwingStatus;

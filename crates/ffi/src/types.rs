@@ -2,7 +2,7 @@
 //! opaque handle, and their conversions to and from flapsim's types (SI units, body frame
 //! x forward, y left, z up about the centre of mass; quaternions w, x, y, z).
 
-use flapsim::{Controls, State, Vehicle, WingSet, WingSetOutput};
+use flapsim::{Controls, FromVehicle, State, Vehicle, WingSet, WingSetOutput};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::error::Failure;

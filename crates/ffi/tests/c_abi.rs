@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-use flapsim::{Controls, State, Vehicle, WingSet};
+use flapsim::{Controls, FromVehicle, State, Vehicle, WingSet};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 /// One printed line: "<what> <k>" and its values.

@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use flapsim::control::{HoverController, LqrWeights};
 use flapsim::host::{RapierWings, body_state, vehicle_body};
-use flapsim::{Vehicle, WingSet};
+use flapsim::{FromVehicle, Vehicle, WingSet};
 use nalgebra::Vector3;
 use rapier3d_f64::prelude::*;
 

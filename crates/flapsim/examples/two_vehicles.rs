@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use flapsim::control::{HoverController, LqrWeights};
 use flapsim::host::{RapierWings, body_state, vehicle_body};
-use flapsim::{Vehicle, WingSet};
+use flapsim::{FromVehicle, Vehicle, WingSet};
 use nalgebra::{UnitQuaternion, Vector3};
 
 mod common;

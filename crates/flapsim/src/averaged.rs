@@ -53,10 +53,3 @@ pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> Resul
     }
     Ok(out)
 }
-
-impl MeanLoads {
-    /// Total force in the world frame for the given attitude, N.
-    pub fn force_world_n(&self, world_from_body: &UnitQuaternion<f64>) -> Vector3<f64> {
-        world_from_body * self.total.force_n
-    }
-}

@@ -27,3 +27,27 @@ pub enum Error {
 
 /// Result with flapsim's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// The wing set's errors are flapsim's, variant for variant, with the same messages.
+impl From<wingset::Error> for Error {
+    fn from(e: wingset::Error) -> Self {
+        match e {
+            wingset::Error::Model(m) => Error::Model(m),
+            wingset::Error::Diverged { t_s, step, reason } => Error::Diverged { t_s, step, reason },
+            wingset::Error::Input(m) => Error::Input(m),
+            wingset::Error::Analysis(m) => Error::Analysis(m),
+        }
+    }
+}
+
+/// What a vehicle model's control mapping refuses reaches the wing set unchanged.
+impl From<Error> for wingset::Error {
+    fn from(e: Error) -> Self {
+        match e {
+            Error::Model(m) => wingset::Error::Model(m),
+            Error::Diverged { t_s, step, reason } => wingset::Error::Diverged { t_s, step, reason },
+            Error::Input(m) => wingset::Error::Input(m),
+            Error::Analysis(m) => wingset::Error::Analysis(m),
+        }
+    }
+}

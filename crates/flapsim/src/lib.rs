@@ -1,9 +1,13 @@
 //! # flapsim
 //!
 //! An insect-scale flapping-wing vehicle as a rapier3d-f64 rigid body, fed the forces of
-//! [`wingforce`] every step: tethered (a force sensor), free flight, or free with chosen
-//! degrees of freedom locked. Deterministic: the same model and inputs give bit-identical
-//! trajectories. Drive it step by step through [`Simulation`], the plugin face of flapwing.
+//! [`wingforce`] every step through its wing set (the force element, crate [`wingset`]:
+//! wingforce and nalgebra only, no rapier, no I/O; re-exported in [`wings`]): tethered (a
+//! force sensor), free flight, or free with chosen degrees of freedom locked. flapsim holds
+//! the vehicle model (TOML, controls mapped onto the wings: [`wings::FromVehicle`]) and the
+//! set's rapier hosts ([`Simulation`], [`host::RapierWings`]). Deterministic: the same model
+//! and inputs give bit-identical trajectories. Drive it step by step through [`Simulation`],
+//! the plugin face of flapwing.
 //!
 //! Frames: world z up; body x forward, y left, z up, origin at the centre of mass
 //! (MODEL.md section 1). rapier's glam types meet wingforce's nalgebra types only in
@@ -39,7 +43,7 @@ pub use model::{Controls, Vehicle, VehicleSpec};
 pub use sim::{BodyLoad, Mode, Simulation, State, StepOutput};
 pub use summary::{RunSummary, SummaryBuilder};
 pub use wind::{Wind, WindSpec};
-pub use wings::{WingSet, WingSetBuilder, WingSetOutput};
+pub use wings::{FromVehicle, WingSet, WingSetBuilder, WingSetOutput};
 
 /// The built-in default vehicle (a hovering fruit fly).
 pub const DROSOPHILA_TOML: &str = include_str!("../../../models/drosophila.toml");

@@ -19,7 +19,7 @@ use crate::frames::{quat_to_glam, to_glam};
 use crate::model::{Controls, Vehicle};
 use crate::wind::Wind;
 pub use crate::wings::{BodyLoad, State};
-use crate::wings::{WingSet, WingSetOutput};
+use crate::wings::{FromVehicle, WingSet, WingSetOutput};
 
 mod actuated;
 
@@ -268,7 +268,7 @@ impl Simulation {
     /// [`Simulation::set_state`] to the state a logged run had at that step, a segment of the
     /// run replays it bit for bit. Call before the first step; prescribed wings only.
     pub fn start_at_step(&mut self, step: u64) -> Result<()> {
-        self.wings.start_at_step(step)
+        Ok(self.wings.start_at_step(step)?)
     }
 
     /// Holds the wings still (no aerodynamic loads at all) or lets them flap again.
@@ -323,7 +323,7 @@ impl Simulation {
             self.wing_winds_m_s
                 .push(self.uniform_wind_m_s + wind.velocity_world_m_s(&p, t));
         }
-        self.wings.set_wing_winds(&self.wing_winds_m_s)
+        Ok(self.wings.set_wing_winds(&self.wing_winds_m_s)?)
     }
 
     /// The body's state now.
@@ -369,7 +369,7 @@ impl Simulation {
             .out
             .take()
             .unwrap_or_else(|| Box::new(StepOutput::empty()));
-        let r = match self.wings.step(&state) {
+        let r = match self.wings.step(&state).map_err(Error::from) {
             Ok(o) => {
                 out.fill(o, &state);
                 self.check(&out)

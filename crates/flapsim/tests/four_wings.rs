@@ -25,7 +25,7 @@
 //! model was tuned to it); docs/models.md reports it.
 
 use flapsim::averaged::{FrozenState, mean_loads};
-use flapsim::{Vehicle, WingSet};
+use flapsim::{FromVehicle, Vehicle, WingSet};
 use nalgebra::{UnitQuaternion, Vector3};
 use wingforce::{BodyMotion, Term};
 

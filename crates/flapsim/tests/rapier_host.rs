@@ -8,7 +8,7 @@
 //! that force's moment about the CoM shifted by the hinge offset (statics).
 
 use flapsim::host::{RapierWings, body_state, vehicle_body};
-use flapsim::{Mode, Simulation, State, Vehicle, WingSet};
+use flapsim::{FromVehicle, Mode, Simulation, State, Vehicle, WingSet};
 use nalgebra::{UnitQuaternion, Vector3};
 use rapier3d_f64::prelude::*;
 use wingforce::{Mount, Side, Wing};
@@ -172,7 +172,7 @@ fn a_second_pair_adds_its_force_and_that_forces_moment() {
 #[test]
 fn bad_input_is_named() {
     let v = fly();
-    let err = |r: flapsim::Result<WingSet>| r.unwrap_err().to_string();
+    let err = |r: wingset::Result<WingSet>| r.unwrap_err().to_string();
     let e = err(WingSet::builder(1e-4).build());
     assert!(e.contains("no wings"), "{e}");
     let [l, r] = pair(0.0, &v);

@@ -19,7 +19,7 @@
 
 use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover};
 use flapsim::wind::{DrydenField, DrydenParams, Gust, GustSpec, TurbulenceSpec, Wind, WindSpec};
-use flapsim::{Mode, Simulation, State, Vehicle, WingSet};
+use flapsim::{FromVehicle, Mode, Simulation, State, Vehicle, WingSet};
 use nalgebra::{UnitQuaternion, Vector3};
 use wingforce::Validator;
 

@@ -36,8 +36,8 @@ create_exception!(
 );
 
 /// flapsim's error as the matching Python exception, with flapsim's message.
-pub(crate) fn sim_err(e: flapsim::Error) -> PyErr {
-    match e {
+pub(crate) fn sim_err(e: impl Into<flapsim::Error>) -> PyErr {
+    match e.into() {
         flapsim::Error::Model(m) => PyValueError::new_err(m.to_string()),
         flapsim::Error::Input(m) => PyValueError::new_err(m),
         e @ flapsim::Error::Diverged { .. } => DivergedError::new_err(e.to_string()),

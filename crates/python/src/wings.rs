@@ -1,6 +1,7 @@
 //! `flapwing.WingSet`: the wings as a force element for a Python host (PyBullet, Isaac, your
 //! own integrator): give it the body's state each step, apply the wrench it returns.
 
+use flapsim::FromVehicle;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

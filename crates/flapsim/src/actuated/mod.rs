@@ -18,20 +18,19 @@
 //! - [`response`]: the frequency response of the tethered vehicle (what a MAV builder reads
 //!   the resonance from).
 //!
-//! This lives in flapsim, not wingforce: the hinge and actuator are structure and time
-//! integration, while wingforce stays a pure map from a wing's motion to its loads (it
-//! gained the pieces this needs: loads about the joint axes, the added-mass inertia and a
-//! measured stroke reference).
+//! The wing's dynamics ([`actuator`], [`drive`], [`dynamics`], [`stop`]) are part of the
+//! force element and live with it in crate `wingset` (no engine, no I/O; re-exported here);
+//! the model file's section, the periodic motion, the measurement and the response, which
+//! need the vehicle model, are flapsim's. Neither is wingforce: the hinge and actuator are
+//! structure and time integration, while wingforce stays a pure map from a wing's motion to
+//! its loads (it gained the pieces this needs: loads about the joint axes, the added-mass
+//! inertia and a measured stroke reference).
 
-pub mod actuator;
-mod contact;
-pub mod drive;
-pub mod dynamics;
+pub use wingset::actuated::{actuator, drive, dynamics, stop};
 pub mod motion;
 pub mod periodic;
 pub mod response;
 pub mod spec;
-pub mod stop;
 
 pub use actuator::{Actuator, ActuatorState, DcMotor, Piezo, Reflected};
 pub use drive::Drive;

@@ -15,7 +15,8 @@ pub struct BodyLoad {
 }
 
 impl BodyLoad {
-    pub(crate) fn add(&mut self, f: Vector3<f64>, m: Vector3<f64>) {
+    /// Adds force `f` and moment `m`.
+    pub fn add(&mut self, f: Vector3<f64>, m: Vector3<f64>) {
         self.force_n += f;
         self.moment_nm += m;
     }
@@ -85,4 +86,11 @@ pub struct MeanLoads {
     pub terms: [BodyLoad; 4],
     /// Sum.
     pub total: BodyLoad,
+}
+
+impl MeanLoads {
+    /// Total force in the world frame for the given attitude, N.
+    pub fn force_world_n(&self, world_from_body: &UnitQuaternion<f64>) -> Vector3<f64> {
+        world_from_body * self.total.force_n
+    }
 }

@@ -5,9 +5,9 @@ use wingforce::WingForces;
 
 use super::body::BodyLoad;
 use crate::actuated::ActuatedWingOutput;
-use crate::model::Controls;
+use crate::controls::Controls;
 
-/// What one step of a [`WingSet`] computed.
+/// What one step of a [`WingSet`](super::WingSet) computed.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct WingSetOutput {
     /// Step index k.
@@ -20,7 +20,7 @@ pub struct WingSetOutput {
     pub wings: Vec<WingForces>,
     /// Each actuated wing's hinge and actuator state (empty for prescribed kinematics).
     pub actuated: Vec<ActuatedWingOutput>,
-    /// Aerodynamic load of each term ([`Term::ALL`] order), all wings, about the CoM.
+    /// Aerodynamic load of each term ([`wingforce::Term::ALL`] order), all wings, about the CoM.
     pub terms: [BodyLoad; 4],
     /// Inertial reaction of the wings' (and actuators') masses.
     pub wing_inertia: BodyLoad,
@@ -30,8 +30,8 @@ pub struct WingSetOutput {
     pub controls: Controls,
 }
 
-/// A wing's forces before any step: all zero.
-pub(crate) fn zero_forces() -> WingForces {
+/// A wing's forces before any step: all zero (what a host reports before its first step).
+pub fn zero_forces() -> WingForces {
     WingForces {
         terms: Default::default(),
         total: Default::default(),

@@ -19,8 +19,8 @@ use super::WingSet;
 use super::body::{BodyLoad, State};
 use super::output::{WingSetOutput, zero_forces};
 use crate::actuated::ActuatedWingOutput;
+use crate::controls::Controls;
 use crate::error::{Error, Result};
-use crate::model::Controls;
 
 /// The body's motion relative to air moving at `wind_world_m_s`, body frame.
 fn air_motion(body: &State, wind_world_m_s: &Vector3<f64>) -> BodyMotion {

@@ -8,10 +8,11 @@
 //! each of wingforce's four terms, the inertial reaction of the wings and actuators, and each
 //! wing's forces, angles and hinge state. The host integrates the body.
 //!
-//! No engine and no I/O: the element depends on wingforce and nalgebra (and flapsim's plain
-//! model types). Its hosts are flapsim's own [`crate::Simulation`] (a private rapier world),
-//! [`crate::host::RapierWings`] (a body in the user's rapier world), the C ABI, the MuJoCo
-//! plugin and the FMU (crates `flapwing-ffi`, `flapwing-mujoco`, `flapwing-fmu`).
+//! No engine and no I/O: the element depends on wingforce and nalgebra. Controls reach the
+//! wings through a [`ControlMap`] (flapsim's vehicle model is one). Its hosts are flapsim's
+//! own `Simulation` (a private rapier world), `flapsim::host::RapierWings` (a body in the
+//! user's rapier world), the C ABI, the MuJoCo plugin, the FMU and the Python module (crates
+//! `flapwing-ffi`, `flapwing-mujoco`, `flapwing-fmu`, `flapwing-python`).
 //!
 //! The time step is the host's and fixed per set. When it divides the wingbeat into a whole
 //! number of steps N (dt = 1/(f N), as flapsim's own host sizes it), the phase advances by
@@ -23,6 +24,7 @@
 //! (both wings at the left wing's frequency, the right table stretched to it).
 
 mod body;
+mod map;
 mod output;
 mod step;
 
@@ -30,12 +32,12 @@ use nalgebra::Vector3;
 use wingforce::{KinematicLoads, Kinematics, Side, Wing};
 
 pub use body::{BodyLoad, MeanLoads, State};
-pub use output::WingSetOutput;
-pub(crate) use output::zero_forces;
+pub use map::ControlMap;
+pub use output::{WingSetOutput, zero_forces};
 
 use crate::actuated::{Drive, DynamicWing};
+use crate::controls::Controls;
 use crate::error::{Error, Result};
-use crate::model::{Controls, Vehicle};
 
 /// Longest wingbeat, in steps, whose kinematic loads are kept (about 500 B per wing and step).
 const MAX_TABLE_STEPS: u64 = 4096;
@@ -47,8 +49,8 @@ pub struct WingSet {
     wings: Vec<Wing>,
     /// The actuated wings' dynamics (one per wing), or `None` for prescribed kinematics.
     dynamic: Option<Vec<DynamicWing>>,
-    /// The vehicle whose controls map onto these wings (sets built from a model).
-    vehicle: Option<Box<Vehicle>>,
+    /// What maps controls onto these wings (sets built from a model).
+    control_map: Option<Box<dyn ControlMap>>,
     /// Mass of each prescribed wing, lumped on its pitch axis at the centroid radius, kg.
     wing_mass_kg: f64,
     /// Centroid radius of each wing, m.
@@ -141,42 +143,28 @@ impl WingSet {
         }
     }
 
-    /// The wings of a vehicle model with its controls, stepped by `dt_s` (flapsim's own host
-    /// uses `1 / (f steps_per_wingbeat)`; [`WingSet::from_vehicle_sized`] does that). An
-    /// actuated vehicle's wings start at rest at their springs' rest angles.
-    pub fn from_vehicle(vehicle: &Vehicle, dt_s: f64) -> Result<Self> {
-        let dynamic = match &vehicle.actuation {
-            Some(a) => Some(
-                a.drives
-                    .iter()
-                    .map(|d| DynamicWing::new(a.dynamics.clone(), *d))
-                    .collect::<Result<Vec<_>>>()?,
-            ),
-            None => None,
-        };
-        let mut set = Self::assemble(
-            vehicle.wings.to_vec(),
-            dynamic,
-            Some(Box::new(vehicle.clone())),
-            vehicle.sim.wing_mass_kg,
-            dt_s,
-        )?;
-        set.controls = vehicle.controls;
-        set.pending = Some(vehicle.controls);
+    /// A set whose controls map onto its wings through `map` (flapsim's `Vehicle`), with
+    /// `map`'s wings and, for actuated wings, their `dynamic` wings (one per wing), stepped by
+    /// `dt_s`, `controls` in force and applied at the first step (flapsim's
+    /// `FromVehicle::from_vehicle` builds one from a vehicle model).
+    pub fn with_control_map(
+        map: Box<dyn ControlMap>,
+        dynamic: Option<Vec<DynamicWing>>,
+        wing_mass_kg: f64,
+        dt_s: f64,
+        controls: Controls,
+    ) -> Result<Self> {
+        let wings = map.wings().to_vec();
+        let mut set = Self::assemble(wings, dynamic, Some(map), wing_mass_kg, dt_s)?;
+        set.controls = controls;
+        set.pending = Some(controls);
         Ok(set)
-    }
-
-    /// [`WingSet::from_vehicle`] with the step the model asks for: `sim.steps_per_wingbeat`
-    /// steps per wingbeat.
-    pub fn from_vehicle_sized(vehicle: &Vehicle) -> Result<Self> {
-        let dt_s = 1.0 / (vehicle.freq_hz() * vehicle.sim.steps_per_wingbeat as f64);
-        Self::from_vehicle(vehicle, dt_s)
     }
 
     fn assemble(
         wings: Vec<Wing>,
         dynamic: Option<Vec<DynamicWing>>,
-        vehicle: Option<Box<Vehicle>>,
+        control_map: Option<Box<dyn ControlMap>>,
         wing_mass_kg: f64,
         dt_s: f64,
     ) -> Result<Self> {
@@ -221,7 +209,7 @@ impl WingSet {
         let mut set = Self {
             wings,
             dynamic,
-            vehicle,
+            control_map,
             wing_mass_kg,
             centroid_r_m,
             dt_s,
@@ -265,9 +253,10 @@ impl WingSet {
     pub fn wings(&self) -> &[Wing] {
         &self.wings
     }
-    /// The vehicle model the set was built from, with the controls in force.
-    pub fn vehicle(&self) -> Option<&Vehicle> {
-        self.vehicle.as_deref()
+    /// What maps controls onto the wings (the vehicle model the set was built from, with
+    /// the controls in force), if any.
+    pub fn control_map(&self) -> Option<&dyn ControlMap> {
+        self.control_map.as_deref()
     }
     /// The host's time step, s.
     pub fn dt_s(&self) -> f64 {
@@ -335,7 +324,7 @@ impl WingSet {
     /// Only a set built from a vehicle model has controls; for others see
     /// [`WingSet::set_kinematics`].
     pub fn set_controls(&mut self, controls: Controls) -> Result<()> {
-        if self.vehicle.is_none() {
+        if self.control_map.is_none() {
             return Err(Error::Input(
                 "wing set: controls need a vehicle model to map them onto the wings (WingSet::from_vehicle); set each wing's kinematics instead".into(),
             ));
@@ -416,7 +405,7 @@ impl WingSet {
     }
 
     /// Each wing's own wind, world frame, m/s, in the set's order (the air's velocity at the
-    /// wing, e.g. a wind field evaluated at each hinge, see [`crate::wind`]): each wing's
+    /// wing, e.g. a wind field evaluated at each hinge, see `flapsim::wind`): each wing's
     /// forces use the body's velocity relative to its own air, uniform over the wing. In
     /// force until the next call or [`WingSet::set_wind`]. One wind per wing and finite
     /// components, or an error that changes nothing.
@@ -481,16 +470,16 @@ impl WingSet {
     /// Applies controls now and restarts the wingbeat bookkeeping from the current phase.
     fn apply_controls(&mut self, c: &Controls) -> Result<()> {
         let phase = self.phase();
-        let Some(v) = &mut self.vehicle else {
+        let Some(v) = &mut self.control_map else {
             return Ok(());
         };
-        v.apply_controls(c)?;
-        if let (Some(d), Some(a)) = (&mut self.dynamic, &v.actuation) {
-            for (w, drive) in d.iter_mut().zip(a.drives) {
-                w.set_drive(drive)?;
+        v.apply(c)?;
+        if let (Some(d), Some(drives)) = (&mut self.dynamic, v.drives()) {
+            for (w, drive) in d.iter_mut().zip(drives) {
+                w.set_drive(*drive)?;
             }
         } else {
-            for (w, vw) in self.wings.iter_mut().zip(&v.wings) {
+            for (w, vw) in self.wings.iter_mut().zip(v.wings()) {
                 w.set_kinematics(vw.kinematics().clone());
             }
         }
