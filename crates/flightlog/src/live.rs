@@ -272,7 +272,7 @@ mod tests {
 
     #[test]
     fn waiting_for_a_client_ends() {
-        let sink = LiveSink::start("127.0.0.1:0").unwrap();
+        let sink = LiveSink::start("127.0.0.1:0", &crate::options::LogOptions::default()).unwrap();
         let short = Some(Duration::from_millis(50));
         assert_eq!(
             sink.wait_for_client(short, || false),
