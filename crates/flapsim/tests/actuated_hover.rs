@@ -88,7 +88,12 @@ fn averaged_and_floquet_modes_of_the_actuated_vehicles_agree() {
     // stroke, finds one real unstable exponent (+2.16 1/s) and a stable oscillatory pair
     // (-2.65 +- 2.67i 1/s). Both say unstable at a similar rate (within a factor 1.6); they
     // no longer agree on the mode's shape, which stays open in issue #24 (with the spring
-    // hinge the model had before, they agreed to 2%).
+    // hinge the model had before, they agreed to 2%). Neither is converged in the step:
+    // the mean pitch moment against forward speed is a staircase whose risers sit one body
+    // step apart in the timing of an event of the wing (most likely its stop strike), so
+    // M_u and both analyses move with steps_per_wingbeat and substeps (docs/commands.md,
+    // "Averaged against Floquet"). These bounds record the file's discretisation, not the
+    // robot.
     let name = "hummingbird";
     let r = analyze(&vehicle(name), true).unwrap();
     let osc = insect_like_averaged_modes(name, &r);
