@@ -17,10 +17,10 @@
 
 use wingforce::{BodyMotion, Term, Wing, WingForces};
 
-use super::dynamics::{DynamicWing, WingState};
 use crate::error::{Error, Result};
 use crate::model::Vehicle;
 use crate::wings::MeanLoads;
+use wingset::actuated::dynamics::{DynamicWing, WingState};
 
 /// Largest change of a wing angle over the averaged period for the motion to count as
 /// periodic, rad (0.06 deg).

@@ -13,10 +13,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use wingforce::BodyMotion;
 
-use super::dynamics::DynamicWing;
 use super::motion::{MotionSample, WingMotion};
 use crate::error::{Error, Result};
 use crate::model::Vehicle;
+use wingset::actuated::dynamics::DynamicWing;
 
 /// What to sweep and how long to run each point.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

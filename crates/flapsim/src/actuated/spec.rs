@@ -6,11 +6,11 @@
 use serde::{Deserialize, Serialize};
 use wingforce::Validator;
 
-use super::actuator::{Actuator, DcMotor, Piezo};
-use super::drive::Drive;
-use super::dynamics::{Hinge, Stroke, WingDynamics, WingInertia};
-use super::stop::StopContact;
 use crate::error::Result;
+use wingset::actuated::actuator::{Actuator, DcMotor, Piezo};
+use wingset::actuated::drive::Drive;
+use wingset::actuated::dynamics::{Hinge, Stroke, WingDynamics, WingInertia};
+use wingset::actuated::stop::StopContact;
 
 /// `[actuation.wing_inertia]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
