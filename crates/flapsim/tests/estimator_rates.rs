@@ -53,7 +53,7 @@ fn block_nees(e: &Vector3<f64>, p: &Covariance, i: usize) -> f64 {
 
 /// Index of the step at which a sample due at `t` is taken (the first step not before it).
 fn step_of(t: f64, dt: f64) -> usize {
-    (t / dt - 1e-6 * 0.0 - 1e-9).ceil().max(0.0) as usize
+    (t / dt - 1e-9).ceil().max(0.0) as usize
 }
 
 #[test]
@@ -433,23 +433,22 @@ fn closed_loop_against_imu_rate() {
                 // taken at the first step not before t.
                 let at = |i: usize| -> Option<State> { (i < truth.len()).then(|| truth[i]) };
                 if out.t_s > 0.1 {
-                    if let (Some(tf), x, p) = f.filter().latest() {
-                        if let Some(s) = at(step_of(tf, dt)) {
-                            let ep = s.position_m - x.position_world_m;
-                            let ev = s.velocity_m_s - x.velocity_world_m_s;
-                            let eth =
-                                (x.world_from_body.inverse() * s.world_from_body).scaled_axis();
-                            np += block_nees(&ep, p, IP);
-                            nv += block_nees(&ev, p, IV);
-                            nth += block_nees(&eth, p, ITH);
-                            for (b, (e, i)) in [(ep, IP), (ev, IV), (eth, ITH)].iter().enumerate() {
-                                e2[b] += e.norm_squared();
-                                p2[b] += p.fixed_view::<3, 3>(*i, *i).trace();
-                            }
-                            n += 1;
+                    if let (Some(tf), x, p) = f.filter().latest()
+                        && let Some(s) = at(step_of(tf, dt))
+                    {
+                        let ep = s.position_m - x.position_world_m;
+                        let ev = s.velocity_m_s - x.velocity_world_m_s;
+                        let eth = (x.world_from_body.inverse() * s.world_from_body).scaled_axis();
+                        np += block_nees(&ep, p, IP);
+                        nv += block_nees(&ev, p, IV);
+                        nth += block_nees(&eth, p, ITH);
+                        for (b, (e, i)) in [(ep, IP), (ev, IV), (eth, ITH)].iter().enumerate() {
+                            e2[b] += e.norm_squared();
+                            p2[b] += p.fixed_view::<3, 3>(*i, *i).trace();
                         }
+                        n += 1;
                     }
-                    if (k - 1) % 100 == 0 {
+                    if (k - 1).is_multiple_of(100) {
                         let t_now = out.t_s;
                         let (s_in, ago) = f.controller_input(t_now, period);
                         if let Some(s) = at(((t_now - ago as f64 * period) / dt).round() as usize) {
