@@ -369,7 +369,7 @@ impl Simulation {
             .out
             .take()
             .unwrap_or_else(|| Box::new(StepOutput::empty()));
-        let r = match self.wings.step(&state).map_err(Error::from) {
+        let r = match self.wings.step(&state) {
             Ok(o) => {
                 out.fill(o, &state);
                 self.check(&out)

@@ -42,20 +42,16 @@
 //! - `estimated_feedback_needs_sensors`: a model without `[sensors]`, or without motion
 //!   capture, is refused with an error naming what is missing.
 
+#[path = "support/estimation.rs"]
+mod estimation;
+
+use estimation::fly;
 use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover, run_hover_estimated};
 use flapsim::estimator::{EstimatedFeedback, Estimator, IP, ITH, Prior};
 use flapsim::sensor_run::SensorRun;
-use flapsim::sensors::{Noise, SensorParams};
-use flapsim::trim::{Trim, trim, trimmed_vehicle};
+use flapsim::sensors::SensorParams;
 use flapsim::{Mode, Simulation, State, Vehicle};
 use nalgebra::{Matrix6, UnitQuaternion, Vector3, Vector6};
-
-fn fly() -> (Vehicle, Trim) {
-    let v = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "drosophila").unwrap();
-    let t = trim(&v).unwrap();
-    let tv = trimmed_vehicle(&v, &t).unwrap();
-    (tv, t)
-}
 
 fn pitch5() -> Disturbance {
     Disturbance {
@@ -103,20 +99,7 @@ fn nees_within_chi_square_bounds() {
     let n_seeds = 30u64;
     let mut nees = Vec::new();
     for seed in 0..n_seeds {
-        // Prior: the true start plus a draw from the prior's own distribution.
-        let mut draw = Noise::new(1000 + seed);
-        let (sp_m, sv, sth) = (v.length_m, v.length_m * v.freq_hz(), 10f64.to_radians());
-        let p0 = s0.position_m + draw.vec3(sp_m);
-        let v0 = s0.velocity_m_s + draw.vec3(sv);
-        let q0 = s0.world_from_body * UnitQuaternion::from_scaled_axis(draw.vec3(sth));
-        let prior = Prior {
-            position_world_m: [p0.x, p0.y, p0.z],
-            velocity_world_m_s: [v0.x, v0.y, v0.z],
-            world_from_body: q0,
-            position_std_m: sp_m,
-            velocity_std_m_s: sv,
-            attitude_std_rad: sth,
-        };
+        let prior = estimation::drawn_prior(&v, &s0, 1000 + seed);
         let mut filter = Estimator::for_vehicle(&v, &prior).unwrap();
         let mut sensors = SensorRun::new(&v, seed).unwrap();
         for (ts, s) in &truth {

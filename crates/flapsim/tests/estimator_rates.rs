@@ -15,20 +15,17 @@
 //!   `closed_loop_against_imu_rate` (the hover on the estimate: outcome, NEES, NIS and the
 //!   error of the controller's input, 3 seeds).
 
+#[path = "support/estimation.rs"]
+mod estimation;
+
+use estimation::fly;
 use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover};
 use flapsim::estimator::{Covariance, Estimator, IP, ITH, IV, Nominal, Prior, propagate};
 use flapsim::sensor_run::{Reading, SensorRun};
-use flapsim::sensors::{Noise, SensorParams};
-use flapsim::trim::{Trim, trim, trimmed_vehicle};
+use flapsim::sensors::SensorParams;
+use flapsim::trim::Trim;
 use flapsim::{Mode, Simulation, State, Vehicle};
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
-
-fn fly() -> (Vehicle, Trim) {
-    let v = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "drosophila").unwrap();
-    let t = trim(&v).unwrap();
-    let tv = trimmed_vehicle(&v, &t).unwrap();
-    (tv, t)
-}
+use nalgebra::{Matrix3, Vector3};
 
 fn truth_run(v: &Vehicle, t: &Trim, duration_s: f64) -> Vec<(f64, State)> {
     let d = Disturbance {
@@ -138,19 +135,7 @@ fn nees_per_block_against_imu_rate() {
         let (mut pp, mut pv, mut pth) = (0.0, 0.0, 0.0);
         let (mut nis, mut frames) = (0.0, 0u64);
         for seed in 0..n_seeds {
-            let mut draw = Noise::new(1000 + seed);
-            let (sp_m, sv, sth) = (v.length_m, v.length_m * v.freq_hz(), 10f64.to_radians());
-            let p0 = s0.position_m + draw.vec3(sp_m);
-            let v0_ = s0.velocity_m_s + draw.vec3(sv);
-            let q0 = s0.world_from_body * UnitQuaternion::from_scaled_axis(draw.vec3(sth));
-            let prior = Prior {
-                position_world_m: [p0.x, p0.y, p0.z],
-                velocity_world_m_s: [v0_.x, v0_.y, v0_.z],
-                world_from_body: q0,
-                position_std_m: sp_m,
-                velocity_std_m_s: sv,
-                attitude_std_rad: sth,
-            };
+            let prior = estimation::drawn_prior(&v, &s0, 1000 + seed);
             let mut filter = Estimator::for_vehicle(&v, &prior).unwrap();
             let mut sensors = SensorRun::new(&v, seed).unwrap();
             let mut evals: Vec<(f64, Nominal, Covariance)> = Vec::new();

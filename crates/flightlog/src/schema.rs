@@ -135,8 +135,10 @@ pub const OPTIONAL_CHANNELS: [(&str, &str); 4] = [
 ];
 
 /// Index of /sensors/imu in [`OPTIONAL_CHANNELS`].
+#[cfg(feature = "live")]
 pub(crate) const OPT_IMU: usize = 0;
 /// Index of /sensors/mocap in [`OPTIONAL_CHANNELS`].
+#[cfg(feature = "live")]
 pub(crate) const OPT_MOCAP: usize = 1;
 /// Index of /wind in [`OPTIONAL_CHANNELS`].
 pub(crate) const OPT_WIND: usize = 2;

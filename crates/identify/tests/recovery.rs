@@ -191,20 +191,7 @@ fn a_flight_in_turbulence_is_identified() {
         "rms {}",
         r.rms_after
     );
-    let truth = [
-        3.53e-13 * common::IYY_FACTOR,
-        common::COM_X_M,
-        common::COM_Z_M,
-    ];
-    for (p, truth) in r.params.iter().zip(truth) {
-        assert!(
-            p.ci95[0] <= truth && truth <= p.ci95[1],
-            "{}: true {truth:e} outside [{:e}, {:e}]",
-            p.name,
-            p.ci95[0],
-            p.ci95[1]
-        );
-    }
+    common::assert_truth_inside(&r, &common::true_iyy_com().map(|t| (t, 0.0)));
     data.wind = None;
     let still = identify(&data, &opts, &mut |_| true).unwrap();
     eprintln!("without the wind: {still}");
@@ -292,21 +279,7 @@ fn a_csv_flight_is_identified() {
         "rms {}",
         r.rms_after
     );
-    let truth = [
-        3.53e-13 * common::IYY_FACTOR,
-        common::COM_X_M,
-        common::COM_Z_M,
-    ];
-    for (p, truth) in r.params.iter().zip(truth) {
-        assert!(p.identifiable, "{}", p.name);
-        assert!(
-            p.ci95[0] <= truth && truth <= p.ci95[1],
-            "{}: true {truth:e} outside [{:e}, {:e}]",
-            p.name,
-            p.ci95[0],
-            p.ci95[1]
-        );
-    }
+    common::assert_truth_inside(&r, &common::true_iyy_com().map(|t| (t, 0.0)));
 }
 
 /// With the IMU as a measurement too, its six turn-on biases are fitted beside the pitch
@@ -351,10 +324,11 @@ fn the_imu_and_its_biases_are_fitted() {
     // Three sigma of a second of bias walk (models/drosophila.toml [sensors.imu]).
     let gyro_walk = 3.0 * 0.0012_f64.to_radians();
     let accel_walk = 3.0 * 0.0163e-3 * 9.80665;
+    let [iyy, com_x, com_z] = common::true_iyy_com();
     let expected = [
-        (3.53e-13 * common::IYY_FACTOR, 0.0),
-        (common::COM_X_M, 0.0),
-        (common::COM_Z_M, 0.0),
+        (iyy, 0.0),
+        (com_x, 0.0),
+        (com_z, 0.0),
         (s.gyro_turn_on_bias_rad_s[0], gyro_walk),
         (s.gyro_turn_on_bias_rad_s[1], gyro_walk),
         (s.gyro_turn_on_bias_rad_s[2], gyro_walk),
@@ -362,16 +336,7 @@ fn the_imu_and_its_biases_are_fitted() {
         (s.accel_turn_on_bias_m_s2[1], accel_walk),
         (s.accel_turn_on_bias_m_s2[2], accel_walk),
     ];
-    for (p, (truth, slack)) in r.params.iter().zip(expected) {
-        assert!(p.identifiable, "{}", p.name);
-        assert!(
-            p.ci95[0] - slack <= truth && truth <= p.ci95[1] + slack,
-            "{}: true {truth:e} outside [{:e}, {:e}] (+- {slack:e})",
-            p.name,
-            p.ci95[0],
-            p.ci95[1]
-        );
-    }
+    common::assert_truth_inside(&r, &expected);
 }
 
 /// The pitch inertia the fit changes is the one the body flies with: a body with Iyy below

@@ -1,7 +1,7 @@
 //! The wing set's error type.
 
-/// Everything that can stop a wing set from being built or stepped. flapsim's error has the
-/// same variants with the same messages and converts both ways, variant by variant.
+/// Everything that can stop a wing set from being built or stepped, and (as `flapsim::Error`,
+/// the same type) a vehicle model from loading or an analysis from finding its answer.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Error {
     /// A wing's model is malformed or a value is out of range (names field and value).
@@ -22,7 +22,8 @@ pub enum Error {
     #[error("{0}")]
     Input(String),
     /// Controls or a drive the wings cannot follow (a control mapping that refuses them, an
-    /// actuated wing that cannot start), in words.
+    /// actuated wing that cannot start), or an analysis (trim, stability) that could not find
+    /// what it looked for, in words.
     #[error("{0}")]
     Analysis(String),
 }

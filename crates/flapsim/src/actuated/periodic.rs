@@ -89,7 +89,7 @@ pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
         DynamicWing::new(act.dynamics.clone(), act.drives[1])?,
     ];
     let mut wings: [Wing; 2] = [vehicle.wings[0].clone(), vehicle.wings[1].clone()];
-    let what = |e: wingset::Error| match Error::from(e) {
+    let what = |e: Error| match e {
         Error::Diverged { t_s, reason, .. } => Error::Analysis(format!(
             "the wings of {} have no periodic motion at this drive and body state: {reason} (t = {t_s:.5} s after the start from rest)",
             vehicle.name

@@ -56,3 +56,24 @@ pub fn truth() -> String {
         ),
     )
 }
+
+/// The synthetic vehicle's true Iyy, CoM x and CoM z, in the order the tests fit them.
+pub fn true_iyy_com() -> [f64; 3] {
+    [3.53e-13 * IYY_FACTOR, COM_X_M, COM_Z_M]
+}
+
+/// Each fitted parameter is identifiable and its 95 % interval, widened by `slack`, holds
+/// the true value: `expected` is (true value, slack) per parameter, in the fit's order.
+pub fn assert_truth_inside(r: &flapwing_identify::FitReport, expected: &[(f64, f64)]) {
+    assert_eq!(r.params.len(), expected.len());
+    for (p, &(truth, slack)) in r.params.iter().zip(expected) {
+        assert!(p.identifiable, "{}: {:?}", p.name, p.reason);
+        assert!(
+            p.ci95[0] - slack <= truth && truth <= p.ci95[1] + slack,
+            "{}: true {truth:e} outside [{:e}, {:e}] (+- {slack:e})",
+            p.name,
+            p.ci95[0],
+            p.ci95[1]
+        );
+    }
+}
