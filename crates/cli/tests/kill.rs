@@ -176,6 +176,9 @@ fn kill_while_writing(dir: &Path, whole: u64, tenths: u64) -> (u64, u64, u64) {
         }
     };
     let reported = kill(child, stderr, 0);
+    // The run is dead, so its writing end is closed: what it left in the pipe's buffer (up to
+    // 64 KiB, possibly the rest of the cut chunk) reads out, then end of file.
+    pipe.read_to_end(&mut bytes).unwrap();
     drop(pipe);
     let disk = format!("disk-{whole}-{tenths}.mcap");
     std::fs::write(dir.join(&disk), &bytes).unwrap();
