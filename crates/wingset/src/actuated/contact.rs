@@ -2,14 +2,20 @@
 //! which also states how the steps are chosen and split): the part of
 //! [`DynamicWing`]'s sub-step that only a hinge with stops takes.
 
-use super::dynamics::{DynamicWing, Held};
+use super::dynamics::{DynamicWing, Held, Reheld};
 use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root};
 use crate::error::{Error, Result};
 
 impl DynamicWing {
-    /// Advances the structure over one sub-step of length `h` with the loads held: one
-    /// Runge-Kutta step away from the stops; near or in a stop, contact steps short enough
-    /// for the contact, each split where the wing touches a stop (see [`super::stop`]).
+    /// Advances the structure over one sub-step of length `h`: away from the stops, one
+    /// Runge-Kutta step with the loads `held` at its start and `reheld` at its later stages;
+    /// near or in a stop, contact steps short enough for the contact, each with the loads
+    /// `reheld` at its start and split where the wing touches a stop (see [`super::stop`]).
+    /// Without stops the loads are held over the sub-step.
+    /// Every state it passes after (t0, y0), the end included, is pushed on `nodes` with its
+    /// time: the points between which the motion is smooth (a strike's touch and release
+    /// splits, the contact steps that resolve it), for the step's mean loads; a node's flag
+    /// says to take its accelerations without the stops (the touch's left side).
     pub(super) fn advance(
         &self,
         t0: f64,
@@ -17,15 +23,20 @@ impl DynamicWing {
         h: f64,
         held: &Held,
         k1a: [f64; 2],
+        nodes: &mut Vec<(f64, [f64; 4], bool)>,
+        reheld: Reheld,
     ) -> Result<[f64; 4]> {
-        let (y, stages) = self.rk4(t0, y0, h, held, Some(k1a));
         let Some(stop) = self.model().hinge.contact else {
+            let y = self.rk4(t0, y0, h, held, Some(k1a), None).0;
+            nodes.push((t0 + h, y, false));
             return Ok(y);
         };
+        let (y, stages) = self.rk4(t0, y0, h, held, Some(k1a), Some(reheld));
         let rest = self.model().hinge.rest_rad;
         // Clear of the stops: even at its rate the pitch cannot reach one within h.
         let clear = |y: &[f64; 4]| stop.angle_rad - (y[1] - rest).abs() - y[3].abs() * h > 0.0;
         if clear(y0) && clear(&y) && stages.iter().all(clear) {
+            nodes.push((t0 + h, y, false));
             return Ok(y);
         }
         let m_eff = self.pitch_inertia_effective(&self.mass_matrix(y0[1], &held.added));
@@ -39,29 +50,33 @@ impl DynamicWing {
         let n = n as usize;
         let hc = h / n as f64;
         let mut y = *y0;
-        let free = Held {
-            free: true,
-            ..*held
-        };
         for k in 0..n {
             let t = t0 + k as f64 * hc;
+            // The aerodynamic loads held over each contact step are taken at its start: a
+            // strike changes the rates they depend on within a few contact steps.
+            let held = &if k == 0 { *held } else { reheld(t, &y) };
+            let free = Held {
+                free: true,
+                ..*held
+            };
             if stop.penetration(y[1] - rest).0 >= 0.0 {
                 // In a stop: the contact force is continuous until the wing leaves, but its
                 // slope jumps where the clamp takes over (k_c delta + c delta_dot falls
                 // through zero): split the step there too, found by regula falsi
                 // (Illinois) on the contact's own Runge-Kutta steps.
-                let y1 = self.rk4(t, &y, hc, held, None).0;
+                let y1 = self.rk4(t, &y, hc, held, None, None).0;
                 let push = |y: &[f64; 4]| self.stop_push(&stop, y, held);
                 let (p0, p1) = (push(&y), push(&y1));
                 if !(p0 > 0.0 && p1 <= 0.0) {
                     y = y1;
+                    nodes.push((t + hc, y, false));
                     continue;
                 }
                 let (mut lo, mut hi, mut plo, mut phi) = (0.0, hc, p0, p1);
                 let (mut tau, mut ya) = (hc, y1);
                 for _ in 0..40 {
                     tau = lo + (hi - lo) * plo / (plo - phi);
-                    ya = self.rk4(t, &y, tau, held, None).0;
+                    ya = self.rk4(t, &y, tau, held, None, None).0;
                     let pa = push(&ya);
                     if pa.abs() <= 1e-13 * p0 || hi - lo <= 1e-13 * hc {
                         break;
@@ -76,7 +91,9 @@ impl DynamicWing {
                         plo *= 0.5;
                     }
                 }
-                y = self.rk4(t + tau, &ya, hc - tau, held, None).0;
+                nodes.push((t + tau, ya, false));
+                y = self.rk4(t + tau, &ya, hc - tau, held, None, None).0;
+                nodes.push((t + hc, y, false));
                 continue;
             }
             // Out of the stops: the step as if there were none. If that ends in a stop, the
@@ -85,15 +102,16 @@ impl DynamicWing {
             // Hermite interpolant refined by Newton on the contact-free part's own
             // Runge-Kutta step (to round-off), put the wing exactly on the stop and finish
             // the step with the contact on from its first stage.
-            let yf = self.rk4(t, &y, hc, &free, None).0;
+            let yf = self.rk4(t, &y, hc, &free, None, None).0;
             if stop.penetration(yf[1] - rest).0 < 0.0 {
                 y = yf;
+                nodes.push((t + hc, y, false));
                 continue;
             }
             let s = (yf[1] - rest).signum();
             let g = |y: &[f64; 4]| s * (y[1] - rest) - stop.angle_rad;
             let mut f = hermite_root(g(&y), s * y[3], g(&yf), s * yf[3], hc);
-            let mut ya = self.rk4(t, &y, f * hc, &free, None).0;
+            let mut ya = self.rk4(t, &y, f * hc, &free, None, None).0;
             for _ in 0..6 {
                 let (ga, rate) = (g(&ya), s * ya[3]);
                 if rate.is_nan() || rate <= 0.0 || ga.abs() <= 1e-15 * stop.angle_rad {
@@ -104,10 +122,18 @@ impl DynamicWing {
                     break;
                 }
                 f = next;
-                ya = self.rk4(t, &y, f * hc, &free, None).0;
+                ya = self.rk4(t, &y, f * hc, &free, None, None).0;
             }
             ya[1] = rest + s * stop.angle_rad;
-            y = self.rk4(t + f * hc, &ya, (1.0 - f) * hc, held, None).0;
+            // The contact force jumps at the touch (the dashpot): the node is taken twice,
+            // with the accelerations just before (free) and just after.
+            nodes.push((t + f * hc, ya, true));
+            nodes.push((t + f * hc, ya, false));
+            let held = reheld(t + f * hc, &ya);
+            y = self
+                .rk4(t + f * hc, &ya, (1.0 - f) * hc, &held, None, None)
+                .0;
+            nodes.push((t + hc, y, false));
         }
         Ok(y)
     }

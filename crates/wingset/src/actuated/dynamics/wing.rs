@@ -4,7 +4,7 @@
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
-use wingforce::{AxisMoments, WingAngles, WingForces};
+use wingforce::{AxisMoments, TermForce, WingAngles, WingForces};
 
 use super::super::actuator::ActuatorState;
 use super::super::drive::Drive;
@@ -22,6 +22,18 @@ pub struct WingState {
     pub phi_dot_rad_s: f64,
     /// Pitch rate, rad/s.
     pub theta_dot_rad_s: f64,
+}
+
+impl WingState {
+    /// The state of the integrator's vector (phi, theta, phi_dot, theta_dot).
+    pub(in crate::actuated) fn from_y(y: &[f64; 4]) -> Self {
+        Self {
+            phi_rad: y[0],
+            theta_rad: y[1],
+            phi_dot_rad_s: y[2],
+            theta_dot_rad_s: y[3],
+        }
+    }
 }
 
 /// What one step of a dynamic wing produced (at the step's start).
@@ -62,6 +74,44 @@ pub struct ActuatedWingOutput {
 }
 
 impl WingStep {
+    /// The step with its loads (aerodynamic, hinge, inertial) times `w`; the motion and the
+    /// actuator unchanged.
+    pub(super) fn scaled(mut self, w: f64) -> Self {
+        let scale = |t: &mut TermForce| {
+            t.force_n *= w;
+            t.moment_hinge_nm *= w;
+            t.c_l *= w;
+            t.c_d *= w;
+        };
+        self.forces.terms.iter_mut().for_each(scale);
+        scale(&mut self.forces.total);
+        self.aero_axis.stroke_nm *= w;
+        self.aero_axis.pitch_nm *= w;
+        self.hinge_moment_nm *= w;
+        self.inertial_force_n *= w;
+        self.inertial_moment_hinge_nm *= w;
+        self
+    }
+
+    /// Adds `w` times the loads of `other` (a weighted mean's accumulation).
+    pub(super) fn add_scaled(&mut self, other: &WingStep, w: f64) {
+        let add = |t: &mut TermForce, o: &TermForce| {
+            t.force_n += w * o.force_n;
+            t.moment_hinge_nm += w * o.moment_hinge_nm;
+            t.c_l += w * o.c_l;
+            t.c_d += w * o.c_d;
+        };
+        for (t, o) in self.forces.terms.iter_mut().zip(&other.forces.terms) {
+            add(t, o);
+        }
+        add(&mut self.forces.total, &other.forces.total);
+        self.aero_axis.stroke_nm += w * other.aero_axis.stroke_nm;
+        self.aero_axis.pitch_nm += w * other.aero_axis.pitch_nm;
+        self.hinge_moment_nm += w * other.hinge_moment_nm;
+        self.inertial_force_n += w * other.inertial_force_n;
+        self.inertial_moment_hinge_nm += w * other.inertial_moment_hinge_nm;
+    }
+
     /// The part of the step a log or an analysis keeps.
     pub fn output(&self) -> ActuatedWingOutput {
         ActuatedWingOutput {
