@@ -48,6 +48,58 @@ pub struct Derivative {
     pub nondimensional: f64,
 }
 
+/// The reference quantities of `vehicle` flapping with the peak-to-peak stroke amplitude
+/// `stroke_amplitude_rad`.
+pub fn reference(vehicle: &Vehicle, stroke_amplitude_rad: f64) -> Reference {
+    let g = vehicle.wings[0].geometry();
+    let n = vehicle.freq_hz();
+    let u = 2.0 * stroke_amplitude_rad * n * g.r_gyration_m;
+    let rho = vehicle.wings[0].fluid().density_kg_m3;
+    let s_t: f64 = vehicle.wings.iter().map(|w| w.geometry().area_m2).sum();
+    Reference {
+        stroke_amplitude_rad,
+        freq_hz: n,
+        r2_m: g.r_gyration_m,
+        speed_m_s: u,
+        time_s: 1.0 / n,
+        force_n: 0.5 * rho * u * u * s_t,
+        chord_m: g.mean_chord_m,
+    }
+}
+
+/// The nine longitudinal derivatives: (name, row and column of the longitudinal matrix
+/// (u, w, pitch, q), true for a moment (times I_yy, else the mass), dimensional unit).
+pub const LONGITUDINAL: [(&str, usize, usize, bool, &str); 9] = [
+    ("X_u", 0, 0, false, "N s/m"),
+    ("X_w", 0, 1, false, "N s/m"),
+    ("X_q", 0, 3, false, "N s/rad"),
+    ("Z_u", 1, 0, false, "N s/m"),
+    ("Z_w", 1, 1, false, "N s/m"),
+    ("Z_q", 1, 3, false, "N s/rad"),
+    ("M_u", 3, 0, true, "N s"),
+    ("M_w", 3, 1, true, "N s"),
+    ("M_q", 3, 3, true, "N m s/rad"),
+];
+
+impl Reference {
+    /// The factor that takes a dimensional derivative (SI) to its non-dimensional value:
+    /// U / F for a force per velocity, n / F per pitch rate, and a further 1 / c for a
+    /// moment.
+    pub fn scale(&self, column: usize, moment: bool) -> f64 {
+        let per_state = if column == 3 {
+            self.freq_hz
+        } else {
+            self.speed_m_s
+        };
+        let per_load = if moment {
+            self.force_n * self.chord_m
+        } else {
+            self.force_n
+        };
+        per_state / per_load
+    }
+}
+
 /// The longitudinal derivatives of `vehicle` (at trim, stroke amplitude `stroke_amplitude_rad`
 /// as it flaps there) from the averaged longitudinal matrix `a_lon` (u, w, pitch, q).
 pub fn longitudinal(
@@ -55,45 +107,21 @@ pub fn longitudinal(
     a_lon: &DMatrix<f64>,
     stroke_amplitude_rad: f64,
 ) -> (Reference, Vec<Derivative>) {
-    let g = vehicle.wings[0].geometry();
-    let n = vehicle.freq_hz();
-    let u = 2.0 * stroke_amplitude_rad * n * g.r_gyration_m;
-    let rho = vehicle.wings[0].fluid().density_kg_m3;
-    let s_t: f64 = vehicle.wings.iter().map(|w| w.geometry().area_m2).sum();
-    let force = 0.5 * rho * u * u * s_t;
-    let c = g.mean_chord_m;
-    let reference = Reference {
-        stroke_amplitude_rad,
-        freq_hz: n,
-        r2_m: g.r_gyration_m,
-        speed_m_s: u,
-        time_s: 1.0 / n,
-        force_n: force,
-        chord_m: c,
-    };
-    let m = vehicle.mass_kg;
-    let i_yy = vehicle.inertia_kg_m2[(1, 1)];
-    // (name, row, column, mass or inertia, dimensional unit, scale to non-dimensional)
-    let rows: [(&str, usize, usize, f64, &str, f64); 9] = [
-        ("X_u", 0, 0, m, "N s/m", u / force),
-        ("X_w", 0, 1, m, "N s/m", u / force),
-        ("X_q", 0, 3, m, "N s/rad", n / force),
-        ("Z_u", 1, 0, m, "N s/m", u / force),
-        ("Z_w", 1, 1, m, "N s/m", u / force),
-        ("Z_q", 1, 3, m, "N s/rad", n / force),
-        ("M_u", 3, 0, i_yy, "N s", u / (force * c)),
-        ("M_w", 3, 1, i_yy, "N s", u / (force * c)),
-        ("M_q", 3, 3, i_yy, "N m s/rad", n / (force * c)),
-    ];
-    let derivatives = rows
+    let reference = reference(vehicle, stroke_amplitude_rad);
+    let derivatives = LONGITUDINAL
         .iter()
-        .map(|&(name, i, j, k, unit, scale)| {
+        .map(|&(name, i, j, moment, unit)| {
+            let k = if moment {
+                vehicle.inertia_kg_m2[(1, 1)]
+            } else {
+                vehicle.mass_kg
+            };
             let value = k * a_lon[(i, j)];
             Derivative {
                 name: name.to_owned(),
                 value,
                 unit: unit.to_owned(),
-                nondimensional: value * scale,
+                nondimensional: value * reference.scale(j, moment),
             }
         })
         .collect();

@@ -32,6 +32,7 @@ pub mod sensors;
 pub mod sim;
 pub mod stability;
 pub mod summary;
+pub mod sun_xiong;
 pub mod task;
 pub mod trim;
 pub mod vehicle_validation;

@@ -19,7 +19,7 @@ use wingforce::Term;
 use crate::Vehicle;
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::{Error, Result};
-use crate::stability::{ModeKind, analyze};
+use crate::sun_xiong;
 
 /// One comparison with a published figure.
 #[derive(Debug, Clone, PartialEq)]
@@ -133,8 +133,8 @@ pub fn operating_points() -> Result<Vec<OperatingPoint>> {
         relative_tolerance: 0.15,
         limitation: None,
     });
-    let note = bumblebee_pitch_modes_note(&bee)?;
-    for (name, published, computed, limited) in bumblebee_mode_times(&bee)? {
+    let (modes, note) = bumblebee_modes(&bee)?;
+    for (name, published, computed, limited) in modes {
         rows.push(OperatingPoint {
             name: name.to_owned(),
             source: SUN_XIONG_SOURCE,
@@ -148,77 +148,55 @@ pub fn operating_points() -> Result<Vec<OperatingPoint>> {
 }
 
 /// Where the bumblebee's mode times come from.
-pub const SUN_XIONG_SOURCE: &str = "Sun & Xiong 2005, abstract";
-
-/// Why the two pitch-dominated modes of the bumblebee miss Sun & Xiong's times (issue 17),
-/// measured here: the same analysis with 30% less pitch inertia, and how far the other two
-/// modes are off.
-pub fn bumblebee_pitch_modes_note(bee: &Vehicle) -> Result<String> {
-    let times = bumblebee_mode_times(bee)?;
-    let mut light = bee.clone();
-    light.inertia_kg_m2[(1, 1)] *= 0.7;
-    let light_times = bumblebee_mode_times(&light)?;
-    let off = |i: usize| (100.0 * (times[i].2 / times[i].1 - 1.0)).abs();
-    Ok(format!(
-        "the two pitch-dominated modes scale with M_u, M_q and I_y over the body; I_y is an ellipsoid estimate, and 30% less of it (the least the inertia's triangle inequality allows) brings them to {:.2} s and {:.3} s: the rest lies in the quasi-steady M_u and M_q (the derivative table of `stability`), while the same model puts the doubling and slow-subsidence times {:.0}% and {:.0}% off",
-        light_times[0].2,
-        light_times[2].2,
-        off(1),
-        off(3)
-    ))
-}
+pub use crate::sun_xiong::MODES_SOURCE as SUN_XIONG_SOURCE;
 
 /// The bumblebee's four longitudinal mode times from the averaged analysis beside Sun &
 /// Xiong's (2005, abstract: period 0.32 s and doubling 0.1 s of the unstable oscillatory
 /// mode, half times 0.024 s fast and 0.37 s slow subsidence): (what, published, computed,
-/// known to miss (the pitch-dominated pair)).
-pub fn bumblebee_mode_times(bee: &Vehicle) -> Result<[(&'static str, f64, f64, bool); 4]> {
-    let report = analyze(bee, false)?;
-    let modes = &report.longitudinal_modes;
-    let osc = modes
-        .iter()
-        .find(|m| m.kind == ModeKind::Oscillatory)
-        .ok_or_else(|| {
-            Error::Analysis("the bumblebee has no oscillatory longitudinal mode".into())
-        })?;
-    let mut halves: Vec<f64> = modes
-        .iter()
-        .filter(|m| m.kind == ModeKind::Real && m.stable)
-        .filter_map(|m| m.time_to_half_or_double_s)
-        .collect();
-    halves.sort_by(f64::total_cmp);
-    if halves.len() != 2 {
-        return Err(Error::Analysis(format!(
-            "the bumblebee has {} stable real longitudinal modes, Sun & Xiong 2005 found 2",
-            halves.len()
-        )));
-    }
-    Ok([
+/// known to miss (the pitch-dominated pair)), and why that pair misses
+/// ([`bumblebee_pitch_modes_note`]).
+pub fn bumblebee_modes(bee: &Vehicle) -> Result<([(&'static str, f64, f64, bool); 4], String)> {
+    let c = sun_xiong::compare(bee)?;
+    let known_to_miss = [true, false, true, false];
+    let rows = std::array::from_fn(|i| {
         (
-            "bumblebee unstable oscillatory mode: period, s",
-            0.32,
-            osc.period_s.unwrap_or(f64::NAN),
-            true,
-        ),
-        (
-            "bumblebee unstable oscillatory mode: doubling time, s",
-            0.1,
-            osc.time_to_half_or_double_s.unwrap_or(f64::NAN),
-            false,
-        ),
-        (
-            "bumblebee fast subsidence: half time, s",
-            0.024,
-            halves[0],
-            true,
-        ),
-        (
-            "bumblebee slow subsidence: half time, s",
-            0.37,
-            halves[1],
-            false,
-        ),
-    ])
+            sun_xiong::MODE_TIME_NAMES[i],
+            sun_xiong::MODE_TIMES_S[i],
+            c.model_times_s[i],
+            known_to_miss[i],
+        )
+    });
+    Ok((rows, bumblebee_pitch_modes_note(&c)))
+}
+
+/// Why the two pitch-dominated modes of the bumblebee miss Sun & Xiong's times (issue 17),
+/// measured: the same mass, pitch inertia and gravity with the paper's own CFD derivatives in
+/// place of the model's give the paper's times, so the miss lies in the quasi-steady
+/// derivatives, not in the estimated inertia.
+pub fn bumblebee_pitch_modes_note(c: &sun_xiong::Comparison) -> String {
+    let t = c.published_derivative_times_s;
+    let worst = (0..4)
+        .map(|i| (t[i] / sun_xiong::MODE_TIMES_S[i] - 1.0).abs())
+        .fold(0.0, f64::max);
+    let ratio = |name: &str| {
+        let model = c
+            .model_derivatives
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map_or(f64::NAN, |&(_, v)| v);
+        model / sun_xiong::published(name).unwrap_or(f64::NAN)
+    };
+    format!(
+        "with Sun & Xiong's own CFD derivatives (their table) in place of the model's, the model's mass, I_y (an ellipsoid estimate) and gravity give a {:.3} s period, {:.3} s doubling, {:.4} s and {:.3} s half times, each within {:.0}% of the abstract: the pitch-dominated modes miss through the quasi-steady derivatives (M_u {:.2}, M_q {:.2} and X_u {:.2} times the CFD's; the derivative rows), not through I_y",
+        t[0],
+        t[1],
+        t[2],
+        t[3],
+        100.0 * worst,
+        ratio("M_u"),
+        ratio("M_q"),
+        ratio("X_u"),
+    )
 }
 
 /// The mid-stroke angle of attack, deg, at which a hover trim on the angle of attack (Sun &

@@ -127,6 +127,6 @@ pub const NOT_FOUND: [(&str, &str); 6] = [
     ),
     (
         "bumblebee",
-        "Sun & Xiong 2005's table of non-dimensional longitudinal derivatives (X_u, X_w, X_q, Z_u, Z_w, Z_q, M_u, M_w, M_q), their trim angle of attack and I_y: only the abstract's mode times were readable, so no derivative is compared term by term",
+        "Sun & Xiong 2005's trimmed angles of attack, their I_y and their non-dimensional mass and inertia: only the abstract and the derivative table were readable, so the model keeps its estimated 40 deg angle of attack and ellipsoid I_y (with the table's derivatives that I_y gives the abstract's modes within 9%)",
     ),
 ];

@@ -27,6 +27,7 @@
 //! dragonfly's weight support in forward flight (the fruit fly's bound, used alike).
 
 mod actuated;
+mod bumblebee;
 mod data;
 mod rows;
 
@@ -36,11 +37,10 @@ use wingforce::Term;
 use crate::Vehicle;
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::Result;
-use crate::operating_points::{
-    SUN_XIONG_SOURCE, builtin, bumblebee_mode_times, bumblebee_pitch_modes_note, lift_over_weight,
-};
+use crate::operating_points::{builtin, lift_over_weight};
 
 use actuated::{hummingbird_rows, robobee_rows};
+use bumblebee::bumblebee_rows;
 pub use data::*;
 pub use rows::*;
 
@@ -86,20 +86,7 @@ pub fn vehicle_section() -> Result<VehicleSection> {
         },
     );
 
-    let bee = builtin("bumblebee")?;
-    let note = bumblebee_pitch_modes_note(&bee)?;
-    for (name, published, computed, _) in bumblebee_mode_times(&bee)? {
-        b.push(
-            "bumblebee",
-            name,
-            SUN_XIONG_SOURCE,
-            computed,
-            Some(published),
-            Check::Relative { tolerance: 0.30 },
-            false,
-            || format!("{:+.0}% off: {note}", 100.0 * (computed / published - 1.0)),
-        );
-    }
+    bumblebee_rows(&mut b, &builtin("bumblebee")?)?;
 
     let dragonfly = builtin("dragonfly")?;
     let flight = FrozenState {
