@@ -106,3 +106,16 @@ fn overrides_that_break_the_kinematics_name_the_flags() {
     let run = flapwing(&["forces", "--dtau-a", "0.3", "--dtau-d", "0.3"]);
     assert_names(&run, &["--dtau-a/--dtau-d", "dtau_a + dtau_d", "0.5"]);
 }
+
+#[test]
+fn stability_step_override_out_of_range() {
+    let run = flapwing(&[
+        "stability",
+        "--model",
+        "bumblebee",
+        "--no-floquet",
+        "--steps-per-wingbeat",
+        "5",
+    ]);
+    assert_names(&run, &["--steps-per-wingbeat", "5", "20 to 100000"]);
+}

@@ -19,6 +19,12 @@ pub struct StabilityArgs {
     /// Skip the Floquet analysis (full simulations over one wingbeat).
     #[arg(long = "no-floquet")]
     pub no_floquet: bool,
+    /// Steps per wingbeat for the analysis, in place of the model's `[sim]
+    /// steps_per_wingbeat` (20 to 100000): the full simulations of the Floquet analysis and
+    /// an actuated vehicle's periodic wing motion. Run it at twice the step to see whether
+    /// the Floquet exponents have converged (docs/commands.md, "Averaged against Floquet").
+    #[arg(long, value_name = "N")]
+    pub steps_per_wingbeat: Option<usize>,
     /// The flight condition to trim at and analyse about (hover by default).
     #[command(flatten)]
     pub condition: crate::condition::ConditionArgs,
@@ -36,7 +42,15 @@ pub struct StabilityArgs {
 /// Runs the command.
 pub fn run(args: StabilityArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
-    let vehicle = build_vehicle(&src)?;
+    let mut vehicle = build_vehicle(&src)?;
+    if let Some(n) = args.steps_per_wingbeat {
+        if !(20..=100_000).contains(&n) {
+            return Err(crate::error::input_error(format!(
+                "--steps-per-wingbeat {n}: allowed 20 to 100000 steps per wingbeat"
+            )));
+        }
+        vehicle.sim.steps_per_wingbeat = n;
+    }
     let condition = args.condition.check(&vehicle)?;
     if let Some(p) = &args.plot {
         // Fail before the analysis if the plot cannot be written.
@@ -75,7 +89,8 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     if !report.floquet_longitudinal.is_empty() {
         writeln!(
             o,
-            "Floquet exponents of the full periodic system, longitudinal:"
+            "Floquet exponents of the full periodic system, longitudinal ({} steps per wingbeat):",
+            vehicle.sim.steps_per_wingbeat
         )?;
         for f in &report.floquet_longitudinal {
             writeln!(
