@@ -231,19 +231,22 @@ fn published_operating_points_agree_or_say_why_not() {
     let aoa_deg = trimmed_angle_of_attack_deg(&builtin("bumblebee")).unwrap();
     assert!((30.0..45.0).contains(&aoa_deg), "{aoa_deg}");
     // The doubling and slow-subsidence times agree within the rows' 30% (measured: 16% and
-    // 23% with the impulse-form added mass; 14% and 16% with eq 7-8), and the note says by
-    // how much.
+    // 23% with the impulse-form added mass; 14% and 16% with eq 7-8). The note on the two
+    // pitch-dominated misses gives the times of Sun & Xiong's own derivative table with the
+    // model's mass and inertia, which meet the abstract (so the miss is in the derivatives).
     for r in [&rows[3], &rows[5]] {
         assert!(r.within() && r.limitation.is_none(), "{r:?}");
     }
     let note = rows[2].limitation.as_deref().unwrap();
-    let off = |r: &flapsim::operating_points::OperatingPoint| {
-        format!("{:.0}%", (100.0 * r.relative_error()).abs())
-    };
+    let c = flapsim::sun_xiong::compare(&builtin("bumblebee")).unwrap();
+    let t = c.published_derivative_times_s;
     assert!(
-        note.contains(&format!("{} and {} off", off(&rows[3]), off(&rows[5]))),
+        note.contains(&format!("{:.3} s period, {:.3} s doubling", t[0], t[1])),
         "{note}"
     );
+    for (i, published) in flapsim::sun_xiong::MODE_TIMES_S.iter().enumerate() {
+        assert!((t[i] / published - 1.0).abs() < 0.30, "{t:?}");
+    }
 }
 
 #[test]
