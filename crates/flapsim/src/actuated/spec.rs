@@ -67,7 +67,9 @@ pub struct HingeSpec {
 pub struct StopSpec {
     /// Angle from the rest angle where the wing touches a stop, both ways, deg.
     pub angle_deg: f64,
-    /// Coefficient of restitution of a strike, in [0, 1] (below 0.01 realised as 0.01).
+    /// Coefficient of restitution of a strike, in [0, 1]: 0 is the perfectly inelastic stop,
+    /// a constraint without contact law (no contact time or stiffness then); from 0.01 to 1 a
+    /// compliant contact (between 0 and 0.01 realised as 0.01).
     pub restitution: f64,
     /// Contact time t_c, s: the contact stiffness is B (pi / t_c)^2 with B the wing's pitch
     /// inertia. A numerical parameter, not physics: short against the wingbeat. Give this or
@@ -109,26 +111,45 @@ impl HingeSpec {
                     .within_open_low(&g("angle_deg"), s.angle_deg, 0.0, 179.0)?
                     .to_radians();
                 let e = v.within(&g("restitution"), s.restitution, 0.0, 1.0)?;
-                let k = match (s.contact_time_s, s.stiffness_nm_rad) {
-                    (Some(_), Some(_)) => {
-                        return Err(v
-                            .invalid(
-                                &g("stiffness_nm_rad"),
-                                "both contact_time_s and stiffness_nm_rad",
-                                "one of the two (the stiffness follows from the contact time)",
-                            )
-                            .into());
+                if e == 0.0 {
+                    // The perfectly inelastic stop is a constraint: it has no contact law.
+                    for (name, given) in [
+                        ("contact_time_s", s.contact_time_s),
+                        ("stiffness_nm_rad", s.stiffness_nm_rad),
+                    ] {
+                        if let Some(x) = given {
+                            return Err(v
+                                .invalid(
+                                    &g(name),
+                                    &format!("{x} with restitution = 0"),
+                                    "no contact time or stiffness with restitution 0 (a perfectly inelastic stop is a constraint, with no contact law), or a restitution from 0.01 to 1 for a compliant contact",
+                                )
+                                .into());
+                        }
                     }
-                    (None, Some(k)) => v.positive(&g("stiffness_nm_rad"), k)?,
-                    (t, None) => {
-                        let t = match t {
-                            Some(t) => v.within_open_low(&g("contact_time_s"), t, 0.0, 1.0)?,
-                            None => 0.01 / drive_freq_hz,
-                        };
-                        StopContact::stiffness_for_contact_time(pitch_inertia_kg_m2, t)
-                    }
-                };
-                Some(StopContact::new(angle, e, k))
+                    Some(StopContact::inelastic(angle))
+                } else {
+                    let k = match (s.contact_time_s, s.stiffness_nm_rad) {
+                        (Some(_), Some(_)) => {
+                            return Err(v
+                                .invalid(
+                                    &g("stiffness_nm_rad"),
+                                    "both contact_time_s and stiffness_nm_rad",
+                                    "one of the two (the stiffness follows from the contact time)",
+                                )
+                                .into());
+                        }
+                        (None, Some(k)) => v.positive(&g("stiffness_nm_rad"), k)?,
+                        (t, None) => {
+                            let t = match t {
+                                Some(t) => v.within_open_low(&g("contact_time_s"), t, 0.0, 1.0)?,
+                                None => 0.01 / drive_freq_hz,
+                            };
+                            StopContact::stiffness_for_contact_time(pitch_inertia_kg_m2, t)
+                        }
+                    };
+                    Some(StopContact::new(angle, e, k))
+                }
             }
         };
         let stiffness = if contact.is_some() {

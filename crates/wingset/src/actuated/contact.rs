@@ -2,8 +2,11 @@
 //! which also states how the steps are chosen and split): the part of
 //! [`DynamicWing`]'s sub-step that only a hinge with stops takes.
 
-use super::dynamics::{DynamicWing, Held, Reheld};
+use super::dynamics::{DynamicWing, Held, Reheld, Stroke};
 use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root};
+
+/// Most segments (touches and releases) of one sub-step on an inelastic stop.
+const MAX_STOP_EVENTS: usize = 64;
 use crate::error::{Error, Result};
 
 impl DynamicWing {
@@ -31,6 +34,9 @@ impl DynamicWing {
             nodes.push((t0 + h, y, false));
             return Ok(y);
         };
+        if stop.is_inelastic() {
+            return self.advance_inelastic(&stop, t0, y0, h, held, nodes, reheld);
+        }
         let (y, stages) = self.rk4(t0, y0, h, held, Some(k1a), Some(reheld));
         let rest = self.model().hinge.rest_rad;
         // Clear of the stops: even at its rate the pitch cannot reach one within h.
@@ -136,6 +142,188 @@ impl DynamicWing {
             nodes.push((t + hc, y, false));
         }
         Ok(y)
+    }
+
+    /// [`Self::advance`] with an inelastic stop (restitution 0, a constraint; see
+    /// [`super::stop`]): the sub-step in segments, each one Runge-Kutta step with the loads
+    /// taken afresh at its stages: free (split at a touch, where the strike's impulse stops
+    /// the pitch) or resting on the stop (split where the wing leaves it).
+    #[allow(clippy::too_many_arguments)]
+    fn advance_inelastic(
+        &self,
+        stop: &StopContact,
+        t0: f64,
+        y0: &[f64; 4],
+        h: f64,
+        held: &Held,
+        nodes: &mut Vec<(f64, [f64; 4], bool)>,
+        reheld: Reheld,
+    ) -> Result<[f64; 4]> {
+        let rest = self.model().hinge.rest_rad;
+        let end = t0 + h;
+        let (mut t, mut y) = (t0, *y0);
+        let mut loads = *held;
+        // After the wing leaves a stop, the next segment is free even where round-off
+        // leaves the holding moment a hair above zero.
+        let mut released = false;
+        for segment in 0..MAX_STOP_EVENTS {
+            if segment > 0 {
+                loads = reheld(t, &y);
+            }
+            // The constraint at the segment's start: a wing at or past a stop and moving
+            // into it strikes it now.
+            let dev = y[1] - rest;
+            let s = dev.signum();
+            if s * dev >= stop.angle_rad && (s * y[3] > 0.0 || s * dev > stop.angle_rad) {
+                y[1] = rest + s * stop.angle_rad;
+                if s * y[3] > 0.0 {
+                    nodes.push((t, y, true));
+                    y = self.strike(&y, &loads);
+                }
+            }
+            let rem = end - t;
+            let resting = !released
+                && self
+                    .stop_hold_nm(t, &y, &loads)
+                    .is_some_and(|hold| hold >= 0.0);
+            released = false;
+            if resting {
+                let lock = Held {
+                    locked: true,
+                    ..loads
+                };
+                let hold_after = |tau: f64| {
+                    let ya = self.rk4(t, &y, tau, &lock, None, Some(reheld)).0;
+                    let hold = self.stop_hold_nm(t + tau, &ya, &reheld(t + tau, &ya));
+                    (ya, hold.unwrap_or(f64::NAN))
+                };
+                let (y1, h1) = hold_after(rem);
+                if h1 >= 0.0 {
+                    y = y1;
+                    t = end;
+                    nodes.push((t, y, false));
+                    break;
+                }
+                // The wing leaves within: regula falsi (Illinois) on the holding moment
+                // along the held path.
+                let h0 = self.stop_hold_nm(t, &y, &loads).unwrap_or(0.0);
+                let (mut lo, mut hi, mut plo, mut phi) = (0.0, rem, h0, h1);
+                let (mut tau, mut ya) = (rem, y1);
+                for _ in 0..60 {
+                    tau = lo + (hi - lo) * plo / (plo - phi);
+                    let (yb, pa) = hold_after(tau);
+                    ya = yb;
+                    if pa.abs() <= 1e-12 * h0.abs().max(1e-300) || hi - lo <= 1e-13 * h {
+                        break;
+                    }
+                    if pa > 0.0 {
+                        lo = tau;
+                        plo = pa;
+                        phi *= 0.5;
+                    } else {
+                        hi = tau;
+                        phi = pa;
+                        plo *= 0.5;
+                    }
+                }
+                t += tau;
+                y = ya;
+                nodes.push((t, y, false));
+                released = true;
+                continue;
+            }
+            // Free: one step as if there were no stop; if it (or a stage) passes a stop,
+            // the wing touched it within: find the touch on that path, strike, go on.
+            let free = Held {
+                free: true,
+                ..loads
+            };
+            let (y1, stages) = self.rk4(t, &y, rem, &free, None, Some(reheld));
+            let past = |y: &[f64; 4]| (y[1] - rest).abs() > stop.angle_rad;
+            if !past(&y1) && !stages.iter().any(past) {
+                y = y1;
+                t = end;
+                nodes.push((t, y, false));
+                break;
+            }
+            let side = if past(&y1) {
+                y1[1] - rest
+            } else {
+                stages
+                    .iter()
+                    .find(|st| past(st))
+                    .map_or(0.0, |st| st[1] - rest)
+            }
+            .signum();
+            let g = |y: &[f64; 4]| side * (y[1] - rest) - stop.angle_rad;
+            // The touch on the free path: where the step ends past the stop, a first guess
+            // on the step's cubic Hermite interpolant refined by Newton on the path's own
+            // Runge-Kutta steps (to round-off); where only a stage passed it, bisection.
+            let path = |tau: f64| self.rk4(t, &y, tau, &free, None, Some(reheld)).0;
+            let mut tau;
+            let mut ya;
+            if past(&y1) && g(&y) <= 0.0 {
+                let mut f = hermite_root(g(&y), side * y[3], g(&y1), side * y1[3], rem);
+                ya = path(f * rem);
+                for _ in 0..8 {
+                    let (ga, rate) = (g(&ya), side * ya[3]);
+                    if rate.is_nan() || rate <= 0.0 || ga.abs() <= 1e-15 * stop.angle_rad {
+                        break;
+                    }
+                    let next = (f - ga / (rate * rem)).clamp(0.0, 1.0);
+                    if next == f {
+                        break;
+                    }
+                    f = next;
+                    ya = path(f * rem);
+                }
+                tau = f * rem;
+            } else {
+                let (mut lo, mut hi) = (0.0, rem);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if g(&path(mid)) > 0.0 {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                    if hi - lo <= 1e-13 * h {
+                        break;
+                    }
+                }
+                tau = lo;
+                ya = if tau > 0.0 { path(tau) } else { y };
+            }
+            if !tau.is_finite() {
+                tau = 0.0;
+                ya = y;
+            }
+            t += tau;
+            ya[1] = rest + side * stop.angle_rad;
+            // The strike's impulse stops the pitch: the node is taken on both sides.
+            nodes.push((t, ya, true));
+            y = self.strike(&ya, &reheld(t, &ya));
+            nodes.push((t, y, false));
+        }
+        if t < end {
+            return Err(Error::Analysis(format!(
+                "the wing met its inelastic hinge stops more than {MAX_STOP_EVENTS} times in one sub-step of {h:e} s (at t = {t:e} s): shorten the step"
+            )));
+        }
+        Ok(y)
+    }
+
+    /// The state just after a perfectly inelastic strike of the wing at `y` (on the stop):
+    /// the impulse that takes the pitch rate to zero, and with the stroke free the stroke
+    /// rate it moves with it (first row of M dq_dot = (0, Lambda)).
+    fn strike(&self, y: &[f64; 4], held: &Held) -> [f64; 4] {
+        let mut out = *y;
+        if let Stroke::Driven { .. } = self.model().stroke {
+            let m = self.mass_matrix(y[1], &held.added);
+            out[2] += y[3] * m[0][1] / m[0][0];
+        }
+        out[3] = 0.0;
+        out
     }
 
     /// The nearer stop's unclamped push k_c delta + c delta_dot at state `y` (positive: the

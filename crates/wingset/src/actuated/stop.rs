@@ -48,13 +48,27 @@
 //! inverts e(zeta) by bisection, and c = 2 zeta sqrt(k_c m) is taken with the current m,
 //! so a strike returns the stated restitution whatever the wing's effective inertia.
 //!
-//! Restitution 0: a unilateral force law without memory cannot stop a wing dead. While
-//! the wing moves out of a stop the force on it points out too, so it leaves with the
-//! speed it has when the force first vanishes; e(zeta) ~ 1 / (4 zeta^2) reaches 0 only
-//! as zeta -> infinity (a rigid, perfectly inelastic stop, which is what a velocity-level
-//! joint-limit constraint such as DART's imposes). A restitution below
-//! [`RESTITUTION_FLOOR`] = 0.01 is therefore realised as 0.01 (zeta = 4.81): the wing
-//! keeps 1e-4 of its strike energy, and the integration cost grows only as zeta.
+//! A unilateral force law without memory cannot stop a wing dead. While the wing moves out
+//! of a stop the force on it points out too, so it leaves with the speed it has when the
+//! force first vanishes; e(zeta) ~ 1 / (4 zeta^2) reaches 0 only as zeta -> infinity. A
+//! restitution between 0 and [`RESTITUTION_FLOOR`] = 0.01 is therefore realised as 0.01
+//! (zeta = 4.81): the wing keeps 1e-4 of its strike energy.
+//!
+//! # Restitution 0 as a constraint
+//! Restitution 0 exactly is the rigid, perfectly inelastic stop that a velocity-level
+//! joint-limit constraint imposes (DART's, which the Purdue robot's reference simulator
+//! uses), and it is modelled as one, with no contact law at all:
+//! - the strike is an impulse at the touch (found within the step as below) that takes the
+//!   pitch rate to zero; with the stroke free the same impulse moves the stroke rate by
+//!   theta_dot M_pt / M_pp (the first row of M dq_dot = (0, Lambda)), with a prescribed
+//!   stroke it does not;
+//! - the wing then rests on the stop: its pitch is held there (theta_ddot = 0, the stroke
+//!   by its own equation with theta fixed), the stop supplying the moment
+//!   M_s = M_tp phi_ddot - Q_theta that holds it, for as long as that moment pushes the wing
+//!   out (s M_s <= 0); where it would have to pull, the wing leaves, found within the step
+//!   by regula falsi on M_s along the held path and split there.
+//! The contact's stiffness and contact steps do not exist for it: a wing on an inelastic
+//! stop costs about what a wing without stops does.
 //!
 //! # Stiffness: a numerical parameter
 //! k_c is not a measured property of any robot: a real stop is stiff enough that its
@@ -120,8 +134,12 @@ pub struct StopContact {
 }
 
 impl StopContact {
-    /// A stop at `angle_rad` from rest with restitution `e` and stiffness `k_c`.
+    /// A stop at `angle_rad` from rest with restitution `e` and stiffness `k_c`; restitution
+    /// 0 is the perfectly inelastic constraint ([`Self::inelastic`]: `k_c` unused).
     pub fn new(angle_rad: f64, restitution: f64, stiffness_nm_rad: f64) -> Self {
+        if restitution == 0.0 {
+            return Self::inelastic(angle_rad);
+        }
         Self {
             angle_rad,
             restitution,
@@ -130,14 +148,35 @@ impl StopContact {
         }
     }
 
+    /// A perfectly inelastic stop at `angle_rad` from rest: a velocity-level constraint,
+    /// no contact stiffness (module doc, "Restitution 0 as a constraint"). Its stiffness and
+    /// damping ratio read 0 and are not used.
+    pub fn inelastic(angle_rad: f64) -> Self {
+        Self {
+            angle_rad,
+            restitution: 0.0,
+            stiffness_nm_rad: 0.0,
+            damping_ratio: 0.0,
+        }
+    }
+
+    /// True for the perfectly inelastic constraint (restitution 0).
+    pub fn is_inelastic(&self) -> bool {
+        self.restitution == 0.0
+    }
+
     /// The stiffness whose undamped contact with pitch inertia `b` lasts `t_c`:
     /// k_c = b (pi / t_c)^2, N m/rad.
     pub fn stiffness_for_contact_time(pitch_inertia_kg_m2: f64, contact_time_s: f64) -> f64 {
         pitch_inertia_kg_m2 * (std::f64::consts::PI / contact_time_s).powi(2)
     }
 
-    /// The restitution a strike actually has: `restitution`, or the floor below it.
+    /// The restitution a strike actually has: `restitution`, the floor for a compliant
+    /// contact below it, 0 for the inelastic constraint.
     pub fn realised_restitution(&self) -> f64 {
+        if self.is_inelastic() {
+            return 0.0;
+        }
         clamped_restitution(self.damping_ratio)
     }
 
@@ -152,8 +191,9 @@ impl StopContact {
     pub fn moment_nm(&self, dev_rad: f64, dev_rate_rad_s: f64, m_eff_kg_m2: f64) -> f64 {
         let (delta, s) = self.penetration(dev_rad);
         // In contact from delta = 0 on: a wing exactly on the stop and moving in meets the
-        // dashpot at once (the integrator puts a touching wing there).
-        if delta < 0.0 {
+        // dashpot at once (the integrator puts a touching wing there). The inelastic stop
+        // is a constraint the integrator keeps, not a force law.
+        if delta < 0.0 || self.is_inelastic() {
             return 0.0;
         }
         let c = 2.0 * self.damping_ratio * (self.stiffness_nm_rad * m_eff_kg_m2).sqrt();
@@ -162,6 +202,9 @@ impl StopContact {
 
     /// Energy stored in the contact spring, J.
     pub fn potential_j(&self, dev_rad: f64) -> f64 {
+        if self.is_inelastic() {
+            return 0.0;
+        }
         let delta = self.penetration(dev_rad).0.max(0.0);
         0.5 * self.stiffness_nm_rad * delta * delta
     }

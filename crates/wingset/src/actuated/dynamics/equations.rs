@@ -16,6 +16,9 @@ pub(in crate::actuated) struct Held {
     /// Integrate as if the hinge had no stops (the contact-free part of a step that
     /// touches one).
     pub(in crate::actuated) free: bool,
+    /// Hold the pitch on the inelastic stop it rests on whatever the holding moment's sign
+    /// (the path along which the integrator looks for the wing's release).
+    pub(in crate::actuated) locked: bool,
 }
 
 impl DynamicWing {
@@ -72,8 +75,44 @@ impl DynamicWing {
         }
     }
 
+    /// The side s = +-1 of the inelastic stop (restitution 0, [`crate::actuated::stop`])
+    /// that the state rests on: exactly at the stop angle or past it, with no pitch rate.
+    /// `None` without such a stop, away from it, moving, or integrating `free`.
+    pub(in crate::actuated) fn on_inelastic_stop(&self, y: &[f64; 4], held: &Held) -> Option<f64> {
+        let c = self.model.hinge.contact?;
+        if !c.is_inelastic() || held.free || y[3] != 0.0 {
+            return None;
+        }
+        let dev = y[1] - self.model.hinge.rest_rad;
+        let s = dev.signum();
+        (s * dev >= c.angle_rad).then_some(s)
+    }
+
+    /// How hard an inelastic stop holds a wing resting on it: -s M_s, N m (positive: the
+    /// stop pushes the wing out, so it stays), with M_s the moment that keeps
+    /// theta_ddot = 0; `None` when the wing does not rest on one ([`Self::on_inelastic_stop`]).
+    pub(in crate::actuated) fn stop_hold_nm(
+        &self,
+        t: f64,
+        y: &[f64; 4],
+        held: &Held,
+    ) -> Option<f64> {
+        let s = self.on_inelastic_stop(y, held)?;
+        Some(-s * self.solve(t, y, held).2)
+    }
+
     /// Accelerations at time t for y = (phi, theta, phi_dot, theta_dot).
     pub(in crate::actuated) fn accelerations(&self, t: f64, y: &[f64; 4], held: &Held) -> [f64; 2] {
+        let (free, phi_ddot_held, m_s) = self.solve(t, y, held);
+        match self.on_inelastic_stop(y, held) {
+            Some(s) if held.locked || s * m_s <= 0.0 => [phi_ddot_held, 0.0],
+            _ => free,
+        }
+    }
+
+    /// The accelerations of the free equations, the stroke acceleration with the pitch held
+    /// (theta_ddot = 0) and the pitch moment M_s that holding takes, N m.
+    fn solve(&self, t: f64, y: &[f64; 4], held: &Held) -> ([f64; 2], f64, f64) {
         let [phi, theta, mut pd, td] = *y;
         let prescribed = match &self.model.stroke {
             Stroke::Prescribed(k) => {
@@ -112,14 +151,23 @@ impl DynamicWing {
                     + 2.0 * b * st * ct * pd * td
                     + c * ct * td * td;
                 let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-                [
-                    (m[1][1] * q_phi - m[0][1] * q_theta) / det,
-                    (m[0][0] * q_theta - m[1][0] * q_phi) / det,
-                ]
+                let held_phi = q_phi / m[0][0];
+                (
+                    [
+                        (m[1][1] * q_phi - m[0][1] * q_theta) / det,
+                        (m[0][0] * q_theta - m[1][0] * q_phi) / det,
+                    ],
+                    held_phi,
+                    m[1][0] * held_phi - q_theta,
+                )
             }
             Stroke::Prescribed(_) => {
                 let a = prescribed.unwrap_or_default();
-                [a.phi_ddot, (q_theta - m[1][0] * a.phi_ddot) / m[1][1]]
+                (
+                    [a.phi_ddot, (q_theta - m[1][0] * a.phi_ddot) / m[1][1]],
+                    a.phi_ddot,
+                    m[1][0] * a.phi_ddot - q_theta,
+                )
             }
         }
     }

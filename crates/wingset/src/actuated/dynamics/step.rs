@@ -70,6 +70,7 @@ impl DynamicWing {
                 q: [q.stroke_nm, q.pitch_nm],
                 added: wing.added_inertia(&frame),
                 free: false,
+                locked: false,
             },
             Some((f, frame)),
         )
@@ -242,6 +243,7 @@ impl DynamicWing {
         let at = |t: f64, y: &[f64; 4]| match stage {
             Some(f) => Held {
                 free: held.free,
+                locked: held.locked,
                 ..f(t, y)
             },
             None => *held,
@@ -388,7 +390,16 @@ impl DynamicWing {
             ),
         };
         let m_eff = self.pitch_inertia_effective(&self.mass_matrix(a.theta, &held.added));
-        let hinge_moment = self.model.hinge.moment_nm(a.theta, a.theta_dot, m_eff);
+        let y = [a.phi, a.theta, a.phi_dot, a.theta_dot];
+        // A wing resting on an inelastic stop: the moment that holds it there.
+        let held_on_stop = match (
+            self.on_inelastic_stop(&y, held),
+            self.stop_hold_nm(at.t_s, &y, held),
+        ) {
+            (Some(s), Some(hold)) if hold >= 0.0 => -s * hold,
+            _ => 0.0,
+        };
+        let hinge_moment = self.model.hinge.moment_nm(a.theta, a.theta_dot, m_eff) + held_on_stop;
         // Inertial reaction: -m a_c and -(I_h alpha + omega x I_h omega) about the hinge,
         // plus the actuator's reflected inertia about the stroke axis.
         let i = &self.model.inertia;
