@@ -325,6 +325,7 @@ fn lon_state(s: &State, q_trim: &UnitQuaternion<f64>, v_trim: &Vector3<f64>) -> 
 fn one_wingbeat(
     v: &Vehicle,
     periodic: Option<&crate::actuated::PeriodicWings>,
+    wing_states: &[usize],
     q_trim: &UnitQuaternion<f64>,
     v_trim: &Vector3<f64>,
     y: &[f64],
@@ -342,11 +343,15 @@ fn one_wingbeat(
         p.dynamic[0].state()
     });
     if let Some(w0) = reference {
+        let mut d = [0.0; 4];
+        for (k, &i) in wing_states.iter().enumerate() {
+            d[i] = y[4 + k];
+        }
         let w = crate::actuated::WingState {
-            phi_rad: w0.phi_rad + y[4],
-            theta_rad: w0.theta_rad + y[5],
-            phi_dot_rad_s: w0.phi_dot_rad_s + y[6],
-            theta_dot_rad_s: w0.theta_dot_rad_s + y[7],
+            phi_rad: w0.phi_rad + d[0],
+            theta_rad: w0.theta_rad + d[1],
+            phi_dot_rad_s: w0.phi_dot_rad_s + d[2],
+            theta_dot_rad_s: w0.theta_dot_rad_s + d[3],
         };
         sim.set_wing_states([w, w]);
     }
@@ -355,12 +360,13 @@ fn one_wingbeat(
     }
     let mut out = lon_state(&sim.state(), q_trim, v_trim).to_vec();
     if let (Some(w0), Some([w, _])) = (reference, sim.wing_states()) {
-        out.extend([
+        let d = [
             w.phi_rad - w0.phi_rad,
             w.theta_rad - w0.theta_rad,
             w.phi_dot_rad_s - w0.phi_dot_rad_s,
             w.theta_dot_rad_s - w0.theta_dot_rad_s,
-        ]);
+        ];
+        out.extend(wing_states.iter().map(|&i| d[i]));
     }
     Ok(out)
 }
@@ -390,12 +396,35 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
     } else {
         None
     };
+    // The wing states the monodromy spans: all four, but a wing that starts the period
+    // resting on an inelastic stop (restitution 0: a constraint) has its pitch and pitch
+    // rate fixed there, so only its stroke and stroke rate are states (a perturbation into
+    // the stop would be undone by the constraint, one out of it would not: no derivative).
+    let wing_states: Vec<usize> = match periodic.as_ref().zip(v.actuation.as_ref()) {
+        Some((p, a)) => {
+            let w0 = p.dynamic[0].state();
+            let h = &a.dynamics.hinge;
+            let resting = h.contact.is_some_and(|c| {
+                c.is_inelastic()
+                    && c.beyond_rad(h.rest_rad, w0.theta_rad).1 >= 0.0
+                    && w0.theta_dot_rad_s == 0.0
+            });
+            if resting {
+                vec![0, 2]
+            } else {
+                vec![0, 1, 2, 3]
+            }
+        }
+        None => Vec::new(),
+    };
     let speed = v.wings[0].v_ref_m_s();
     let mut eps = vec![speed * 1e-4, speed * 1e-4, 1e-5, 1e-3];
-    if periodic.is_some() {
-        let w = 2.0 * std::f64::consts::PI * v.freq_hz();
-        eps.extend([1e-5, 1e-5, 1e-5 * w, 1e-5 * w]);
-    }
+    let w = 2.0 * std::f64::consts::PI * v.freq_hz();
+    eps.extend(
+        wing_states
+            .iter()
+            .map(|&i| if i < 2 { 1e-5 } else { 1e-5 * w }),
+    );
     let n = eps.len();
     let mut phi = DMatrix::zeros(n, n);
     for j in 0..n {
@@ -404,8 +433,8 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         yp[j] = eps[j];
         ym[j] = -eps[j];
         let (p, m) = (
-            one_wingbeat(v, periodic.as_ref(), &q, &v_trim, &yp)?,
-            one_wingbeat(v, periodic.as_ref(), &q, &v_trim, &ym)?,
+            one_wingbeat(v, periodic.as_ref(), &wing_states, &q, &v_trim, &yp)?,
+            one_wingbeat(v, periodic.as_ref(), &wing_states, &q, &v_trim, &ym)?,
         );
         for i in 0..n {
             phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);
@@ -426,9 +455,11 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         .collect();
     out.sort_by(|a, b| b.exponent.0.total_cmp(&a.exponent.0));
     let mut states: Vec<String> = FLOQUET_BODY_STATES.iter().map(|s| s.to_string()).collect();
-    if periodic.is_some() {
-        states.extend(FLOQUET_WING_STATES.iter().map(|s| s.to_string()));
-    }
+    states.extend(
+        wing_states
+            .iter()
+            .map(|&i| FLOQUET_WING_STATES[i].to_string()),
+    );
     Ok(FloquetAnalysis {
         states,
         period_s: period,

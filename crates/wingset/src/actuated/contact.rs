@@ -172,10 +172,9 @@ impl DynamicWing {
             }
             // The constraint at the segment's start: a wing at or past a stop and moving
             // into it strikes it now.
-            let dev = y[1] - rest;
-            let s = dev.signum();
-            if s * dev >= stop.angle_rad && (s * y[3] > 0.0 || s * dev > stop.angle_rad) {
-                y[1] = rest + s * stop.angle_rad;
+            let (s, beyond) = stop.beyond_rad(rest, y[1]);
+            if beyond >= 0.0 && (s * y[3] > 0.0 || beyond > 0.0) {
+                y[1] = stop.stop_theta_rad(rest, s);
                 if s * y[3] > 0.0 {
                     nodes.push((t, y, true));
                     y = self.strike(&y, &loads);
@@ -239,7 +238,7 @@ impl DynamicWing {
                 ..loads
             };
             let (y1, stages) = self.rk4(t, &y, rem, &free, None, Some(reheld));
-            let past = |y: &[f64; 4]| (y[1] - rest).abs() > stop.angle_rad;
+            let past = |y: &[f64; 4]| stop.beyond_rad(rest, y[1]).1 > 0.0;
             if !past(&y1) && !stages.iter().any(past) {
                 y = y1;
                 t = end;
@@ -255,7 +254,7 @@ impl DynamicWing {
                     .map_or(0.0, |st| st[1] - rest)
             }
             .signum();
-            let g = |y: &[f64; 4]| side * (y[1] - rest) - stop.angle_rad;
+            let g = |y: &[f64; 4]| side * (y[1] - stop.stop_theta_rad(rest, side));
             // The touch on the free path: where the step ends past the stop, a first guess
             // on the step's cubic Hermite interpolant refined by Newton on the path's own
             // Runge-Kutta steps (to round-off); where only a stage passed it, bisection.
@@ -299,7 +298,7 @@ impl DynamicWing {
                 ya = y;
             }
             t += tau;
-            ya[1] = rest + side * stop.angle_rad;
+            ya[1] = stop.stop_theta_rad(rest, side);
             // The strike's impulse stops the pitch: the node is taken on both sides.
             nodes.push((t, ya, true));
             y = self.strike(&ya, &reheld(t, &ya));

@@ -180,6 +180,20 @@ impl StopContact {
         clamped_restitution(self.damping_ratio)
     }
 
+    /// The pitch where the wing touches the stop on side `s` (+1 or -1), rad. The inelastic
+    /// stop puts a striking wing exactly here, and [`Self::beyond_rad`] compares with the
+    /// same sum, so a wing put there is at the stop to the last bit.
+    pub fn stop_theta_rad(&self, rest_rad: f64, s: f64) -> f64 {
+        rest_rad + s * self.angle_rad
+    }
+
+    /// The side s of the stop the pitch `theta_rad` is nearer to, and how far past that stop
+    /// it is, s (theta - stop), rad (0: at it, positive: past it).
+    pub fn beyond_rad(&self, rest_rad: f64, theta_rad: f64) -> (f64, f64) {
+        let s = (theta_rad - rest_rad).signum();
+        (s, s * (theta_rad - self.stop_theta_rad(rest_rad, s)))
+    }
+
     /// Penetration delta = |d| - d_s (positive in contact) and the sign of d, for the
     /// pitch from rest d.
     pub fn penetration(&self, dev_rad: f64) -> (f64, f64) {

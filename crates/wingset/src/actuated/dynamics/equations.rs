@@ -83,9 +83,8 @@ impl DynamicWing {
         if !c.is_inelastic() || held.free || y[3] != 0.0 {
             return None;
         }
-        let dev = y[1] - self.model.hinge.rest_rad;
-        let s = dev.signum();
-        (s * dev >= c.angle_rad).then_some(s)
+        let (s, beyond) = c.beyond_rad(self.model.hinge.rest_rad, y[1]);
+        (beyond >= 0.0).then_some(s)
     }
 
     /// How hard an inelastic stop holds a wing resting on it: -s M_s, N m (positive: the

@@ -146,10 +146,27 @@ impl DynamicWing {
             // sub-step ends), each with the step's mean accelerations (change of rate over
             // the step, whose impulse is the wing's change of momentum). The angles, the
             // actuator and the stroke phase reported are the mid-step motion's.
+            // An inelastic stop's strike is an impulse: the rates jump at the touch (the
+            // node taken on both sides). Its reaction is taken at the strike, with the wing
+            // where it struck, and only the smooth rest of the step's change of rate is
+            // shared among the nodes (shared, the impulse would act along axes that turn
+            // with the stroke over the step, an error that slides with where in the step the
+            // strike falls).
+            let jumps: Vec<(usize, [f64; 2])> = (1..nodes.len())
+                .filter(|&k| nodes[k - 1].2 && nodes[k].0 == nodes[k - 1].0)
+                .map(|k| {
+                    let (a, b) = (&nodes[k - 1].1, &nodes[k].1);
+                    (k - 1, [b[2] - a[2], b[3] - a[3]])
+                })
+                .filter(|(_, j)| j[0] != 0.0 || j[1] != 0.0)
+                .collect();
             let (s0, s1) = (start.state, self.state);
+            let jumped = jumps
+                .iter()
+                .fold([0.0; 2], |a, (_, j)| [a[0] + j[0], a[1] + j[1]]);
             let acc = [
-                (s1.phi_dot_rad_s - s0.phi_dot_rad_s) / dt_s,
-                (s1.theta_dot_rad_s - s0.theta_dot_rad_s) / dt_s,
+                (s1.phi_dot_rad_s - s0.phi_dot_rad_s - jumped[0]) / dt_s,
+                (s1.theta_dot_rad_s - s0.theta_dot_rad_s - jumped[1]) / dt_s,
             ];
             let at = |t_s: f64, y: &[f64; 4]| StepStart {
                 state: WingState::from_y(y),
@@ -159,6 +176,10 @@ impl DynamicWing {
                     ..start.phase
                 },
             };
+            let strikes: Vec<(StepStart, [f64; 2])> = jumps
+                .iter()
+                .map(|&(k, j)| (at(nodes[k].0, &nodes[k].1), j))
+                .collect();
             let mid = at(
                 start.t_s + 0.5 * dt_s,
                 &[
@@ -200,6 +221,17 @@ impl DynamicWing {
             for (at, held, aero, a, w) in points {
                 let a = [a[0] + shift[0], a[1] + shift[1]];
                 mean.add_scaled(&self.report(wing, &held, aero, a, &at), w);
+            }
+            for (at, jump) in strikes {
+                // The impulse's share of the step's mean: the inertial reaction's part linear
+                // in the accelerations at the strike (two reports differing only in them),
+                // and the stop's angular impulse on the wing as hinge moment.
+                let held = self.aero_at(wing, body, &at).0;
+                let per_s = [jump[0] / dt_s, jump[1] / dt_s];
+                mean.add_scaled(&self.report(wing, &held, None, per_s, &at), 1.0);
+                mean.add_scaled(&self.report(wing, &held, None, [0.0; 2], &at), -1.0);
+                let m = self.mass_matrix(at.state.theta_rad, &held.added);
+                mean.hinge_moment_nm += m[1][0] * per_s[0] + m[1][1] * per_s[1];
             }
             out = Some(mean);
         }
