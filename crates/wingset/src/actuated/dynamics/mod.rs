@@ -60,23 +60,31 @@
 //! periods at 100 steps per period; with aerodynamics, halving the sub-step changes the
 //! mean lift by well under 1%.
 //!
-//! Hinge stops are stiff: near or in a stop the sub-step is cut into contact steps, with the
-//! touch and the clamp's onset located within them ([`super::stop`] states how and what it
-//! costs). A strike also changes the pitch rate within microseconds, inside a body step,
-//! and a held load or a load sampled once per step would carry an error that slides with
-//! where in the step the strike falls (measured: the hummingbird's M_u changed sign between
-//! step sizes; `flapsim/tests/strike_loads.rs`). With stops, therefore:
-//! - the aerodynamic loads are taken afresh at every Runge-Kutta stage of a sub-step clear
-//!   of the stops, and at the start of every contact step near or in one;
+//! Hinge stops ([`super::stop`] states how and what they cost): a compliant stop is stiff,
+//! and near or in it the sub-step is cut into contact steps, with the touch and the clamp's
+//! onset located within them; an inelastic stop (restitution 0) is a constraint, and the
+//! sub-step is split only where the wing strikes it (an impulse that stops the pitch) and
+//! where it leaves it. A strike changes the pitch rate within microseconds (or at once),
+//! inside a body step, and a held load or a load sampled once per step would carry an
+//! error that slides with where in the step the strike falls (measured: the hummingbird's
+//! M_u changed sign between step sizes; `flapsim/tests/strike_loads.rs`). With stops,
+//! therefore:
+//! - the aerodynamic loads are taken afresh at every Runge-Kutta stage of a sub-step (or
+//!   segment) clear of a compliant stop or on an inelastic one, and at the start of every
+//!   contact step near or in a compliant one;
 //! - a step reports its mean loads: the trapezoidal mean over the states the integrator
-//!   passed (sub-step ends; near a stop the contact steps, the touch with the accelerations
-//!   on both of its sides, the clamp's onset), thinned where no rate has moved by 0.1% of
-//!   the step's largest, each node's accelerations shifted by one constant so that their
-//!   mean is the step's change of rate (the inertial and added-mass impulses stay exact).
-//!   The angles and actuator it reports are the mid-step mean motion's.
+//!   passed (sub-step ends; the touch with the accelerations on both of its sides; near a
+//!   compliant stop the contact steps and the clamp's onset; an inelastic stop's release),
+//!   thinned where no rate has moved by 0.1% of the step's largest, each node's
+//!   accelerations shifted by one constant so that their mean is the step's smooth change
+//!   of rate (the inertial and added-mass impulses stay exact). An inelastic strike's
+//!   impulse is not shared out: its reaction is taken where the wing struck (shared, it
+//!   would act along axes that turn with the stroke over the step). The angles and actuator
+//!   it reports are the mid-step mean motion's.
 //!
-//! Without stops a step reports its start, as before; a vehicle with stops costs about 3.5x
-//! more per step than before this (`flapwing validate`: 11.4 s against 3.2 s).
+//! Without stops a step reports its start, as before. A vehicle with compliant stops costs
+//! about 3.5x more per step than before the mean loads (`flapwing validate`: 11.4 s against
+//! 3.2 s); the hummingbird's inelastic stops cost 5.1x a prescribed step (docs/speed.md).
 //!
 //! Neglected: the body's own acceleration and rotation in the wing's equations (the wing
 //! reacts on the body, the body does not shake the wing), the actuator's reaction other
