@@ -106,7 +106,10 @@
 //! A wing without aerodynamics thrown at a stop rebounds with the stated e (speed) and e^2
 //! (energy), for several e including 0 (realised as the floor); a wing pressed against a
 //! stop by a steady load rests there without oscillating; halving the step changes a
-//! strike's outcome by less than a stated bound.
+//! strike's outcome by less than a stated bound. With restitution 0 (the constraint): the
+//! strike leaves the pitch rate 0 and the pitch on the stop to the last bit and keeps the
+//! stroke's generalised momentum, at any step; a wing pressed onto the stop rests there
+//! with the hinge moment equal to the load.
 
 use serde::{Deserialize, Serialize};
 
