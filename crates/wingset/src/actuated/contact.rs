@@ -178,6 +178,7 @@ impl DynamicWing {
                 if s * y[3] > 0.0 {
                     nodes.push((t, y, true));
                     y = self.strike(&y, &loads);
+                    nodes.push((t, y, false));
                 }
             }
             let rem = end - t;
@@ -239,7 +240,12 @@ impl DynamicWing {
             };
             let (y1, stages) = self.rk4(t, &y, rem, &free, None, Some(reheld));
             let past = |y: &[f64; 4]| stop.beyond_rad(rest, y[1]).1 > 0.0;
-            if !past(&y1) && !stages.iter().any(past) {
+            let path = |tau: f64| self.rk4(t, &y, tau, &free, None, Some(reheld)).0;
+            // Where only a stage passed a stop, the path itself may not: look along it
+            // (eighths of the step) for a point past the stop.
+            let crossed = past(&y1)
+                || (stages.iter().any(past) && (1..8).any(|k| past(&path(rem * k as f64 / 8.0))));
+            if !crossed {
                 y = y1;
                 t = end;
                 nodes.push((t, y, false));
@@ -257,8 +263,8 @@ impl DynamicWing {
             let g = |y: &[f64; 4]| side * (y[1] - stop.stop_theta_rad(rest, side));
             // The touch on the free path: where the step ends past the stop, a first guess
             // on the step's cubic Hermite interpolant refined by Newton on the path's own
-            // Runge-Kutta steps (to round-off); where only a stage passed it, bisection.
-            let path = |tau: f64| self.rk4(t, &y, tau, &free, None, Some(reheld)).0;
+            // Runge-Kutta steps (to round-off); where only a point within passed it,
+            // bisection.
             let mut tau;
             let mut ya;
             if past(&y1) && g(&y) <= 0.0 {
@@ -278,7 +284,11 @@ impl DynamicWing {
                 }
                 tau = f * rem;
             } else {
-                let (mut lo, mut hi) = (0.0, rem);
+                let first = (1..=8)
+                    .map(|k| rem * k as f64 / 8.0)
+                    .find(|&tk| g(&path(tk)) > 0.0)
+                    .unwrap_or(rem);
+                let (mut lo, mut hi) = ((first - rem / 8.0).max(0.0), first);
                 for _ in 0..60 {
                     let mid = 0.5 * (lo + hi);
                     if g(&path(mid)) > 0.0 {
