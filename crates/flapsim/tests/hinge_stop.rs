@@ -236,6 +236,21 @@ fn halving_the_step_changes_a_strike_by_less_than_the_stated_bound() {
     }
 }
 
+/// The aligned free wing (restitution `e`) on its lower stop with its stroke spinning
+/// freely at 200 rad/s, whose propeller moment presses it onto the stop; and the stop's
+/// pitch.
+fn on_lower_stop_spinning(e: f64) -> (DynamicWing, f64) {
+    let mut w = free_wing(e, 0.0);
+    let theta_s = 0.5 * PI - STOP;
+    w.set_state(WingState {
+        phi_rad: 0.0,
+        theta_rad: theta_s,
+        phi_dot_rad_s: 200.0,
+        theta_dot_rad_s: 0.0,
+    });
+    (w, theta_s)
+}
+
 #[test]
 fn a_wing_pressed_into_a_stop_rests_there_without_chatter() {
     // The stroke spins freely at 200 rad/s; the wing rests against the lower stop
@@ -243,14 +258,7 @@ fn a_wing_pressed_into_a_stop_rests_there_without_chatter() {
     // with L = 2.5e-8 N m: it settles at delta = L / k_c (0.68 urad) and, after 50 contact
     // times, stays in contact with the pitch varying by less than 1e-3 of that penetration.
     for e in [0.005, 0.3, 0.8] {
-        let mut w = free_wing(e, 0.0);
-        let theta_s = 0.5 * PI - STOP;
-        w.set_state(WingState {
-            phi_rad: 0.0,
-            theta_rad: theta_s,
-            phi_dot_rad_s: 200.0,
-            theta_dot_rad_s: 0.0,
-        });
+        let (mut w, theta_s) = on_lower_stop_spinning(e);
         let stop = w.model().hinge.contact.unwrap();
         let mut wing = wing();
         let body = BodyMotion::default();
@@ -350,14 +358,7 @@ fn a_wing_pressed_onto_an_inelastic_stop_rests_exactly_there() {
     // no pitch rate, step after step, and the stop holds it with the moment the pitch
     // equation asks (reported as the hinge moment, equal and opposite to the propeller
     // moment B sin cos phi_dot^2, to 1e-9).
-    let mut w = free_wing(0.0, 0.0);
-    let theta_s = 0.5 * PI - STOP;
-    w.set_state(WingState {
-        phi_rad: 0.0,
-        theta_rad: theta_s,
-        phi_dot_rad_s: 200.0,
-        theta_dot_rad_s: 0.0,
-    });
+    let (mut w, theta_s) = on_lower_stop_spinning(0.0);
     let mut wing = wing();
     let body = BodyMotion::default();
     for _ in 0..2000 {

@@ -3,7 +3,7 @@
 //! [`DynamicWing`]'s sub-step that only a hinge with stops takes.
 
 use super::dynamics::{DynamicWing, Held, Reheld, Stroke};
-use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root};
+use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root, illinois_root};
 
 /// Most segments (touches and releases) of one sub-step on an inelastic stop.
 const MAX_STOP_EVENTS: usize = 64;
@@ -78,25 +78,11 @@ impl DynamicWing {
                     nodes.push((t + hc, y, false));
                     continue;
                 }
-                let (mut lo, mut hi, mut plo, mut phi) = (0.0, hc, p0, p1);
-                let (mut tau, mut ya) = (hc, y1);
-                for _ in 0..40 {
-                    tau = lo + (hi - lo) * plo / (plo - phi);
-                    ya = self.rk4(t, &y, tau, held, None, None).0;
-                    let pa = push(&ya);
-                    if pa.abs() <= 1e-13 * p0 || hi - lo <= 1e-13 * hc {
-                        break;
-                    }
-                    if pa > 0.0 {
-                        lo = tau;
-                        plo = pa;
-                        phi *= 0.5;
-                    } else {
-                        hi = tau;
-                        phi = pa;
-                        plo *= 0.5;
-                    }
-                }
+                let (tau, ya) =
+                    illinois_root(hc, (p0, p1), y1, (40, 1e-13 * p0, 1e-13 * hc), |tau| {
+                        let ya = self.rk4(t, &y, tau, held, None, None).0;
+                        (push(&ya), ya)
+                    });
                 nodes.push((t + tau, ya, false));
                 y = self.rk4(t + tau, &ya, hc - tau, held, None, None).0;
                 nodes.push((t + hc, y, false));
@@ -207,25 +193,11 @@ impl DynamicWing {
                 // The wing leaves within: regula falsi (Illinois) on the holding moment
                 // along the held path.
                 let h0 = self.stop_hold_nm(t, &y, &loads).unwrap_or(0.0);
-                let (mut lo, mut hi, mut plo, mut phi) = (0.0, rem, h0, h1);
-                let (mut tau, mut ya) = (rem, y1);
-                for _ in 0..60 {
-                    tau = lo + (hi - lo) * plo / (plo - phi);
-                    let (yb, pa) = hold_after(tau);
-                    ya = yb;
-                    if pa.abs() <= 1e-12 * h0.abs().max(1e-300) || hi - lo <= 1e-13 * h {
-                        break;
-                    }
-                    if pa > 0.0 {
-                        lo = tau;
-                        plo = pa;
-                        phi *= 0.5;
-                    } else {
-                        hi = tau;
-                        phi = pa;
-                        plo *= 0.5;
-                    }
-                }
+                let tol = (60, 1e-12 * h0.abs().max(1e-300), 1e-13 * h);
+                let (tau, ya) = illinois_root(rem, (h0, h1), y1, tol, |tau| {
+                    let (ya, pa) = hold_after(tau);
+                    (pa, ya)
+                });
                 t += tau;
                 y = ya;
                 nodes.push((t, y, false));

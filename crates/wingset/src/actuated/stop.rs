@@ -282,6 +282,40 @@ pub fn damping_ratio_for(restitution: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
+/// Where a function that is positive at 0 (`f0`) and not at `span` (`f1`, with what its
+/// evaluation carried, `at_end`) falls through zero: regula falsi (Illinois) on `eval(tau)`
+/// = (value, what goes with it), at most `iterations` steps, stopping once |value| <=
+/// `value_tol` or the bracket is narrower than `span_tol`. Returns the last tau tried and
+/// what its evaluation carried.
+pub(crate) fn illinois_root<T>(
+    span: f64,
+    (f0, f1): (f64, f64),
+    at_end: T,
+    (iterations, value_tol, span_tol): (usize, f64, f64),
+    eval: impl Fn(f64) -> (f64, T),
+) -> (f64, T) {
+    let (mut lo, mut hi, mut plo, mut phi) = (0.0, span, f0, f1);
+    let (mut tau, mut carried) = (span, at_end);
+    for _ in 0..iterations {
+        tau = lo + (hi - lo) * plo / (plo - phi);
+        let (pa, c) = eval(tau);
+        carried = c;
+        if pa.abs() <= value_tol || hi - lo <= span_tol {
+            break;
+        }
+        if pa > 0.0 {
+            lo = tau;
+            plo = pa;
+            phi *= 0.5;
+        } else {
+            hi = tau;
+            phi = pa;
+            plo *= 0.5;
+        }
+    }
+    (tau, carried)
+}
+
 /// The cubic Hermite interpolant's fraction s in (0, 1] of a step where `g` (value and
 /// rate at both ends, the step's length `h`) first reaches zero from below; bisection on
 /// the interpolant. `g0 <= 0 < g1` is assumed.
