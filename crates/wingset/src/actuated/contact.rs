@@ -180,7 +180,9 @@ impl DynamicWing {
                 };
                 let hold_after = |tau: f64| {
                     let ya = self.rk4(t, &y, tau, &lock, None, Some(reheld)).0;
-                    let hold = self.stop_hold_nm(t + tau, &ya, &reheld(t + tau, &ya));
+                    // The sub-step's end exactly (its loads are then the step's last node's).
+                    let ta = if tau == rem { end } else { t + tau };
+                    let hold = self.stop_hold_nm(ta, &ya, &reheld(ta, &ya));
                     (ya, hold.unwrap_or(f64::NAN))
                 };
                 let (y1, h1) = hold_after(rem);

@@ -296,6 +296,10 @@ pub(crate) fn illinois_root<T>(
 ) -> (f64, T) {
     let (mut lo, mut hi, mut plo, mut phi) = (0.0, span, f0, f1);
     let (mut tau, mut carried) = (span, at_end);
+    // The side the last point replaced: the other end's value is halved only when the same
+    // side is replaced twice running (Illinois; halving every time would slow the secant
+    // down on a smooth function, where it converges superlinearly).
+    let mut last_low = None;
     for _ in 0..iterations {
         tau = lo + (hi - lo) * plo / (plo - phi);
         let (pa, c) = eval(tau);
@@ -303,15 +307,21 @@ pub(crate) fn illinois_root<T>(
         if pa.abs() <= value_tol || hi - lo <= span_tol {
             break;
         }
-        if pa > 0.0 {
+        let low = pa > 0.0;
+        if low {
             lo = tau;
             plo = pa;
-            phi *= 0.5;
+            if last_low == Some(true) {
+                phi *= 0.5;
+            }
         } else {
             hi = tau;
             phi = pa;
-            plo *= 0.5;
+            if last_low == Some(false) {
+                plo *= 0.5;
+            }
         }
+        last_low = Some(low);
     }
     (tau, carried)
 }

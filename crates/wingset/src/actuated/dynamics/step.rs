@@ -2,6 +2,8 @@
 //! as held aerodynamic loads and Runge-Kutta sub-steps, the checks that end a run, the
 //! stroke reversals and per-period stroke reference it tracks, and the loads it reports.
 
+use std::cell::Cell;
+
 use nalgebra::Matrix3;
 use wingforce::{
     AxisMoments, BodyMotion, StrokePhase, StrokeReference, Wing, WingForces, WingFrame,
@@ -21,8 +23,11 @@ pub const MAX_PENETRATION_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0;
 /// The aerodynamic loads at a time and integrator state (phi, theta, phi_dot, theta_dot).
 pub(in crate::actuated) type Reheld<'a> = &'a dyn Fn(f64, &[f64; 4]) -> Held;
 
+/// Loads the integrator took: where ([`DynamicWing::aero_at`]'s arguments) and what.
+type Loads = (StepStart, Held, Option<(WingForces, WingFrame)>);
+
 /// The state, time and stroke phase at a step's start (what its report describes).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct StepStart {
     state: WingState,
     t_s: f64,
@@ -95,10 +100,17 @@ impl DynamicWing {
         let stops = self.model.hinge.contact.is_some();
         let mut out = None;
         let mut frame_start = None;
-        let mut nodes = Vec::new();
+        let mut nodes = std::mem::take(&mut self.nodes);
+        nodes.clear();
         if stops {
             nodes.push((self.t_s, self.y(), false));
         }
+        // With stops: the loads at the step's start (its first quadrature node) and the
+        // last loads the integrator took (the step's end when it ended resting on a stop),
+        // each computed once.
+        let mut start_loads = None;
+        let last_loads: Cell<Option<Loads>> = Cell::new(None);
+        let mut next_reference = None;
         for sub in 0..n {
             let (held, aero) = self.aero_held(wing, body);
             let y0 = self.y();
@@ -106,7 +118,9 @@ impl DynamicWing {
             let k1a = self.accelerations(t0, &y0, &held);
             if sub == 0 {
                 frame_start = aero.as_ref().map(|(_, frame)| *frame);
-                if !stops {
+                if stops {
+                    start_loads = Some((held, aero));
+                } else {
                     out = Some(self.report(wing, &held, aero, k1a, &start));
                 }
             }
@@ -125,14 +139,26 @@ impl DynamicWing {
                         ..phase0
                     },
                 };
-                self.aero_at(wing, body, &at).0
+                let (held, aero) = self.aero_at(wing, body, &at);
+                if stops {
+                    last_loads.set(Some((at, held, aero)));
+                }
+                held
             };
             let y = self.advance(t0, &y0, h, &held, k1a, &mut nodes, &reheld)?;
             self.state = WingState::from_y(&y);
             self.t_s = t0 + h;
             self.check(wing)?;
             self.track_reversal(pd_old, t0, h);
-            self.track_period(wing);
+            if let Some(r) = self.track_period() {
+                if stops {
+                    // Taken up after the step's mean loads, which are those the integrator
+                    // used over the step (the period's reference).
+                    next_reference = Some(r);
+                } else {
+                    wing.set_stroke_reference(Some(r));
+                }
+            }
         }
         if stops {
             // A strike changes the pitch rate within microseconds, inside a step: loads
@@ -192,17 +218,21 @@ impl DynamicWing {
             // Each node's loads and accelerations (the strike's spike resolved by the
             // contact steps), the accelerations then shifted by one constant so that their
             // mean is the step's change of rate: the impulse the body receives stays exact.
-            let nodes = quadrature_nodes(&nodes);
-            let span_s = nodes.last().map_or(0.0, |n| n.0) - nodes[0].0;
-            let mut points = Vec::with_capacity(nodes.len());
+            let kept = quadrature_nodes(&nodes);
+            let span_s = kept.last().map_or(0.0, |n| n.0) - kept[0].0;
+            let mut points = Vec::with_capacity(kept.len());
             let mut mean_acc = [0.0; 2];
-            for (k, (t_s, y, free)) in nodes.iter().enumerate() {
-                let before = if k > 0 { t_s - nodes[k - 1].0 } else { 0.0 };
-                let after = nodes.get(k + 1).map_or(0.0, |n| n.0 - t_s);
+            for (k, (t_s, y, free)) in kept.iter().enumerate() {
+                let before = if k > 0 { t_s - kept[k - 1].0 } else { 0.0 };
+                let after = kept.get(k + 1).map_or(0.0, |n| n.0 - t_s);
                 let w = 0.5 * (before + after) / span_s;
                 if w > 0.0 {
                     let at = at(*t_s, y);
-                    let (held, aero) = self.aero_at(wing, body, &at);
+                    let (held, aero) = match (k, last_loads.get()) {
+                        (0, _) => start_loads.expect("the first sub-step's loads"),
+                        (_, Some((last, held, aero))) if last == at => (held, aero),
+                        _ => self.aero_at(wing, body, &at),
+                    };
                     let a = self.accelerations(
                         *t_s,
                         y,
@@ -217,7 +247,11 @@ impl DynamicWing {
                 }
             }
             let shift = [acc[0] - mean_acc[0], acc[1] - mean_acc[1]];
-            let mut mean = self.report_at(wing, body, &mid, acc).scaled(0.0);
+            // The report's motion (angles, actuator, stroke phase) is the mid-step one; its
+            // loads are the nodes' weighted sum.
+            let mut mean = self
+                .report(wing, &Held::default(), None, acc, &mid)
+                .scaled(0.0);
             for (at, held, aero, a, w) in points {
                 let a = [a[0] + shift[0], a[1] + shift[1]];
                 mean.add_scaled(&self.report(wing, &held, aero, a, &at), w);
@@ -234,7 +268,11 @@ impl DynamicWing {
                 mean.hinge_moment_nm += m[1][0] * per_s[0] + m[1][1] * per_s[1];
             }
             out = Some(mean);
+            if next_reference.is_some() {
+                wing.set_stroke_reference(next_reference);
+            }
         }
+        self.nodes = nodes;
         let mut out = out.expect("at least one sub-step");
         if let Some(start) = frame_start {
             // The impulse-form added mass is -dP/dt of the fluid's impulse. Held over the
@@ -370,27 +408,21 @@ impl DynamicWing {
     }
 
     /// Collects the stroke-rate profile of each drive period and, at its end, measures the
-    /// stroke reference (peak rate, dtau_A, dtau_D by the half-peak rule) for the wing.
-    fn track_period(&mut self, wing: &mut Wing) {
+    /// stroke reference (peak rate, dtau_A, dtau_D by the half-peak rule) the wing takes up.
+    fn track_period(&mut self) -> Option<StrokeReference> {
         let f = self.drive.freq_hz;
         let period = (self.t_s * f).floor() as i64;
         let pd = self.angles([0.0; 2]).phi_dot;
+        let mut reference = None;
         if period != self.period_index {
-            if self.model.aero
-                && let Some(r) = measure_reference(&self.samples, self.period_index, f)
-            {
-                wing.set_stroke_reference(Some(r));
+            if self.model.aero {
+                reference = measure_reference(&self.samples, self.period_index, f);
             }
             self.samples.clear();
             self.period_index = period;
         }
         self.samples.push((self.t_s, pd));
-    }
-
-    /// The loads at the state, time and stroke phase `at`, with the accelerations `acc`.
-    fn report_at(&self, wing: &Wing, body: &BodyMotion, at: &StepStart, acc: [f64; 2]) -> WingStep {
-        let (held, aero) = self.aero_at(wing, body, at);
-        self.report(wing, &held, aero, acc, at)
+        reference
     }
 
     /// The loads at the step's start `at`, with the accelerations `acc`.
