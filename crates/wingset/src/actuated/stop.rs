@@ -393,6 +393,34 @@ mod tests {
     }
 
     #[test]
+    fn the_release_root_converges_like_a_secant_on_a_smooth_function() {
+        // A holding moment that falls smoothly through zero within the step, as the wing's
+        // does: the Illinois rule keeps regula falsi superlinear (Dowell & Jarratt 1971,
+        // BIT 11:168, order about 1.44), so to 1e-12 of the moment it takes a handful of
+        // evaluations; halving the far end at every iteration took 15 per release on the
+        // hummingbird (docs/speed.md). Roots: exp(-3 tau) = 0.4 and 1 - tau - tau^3 = 0.
+        for (f, root) in [
+            (
+                (|tau: f64| (-3.0 * tau).exp() - 0.4) as fn(f64) -> f64,
+                -(0.4f64).ln() / 3.0,
+            ),
+            (|tau: f64| 1.0 - tau - tau.powi(3), 0.682_327_803_828_019_3),
+        ] {
+            let calls = std::cell::Cell::new(0);
+            let (tau, value) =
+                illinois_root(1.0, (f(0.0), f(1.0)), f(1.0), (60, 1e-12, 1e-14), |t| {
+                    calls.set(calls.get() + 1);
+                    (f(t), f(t))
+                });
+            assert!(
+                value.abs() <= 1e-12 && (tau - root).abs() < 1e-11,
+                "{tau} {value}"
+            );
+            assert!(calls.get() <= 8, "{} evaluations", calls.get());
+        }
+    }
+
+    #[test]
     fn the_force_never_pulls() {
         let s = StopContact::new(0.5, 0.0, 1.0);
         for &(d, r) in &[
