@@ -112,6 +112,31 @@ fn every_builtin_vehicle_has_rows_with_sources_and_consistent_verdicts() {
         nf.iter()
             .any(|e| e[0] == "robobee" && e[1].as_str().unwrap().contains("phase"))
     );
+    // The RoboBee's pitch-stroke phase is compared with the lab's high-speed video (both
+    // wings' mean, -2.5 and -18.1 deg: scripts/research/robobee3d_video.py) within the
+    // issue's 20 deg.
+    let phase = rows
+        .iter()
+        .find(|r| {
+            r["vehicle"] == "robobee"
+                && r["quantity"]
+                    .as_str()
+                    .unwrap()
+                    .starts_with("pitch-stroke phase at 180 Vpp")
+        })
+        .expect("the RoboBee's phase row");
+    assert!(
+        (phase["measured"].as_f64().unwrap() + 10.3).abs() < 1e-9,
+        "{phase}"
+    );
+    assert!(
+        (phase["check"]["lo"].as_f64().unwrap() + 30.3).abs() < 1e-9,
+        "{phase}"
+    );
+    assert!(
+        (phase["check"]["hi"].as_f64().unwrap() - 9.7).abs() < 1e-9,
+        "{phase}"
+    );
     assert!(
         v["estimates"]
             .as_array()

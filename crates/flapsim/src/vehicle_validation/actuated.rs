@@ -96,24 +96,49 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
         );
     }
 
-    // Pitch-stroke phase at the model's drive: published value NOT FOUND, the sign checked.
-    let drive = act.drives[0];
-    let r = tethered(&v, drive.freq_hz, drive.amplitude_v)?;
+    // Pitch amplitude and pitch-stroke phase against the lab's high-speed video at 165 Hz,
+    // 180 V peak-to-peak: the mean of its two wings, the phase within the issue's 20 deg.
+    let amp_video = 180.0 * BENCH_VOLTS_TO_AMPLITUDE;
+    let r = tethered(&v, 165.0, amp_video)?;
+    let [(_, pitch_l, phase_l), (_, pitch_r, phase_r)] = ROBOBEE_VIDEO_165HZ_180V;
+    let failed = r.failed.is_some();
+    b.push(
+        "robobee",
+        format!("pitch amplitude at 180 Vpp ({amp_video:.0} V amplitude), 165 Hz, deg"),
+        format!("{ROBOBEE_VIDEO_SOURCE}: +-{pitch_l} and +-{pitch_r} deg"),
+        if failed {
+            f64::NAN
+        } else {
+            r.motion.pitch_amplitude_deg
+        },
+        Some(0.5 * (pitch_l + pitch_r)),
+        Check::Relative { tolerance: 0.15 },
+        false,
+        || pitch_cause(&v, &r),
+    );
+    let phase = 0.5 * (phase_l + phase_r);
     b.push(
         "robobee",
         format!(
-            "pitch-stroke phase at the model's drive ({:.0} V, {:.0} Hz), deg (+ advanced, - delayed)",
-            drive.amplitude_v, drive.freq_hz
+            "pitch-stroke phase at 180 Vpp ({amp_video:.0} V amplitude), 165 Hz, deg (+ advanced, - delayed)"
         ),
-        "NOT FOUND (no measured phase read); expected sign: delayed rotation (high-speed video of RoboBee-class wings, issue 24)",
-        r.motion.pitch_phase_deg,
-        None,
-        Check::Below { bound: 0.0 },
+        format!("{ROBOBEE_VIDEO_SOURCE}: {phase_l:+} and {phase_r:+} deg (delayed rotation)"),
+        if failed {
+            f64::NAN
+        } else {
+            r.motion.pitch_phase_deg
+        },
+        Some(phase),
+        Check::Within {
+            lo: phase - 20.0,
+            hi: phase + 20.0,
+        },
         false,
         || pitch_cause(&v, &r),
     );
 
     // Mean lift at the actuator's largest drive against Jafferis 2016's 140 mg-f.
+    let drive = act.drives[0];
     let r = tethered(&v, drive.freq_hz, limit_v)?;
     b.push(
         "robobee",

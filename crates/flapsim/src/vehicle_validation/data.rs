@@ -28,6 +28,17 @@ pub const BENCH_VOLTS_TO_AMPLITUDE: f64 = 0.5;
 /// wing pair at 170 Hz): (volts, mean of the two wings' pitch, deg).
 pub const ROBOBEE_PITCH_170HZ: [(f64, f64); 2] = [(160.0, 39.5), (200.0, 40.75)];
 
+/// RoboBee wing motion in the lab's high-speed video (robobee3d flapopt/data/
+/// Bee1_Static_165Hz_180V_7500sf.csv and ..._r.csv, commit 93e1354: one wingbeat per wing of
+/// a clamped bee at 165 Hz and 180 V, 7500 frames/s), reconstructed by the lab's own method
+/// (flapopt/w2d_loaddata.jl loadVideoData) in `scripts/research/robobee3d_video.py`, which
+/// prints these numbers: (stroke peak-to-peak, pitch half peak-to-peak, pitch-stroke phase
+/// with + advanced), deg, left and right wing.
+pub const ROBOBEE_VIDEO_165HZ_180V: [(f64, f64, f64); 2] =
+    [(56.0, 46.2, -2.5), (68.0, 51.4, -18.1)];
+
+pub(super) const ROBOBEE_VIDEO_SOURCE: &str = "robobee3d high-speed video Bee1 static 165 Hz 180 V (Harvard MRL lab data, one wingbeat per wing; scripts/research/robobee3d_video.py: left, right wing)";
+
 /// Jafferis, Graule & Wood 2016 (ICRA, abstract): the dual-actuator RoboBee's mean lift before
 /// their hinge and transmission redesign, 140 mg-f, N.
 pub const ROBOBEE_MEAN_LIFT_N: f64 = 140.0e-6 * 9.80665;
@@ -115,7 +126,7 @@ pub const NOT_FOUND: [(&str, &str); 6] = [
     ),
     (
         "robobee",
-        "measured pitch-stroke phase (Whitney & Wood 2010 and Ma et al. 2013 not readable): the phase row checks only its sign, delayed rotation as high-speed video of RoboBee-class wings shows",
+        "published pitch-stroke phase (Whitney & Wood 2010 and Ma et al. 2013 not readable): the phase row compares with the lab's own high-speed video (robobee3d, one wingbeat per wing, unpublished)",
     ),
     (
         "robobee",
