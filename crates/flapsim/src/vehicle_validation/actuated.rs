@@ -34,6 +34,42 @@ fn pitch_cause(v: &Vehicle, r: &TetheredRun) -> String {
     )
 }
 
+/// The RoboBee's hinge stiffnesses identified on two real wings (robobee3d PR #93, notes 1b),
+/// N m/rad: the model file keeps the lab's hinge model (7.5e-6), and these are reported
+/// beside it, not used.
+const ROBOBEE_IDENTIFIED_HINGES_NM_RAD: [f64; 2] = [4.6e-6, 2.4e-6];
+
+/// The wing motion at `freq_hz`, `amplitude_v` with each identified hinge in place of the
+/// file's (a cause's measurement: which published parameter decides the row).
+fn identified_hinges(v: &Vehicle, freq_hz: f64, amplitude_v: f64) -> String {
+    let runs: Vec<String> = ROBOBEE_IDENTIFIED_HINGES_NM_RAD
+        .iter()
+        .map(|&k| {
+            let mut variant = v.clone();
+            if let Some(a) = variant.actuation.as_mut() {
+                a.dynamics.hinge.stiffness_nm_rad = k;
+            }
+            match tethered(&variant, freq_hz, amplitude_v) {
+                Ok(r) if r.failed.is_none() => format!(
+                    "{k:.1e} N m/rad: pitch +-{:.1} deg, phase {:+.1} deg, stroke {:.1} deg p-p",
+                    r.motion.pitch_amplitude_deg,
+                    r.motion.pitch_phase_deg,
+                    2.0 * r.motion.stroke_amplitude_deg
+                ),
+                Ok(r) => format!(
+                    "{k:.1e} N m/rad: the run stopped: {}",
+                    r.failed.unwrap_or_default()
+                ),
+                Err(e) => format!("{k:.1e} N m/rad: {e}"),
+            }
+        })
+        .collect();
+    format!(
+        "the same drive with the hinge stiffnesses identified on two of the lab's wings (robobee3d PR #93; the file keeps the lab's hinge model): {}",
+        runs.join("; ")
+    )
+}
+
 pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
     let v = builtin("robobee")?;
     let act = v.actuation.as_ref().expect("robobee is actuated");
@@ -102,6 +138,11 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
     let r = tethered(&v, 165.0, amp_video)?;
     let [(_, pitch_l, phase_l), (_, pitch_r, phase_r)] = ROBOBEE_VIDEO_165HZ_180V;
     let failed = r.failed.is_some();
+    let video_cause = format!(
+        "{}; {}",
+        pitch_cause(&v, &r),
+        identified_hinges(&v, 165.0, amp_video)
+    );
     b.push(
         "robobee",
         format!("pitch amplitude at 180 Vpp ({amp_video:.0} V amplitude), 165 Hz, deg"),
@@ -114,7 +155,7 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
         Some(0.5 * (pitch_l + pitch_r)),
         Check::Relative { tolerance: 0.15 },
         false,
-        || pitch_cause(&v, &r),
+        || video_cause.clone(),
     );
     let phase = 0.5 * (phase_l + phase_r);
     b.push(
@@ -134,7 +175,7 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
             hi: phase + 20.0,
         },
         false,
-        || pitch_cause(&v, &r),
+        || video_cause,
     );
 
     // Mean lift at the actuator's largest drive against Jafferis 2016's 140 mg-f.
