@@ -138,11 +138,19 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
     let r = tethered(&v, 165.0, amp_video)?;
     let [(_, pitch_l, phase_l), (_, pitch_r, phase_r)] = ROBOBEE_VIDEO_165HZ_180V;
     let failed = r.failed.is_some();
-    let video_cause = format!(
-        "{}; {}",
-        pitch_cause(&v, &r),
-        identified_hinges(&v, 165.0, amp_video)
-    );
+    // Measured only for a row that misses, once for both.
+    let measured_cause = std::cell::OnceCell::new();
+    let video_cause = || {
+        measured_cause
+            .get_or_init(|| {
+                format!(
+                    "{}; {}",
+                    pitch_cause(&v, &r),
+                    identified_hinges(&v, 165.0, amp_video)
+                )
+            })
+            .clone()
+    };
     b.push(
         "robobee",
         format!("pitch amplitude at 180 Vpp ({amp_video:.0} V amplitude), 165 Hz, deg"),
@@ -155,7 +163,7 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
         Some(0.5 * (pitch_l + pitch_r)),
         Check::Relative { tolerance: 0.15 },
         false,
-        || video_cause.clone(),
+        video_cause,
     );
     let phase = 0.5 * (phase_l + phase_r);
     b.push(
@@ -175,7 +183,7 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
             hi: phase + 20.0,
         },
         false,
-        || video_cause,
+        video_cause,
     );
 
     // Mean lift at the actuator's largest drive against Jafferis 2016's 140 mg-f.

@@ -100,8 +100,7 @@ impl DynamicWing {
         let stops = self.model.hinge.contact.is_some();
         let mut out = None;
         let mut frame_start = None;
-        let mut nodes = std::mem::take(&mut self.nodes);
-        nodes.clear();
+        let mut nodes = Vec::new();
         if stops {
             nodes.push((self.t_s, self.y(), false));
         }
@@ -272,7 +271,6 @@ impl DynamicWing {
                 wing.set_stroke_reference(next_reference);
             }
         }
-        self.nodes = nodes;
         let mut out = out.expect("at least one sub-step");
         if let Some(start) = frame_start {
             // The impulse-form added mass is -dP/dt of the fluid's impulse. Held over the

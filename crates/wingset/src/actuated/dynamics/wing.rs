@@ -137,8 +137,6 @@ pub struct DynamicWing {
     /// (t, phi_dot) over the current drive period, to measure the stroke reference.
     pub(super) samples: Vec<(f64, f64)>,
     pub(super) period_index: i64,
-    /// Scratch: the states a step with stops passed (kept between steps for its capacity).
-    pub(super) nodes: Vec<(f64, [f64; 4], bool)>,
 }
 
 impl DynamicWing {
@@ -164,7 +162,6 @@ impl DynamicWing {
             downstroke: true,
             samples: Vec::new(),
             period_index: 0,
-            nodes: Vec::new(),
         };
         w.set_drive(drive)?;
         Ok(w)
