@@ -10,6 +10,7 @@
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
+use crate::actuated::{Actuator, Stroke};
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::{Error, Result};
 use crate::flight::condition::FlightCondition;
@@ -184,6 +185,18 @@ pub fn trim_from(
     condition: &FlightCondition,
     x0: Vector3<f64>,
 ) -> Result<Trim> {
+    search(vehicle, lift, condition, x0, true)
+}
+
+/// [`trim_from`]'s Newton search; `explain_limit`: when it stalls on an actuator's voltage
+/// limit, say how much the balance needs (a second search with the limit lifted).
+fn search(
+    vehicle: &Vehicle,
+    lift: LiftVariable,
+    condition: &FlightCondition,
+    x0: Vector3<f64>,
+    explain_limit: bool,
+) -> Result<Trim> {
     let what = if condition.is_hover() {
         "no hover trim".to_owned()
     } else {
@@ -257,12 +270,29 @@ pub fn trim_from(
             }
             lambda *= 0.5;
             if lambda < 1e-4 {
-                return Err(fail(match last_error {
+                let stalled = match last_error {
                     Some(e) => format!(
                         "Newton stalled with residual {:.3e}; the last step tried was refused: {e}",
                         r.norm()
                     ),
                     None => format!("Newton stalled with residual {:.3e}", r.norm()),
+                };
+                let at_limit = explain_limit
+                    .then(|| drive_at_limit(vehicle, lift, &x))
+                    .flatten();
+                return Err(fail(match at_limit {
+                    Some((peak_v, limit_v)) => {
+                        let needs = match needed_peak_v(vehicle, lift, condition, x) {
+                            Some(v) => format!("the balance needs a drive peaking at {v:.1} V"),
+                            None => "no balance found even past the limit".to_owned(),
+                        };
+                        format!(
+                            "{needs} and the actuator allows {limit_v} V: at its limit (peak {peak_v:.1} V, {:.2} Hz) the wings lift {:.3} of the weight; {stalled}",
+                            vehicle.freq_hz(),
+                            1.0 + r[1],
+                        )
+                    }
+                    None => stalled,
                 }));
             }
         }
@@ -303,6 +333,55 @@ pub fn trim_from(
         "Newton did not converge in 40 iterations (residual {:.3e})",
         r.amax()
     )))
+}
+
+/// For an actuated vehicle whose drive at trim variables `x` peaks within 0.1% of its
+/// actuator's voltage limit: (the largest peak of its wings' drives, the limit), V. A
+/// search that stalls there is stopped by the actuator, and its residual there is the
+/// balance at the most the actuator can give.
+fn drive_at_limit(vehicle: &Vehicle, lift: LiftVariable, x: &Vector3<f64>) -> Option<(f64, f64)> {
+    let act = vehicle.actuation.as_ref()?;
+    let limit_v = act.dynamics.stroke.voltage_limit_v();
+    let drives = act
+        .controlled_drives(&trim_controls(vehicle, lift, x))
+        .ok()?;
+    let peak_v = drives
+        .iter()
+        .map(|d| d.peak_bound_v())
+        .fold(0.0f64, f64::max);
+    (peak_v >= (1.0 - 1e-3) * limit_v).then_some((peak_v, limit_v))
+}
+
+/// The largest peak voltage of the drives at the trim of `vehicle` with its actuator's
+/// voltage limit lifted tenfold (searched from `x`), V: what a stalled search's balance
+/// needs. `None` when that search fails too.
+fn needed_peak_v(
+    vehicle: &Vehicle,
+    lift: LiftVariable,
+    condition: &FlightCondition,
+    x: Vector3<f64>,
+) -> Option<f64> {
+    let mut lifted = vehicle.clone();
+    if let Some(a) = lifted.actuation.as_mut()
+        && let Stroke::Driven { actuator, .. } = &mut a.dynamics.stroke
+    {
+        match actuator {
+            Actuator::Piezo(p) => p.voltage_limit_v *= 10.0,
+            Actuator::DcMotor(m) => m.voltage_limit_v *= 10.0,
+        }
+    }
+    let t = search(&lifted, lift, condition, x, false).ok()?;
+    let drives = lifted
+        .actuation
+        .as_ref()?
+        .controlled_drives(&t.controls)
+        .ok()?;
+    Some(
+        drives
+            .iter()
+            .map(|d| d.peak_bound_v())
+            .fold(0.0f64, f64::max),
+    )
 }
 
 fn finish(

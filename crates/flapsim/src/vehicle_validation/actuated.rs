@@ -221,7 +221,6 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
         ),
         Err(e) => (f64::NAN, Some(e.to_string())),
     };
-    let lift_at_limit = r.mean_lift_n / v.weight_n();
     b.push(
         "robobee",
         "hover trim drive amplitude, V",
@@ -234,9 +233,8 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
         },
         false,
         || match &trim_err {
-            Some(e) => format!(
-                "no trim: at the {limit_v:.0} V limit the tethered wings give L/W {lift_at_limit:.2}; {e}"
-            ),
+            // The trim's error says what the balance needs and what the limit gives.
+            Some(e) => format!("no trim: {e}"),
             None => format!("the trim needs {trim_v:.1} V, the limit is {limit_v:.0} V"),
         },
     );
