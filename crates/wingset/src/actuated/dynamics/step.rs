@@ -55,6 +55,7 @@ impl DynamicWing {
     }
 
     /// [`Self::aero_held`] at a given state, time and stroke phase.
+    #[inline(always)]
     fn aero_at(
         &self,
         wing: &Wing,
