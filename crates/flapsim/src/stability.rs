@@ -177,19 +177,33 @@ fn eigenvector(a: &DMatrix<f64>, l: Complex<f64>) -> DVector<f64> {
     DVector::from_iterator(n, v.into_iter().map(|x| x / max))
 }
 
-/// The state a (normalised) eigenvector is mostly made of, in words.
+/// The state a (normalised) eigenvector is mostly made of, in words. A neutral vector of
+/// the attitude angles alone, roll and yaw (no rate, no velocity), turns the body without
+/// turning gravity in its frame, so it turns about the vertical: the heading, whichever
+/// body axis it mostly lies along (a body pitched up by theta sees it as roll sin(theta)
+/// and yaw cos(theta)).
 fn dominant(names: &[&str], ev: &DVector<f64>) -> String {
+    let heading_only = names.iter().zip(ev.iter()).all(|(n, x)| {
+        matches!(*n, "roll_err_rad" | "yaw_err_rad") || x.abs() < HEADING_ONLY_FRACTION
+    });
+    if heading_only && names.iter().any(|n| *n == "yaw_err_rad") {
+        return "heading, a turn about the vertical".into();
+    }
     let k = ev
         .iter()
         .enumerate()
         .fold(0, |best, (i, x)| if *x > ev[best] { i } else { best });
     match names.get(k).copied() {
-        Some("yaw_err_rad") => "heading (yaw angle)".into(),
         Some("x_m" | "y_m" | "z_m") => "position".into(),
         Some(n) => n.to_owned(),
         None => "the state".into(),
     }
 }
+
+/// Largest share of the largest entry that a neutral eigenvector may hold outside the
+/// roll and yaw angles and still count as the heading (the finite-difference derivatives
+/// leave round-off there).
+const HEADING_ONLY_FRACTION: f64 = 1e-6;
 
 /// Modes of a real matrix with state names.
 pub fn modes(a: &DMatrix<f64>, names: &[&str]) -> Vec<ModeInfo> {
@@ -497,6 +511,61 @@ fn normalized(v: &DVector<Complex<f64>>) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_neutral_turn_of_a_pitched_body_about_the_vertical_is_its_heading() {
+        // States (roll, yaw, p, r) of a body pitched up by theta: the angles' rates are p
+        // and r; gravity restores the tilt cos(theta) roll - sin(theta) yaw (the part of the
+        // attitude error that turns gravity in the body frame) and the rates are damped. The
+        // zero eigenvalue's vector is (sin theta, cos theta, 0, 0): a turn about the
+        // vertical, mostly roll at 57.5 deg (the bumblebee's hover pitch), named the heading.
+        let th = 57.5_f64.to_radians();
+        let (k, c) = (40.0, 3.0);
+        let a = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                0.0,
+                0.0,
+                1.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                1.0,
+                -k * th.cos(),
+                k * th.sin(),
+                -c,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                -c,
+            ],
+        );
+        let names = ["roll_err_rad", "yaw_err_rad", "p_rad_s", "r_rad_s"];
+        let m = modes(&a, &names);
+        let neutral: Vec<_> = m
+            .iter()
+            .filter(|m| m.description.starts_with("neutral"))
+            .collect();
+        assert_eq!(neutral.len(), 1, "{m:?}");
+        let e = &neutral[0].eigenvector;
+        assert!((e[1].1 / e[0].1 - 1.0 / th.tan()).abs() < 1e-9, "{e:?}");
+        assert!(
+            neutral[0].description.contains("heading"),
+            "{}",
+            neutral[0].description
+        );
+        // A neutral pitch (an angle that is not roll or yaw) is not the heading.
+        let b = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, -2.0]);
+        let m = modes(&b, &["pitch_err_rad", "q_rad_s"]);
+        let n = m
+            .iter()
+            .find(|m| m.description.starts_with("neutral"))
+            .unwrap();
+        assert!(n.description.contains("pitch_err_rad"), "{}", n.description);
+    }
 
     #[test]
     fn eigenvectors_of_a_scaled_rotation_are_the_analytic_ones() {
