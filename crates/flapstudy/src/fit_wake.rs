@@ -45,7 +45,7 @@ pub struct WakeRun {
 }
 
 /// A table of wake-capture runs, e.g. the seed paper's Table 4
-/// (`shared/data/wake_capture_l18.csv`).
+/// (`data/wake_capture_l18.csv`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct WakeCaptureData {
     /// The file the runs came from.
@@ -109,28 +109,8 @@ impl WakeCaptureData {
 
 /// The seed paper's Table 4 (the 18 CFD runs of its Taguchi L18 design; Re, dtau_D and
 /// dtau_A at the Table 1-2 levels; means and standard deviations over cycles 8-10; mu_star
-/// the non-dimensional time of the peak), as in `shared/data/wake_capture_l18.csv`.
-pub const PAPER_TABLE4_CSV: &str = "\
-# Seed paper 000_94b36197bfdef766, Table 4 with the levels of Tables 1-2.\n\
-run,re,dtau_d,dtau_a,dcl_mean,dcl_sd,dcd_mean,dcd_sd,mu_star\n\
-1,136,0.06,0.06,0.380,0.003,0.510,0.003,0.04\n\
-2,136,0.12,0.12,0.102,0.002,0.234,0.002,0.058\n\
-3,136,0.18,0.18,0.033,0.002,0.146,0.002,0.068\n\
-4,272,0.06,0.06,0.475,0.004,0.539,0.003,0.039\n\
-5,272,0.12,0.12,0.177,0.002,0.249,0.002,0.059\n\
-6,272,0.18,0.18,0.080,0.001,0.151,0.001,0.066\n\
-7,680,0.06,0.12,0.510,0.002,0.519,0.001,0.052\n\
-8,680,0.12,0.18,0.211,0.002,0.235,0.001,0.065\n\
-9,680,0.18,0.06,0.114,0.007,0.172,0.002,0.033\n\
-10,1360,0.06,0.18,0.505,0.008,0.479,0.006,0.055\n\
-11,1360,0.12,0.06,0.307,0.004,0.325,0.003,0.041\n\
-12,1360,0.18,0.12,0.107,0.015,0.141,0.017,0.047\n\
-13,2720,0.06,0.12,0.559,0.005,0.535,0.004,0.051\n\
-14,2720,0.12,0.18,0.237,0.006,0.237,0.005,0.068\n\
-15,2720,0.18,0.06,0.161,0.010,0.188,0.013,0.036\n\
-16,6800,0.06,0.18,0.535,0.002,0.489,0.002,0.059\n\
-17,6800,0.12,0.06,0.347,0.026,0.351,0.002,0.031\n\
-18,6800,0.18,0.12,0.150,0.010,0.160,0.009,0.04\n";
+/// the non-dimensional time of the peak): `data/wake_capture_l18.csv` in the repository.
+pub const PAPER_TABLE4_CSV: &str = include_str!("../../../data/wake_capture_l18.csv");
 
 /// The fewest runs that give the 5-coefficient fits one residual degree of freedom.
 pub const MIN_RUNS: usize = 6;

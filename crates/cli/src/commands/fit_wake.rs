@@ -5,7 +5,7 @@
 //!
 //! The data: a CSV whose header names at least `re,dtau_d,dtau_a,dcl_mean,dcd_mean,mu_star`
 //! (other columns are ignored; lines starting with `#` are comments), one run per row,
-//! at least 6 runs, e.g. `shared/data/wake_capture_l18.csv` (the paper's Table 4).
+//! at least 6 runs, e.g. `data/wake_capture_l18.csv` (the paper's Table 4).
 //!
 //! The written model (`--write`) is a set of `key = value` lines that deserializes as
 //! `wingforce::WakeCaptureModel`. To use it, paste the lines under an
