@@ -186,7 +186,7 @@ fn dominant(names: &[&str], ev: &DVector<f64>) -> String {
     let heading_only = names.iter().zip(ev.iter()).all(|(n, x)| {
         matches!(*n, "roll_err_rad" | "yaw_err_rad") || x.abs() < HEADING_ONLY_FRACTION
     });
-    if heading_only && names.iter().any(|n| *n == "yaw_err_rad") {
+    if heading_only && names.contains(&"yaw_err_rad") {
         return "heading, a turn about the vertical".into();
     }
     let k = ev

@@ -56,7 +56,8 @@ fn the_built_in_robobee_has_no_hover_and_says_why() {
     let e = trim(&robobee()).unwrap_err().to_string();
     assert!(e.contains("no hover trim") && e.contains("100 V"), "{e}");
     // The error says what the balance needs and what the limit gives. The need: the trim of
-    // the same file with the limit lifted, whose drive peaks where the message says. The lift at the limit: the tethered wings' cycle-mean lift at 100 V and 120 Hz
+    // the same file with the limit lifted, whose drive peaks where the message says. The
+    // lift at the limit: the tethered wings' cycle-mean lift at 100 V and 120 Hz
     // (`frequency-response`: the full wing dynamics, not the averaged model the trim uses),
     // within 2%.
     let number_after = |key: &str| -> f64 {

@@ -340,16 +340,25 @@ fn search(
 /// search that stalls there is stopped by the actuator, and its residual there is the
 /// balance at the most the actuator can give.
 fn drive_at_limit(vehicle: &Vehicle, lift: LiftVariable, x: &Vector3<f64>) -> Option<(f64, f64)> {
-    let act = vehicle.actuation.as_ref()?;
-    let limit_v = act.dynamics.stroke.voltage_limit_v();
-    let drives = act
-        .controlled_drives(&trim_controls(vehicle, lift, x))
-        .ok()?;
-    let peak_v = drives
-        .iter()
-        .map(|d| d.peak_bound_v())
-        .fold(0.0f64, f64::max);
+    let limit_v = vehicle
+        .actuation
+        .as_ref()?
+        .dynamics
+        .stroke
+        .voltage_limit_v();
+    let peak_v = peak_drive_v(vehicle, &trim_controls(vehicle, lift, x))?;
     (peak_v >= (1.0 - 1e-3) * limit_v).then_some((peak_v, limit_v))
+}
+
+/// The largest peak voltage of an actuated vehicle's drives under `controls`, V (`None`
+/// for prescribed kinematics or controls its actuator refuses).
+fn peak_drive_v(vehicle: &Vehicle, controls: &Controls) -> Option<f64> {
+    let drives = vehicle
+        .actuation
+        .as_ref()?
+        .controlled_drives(controls)
+        .ok()?;
+    Some(drives.iter().map(|d| d.peak_bound_v()).fold(0.0, f64::max))
 }
 
 /// The largest peak voltage of the drives at the trim of `vehicle` with its actuator's
@@ -371,17 +380,7 @@ fn needed_peak_v(
         }
     }
     let t = search(&lifted, lift, condition, x, false).ok()?;
-    let drives = lifted
-        .actuation
-        .as_ref()?
-        .controlled_drives(&t.controls)
-        .ok()?;
-    Some(
-        drives
-            .iter()
-            .map(|d| d.peak_bound_v())
-            .fold(0.0f64, f64::max),
-    )
+    peak_drive_v(&lifted, &t.controls)
 }
 
 fn finish(
