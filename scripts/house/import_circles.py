@@ -7,7 +7,8 @@ A file imports another when one of its file-level `use` lines names an item of t
 (`crate::a::b::X`, `super::X`, `self::x::Y` or a child module `x::Y` from a `mod.rs`): the
 target is the longest module path that is a file, followed through `pub use` re-exports to
 the file that defines the name. Inline modules (an indented `use`, e.g. `mod tests`) are
-not the file's own imports. The circles are the strongly connected components of that
+not the file's own imports; a path written out in the code (`crate::a::X` in a type or a
+call, outside `#[cfg(test)] mod ...`) is. The circles are the strongly connected components of that
 graph with more than one file (Tarjan). It reads the source text with regular expressions,
 not a Rust parser: good enough for this workspace's style (one `use` per statement, no
 macros generating imports), which `tests/python/test_house.py` checks on every crate.
@@ -102,6 +103,28 @@ def circles(root):
     def defines(f, name):
         return re.search(ITEM + re.escape(name) + r"\b", files[f]) is not None
 
+    def imports(p, me, path):
+        """The files a `use` path (or a path written out in code) of file `p` imports."""
+        base, rest = base_of(me, clean(path).split("::"))
+        if base is None:
+            return set()
+        rest = [s for s in rest if s not in ("*", "self")]
+        target = resolve(base + rest)
+        found = set()
+        for _ in range(10):
+            if not (target and rest):
+                break
+            name = rest[-1]
+            if name in reexports.get(target, {}) and not defines(target, name):
+                # A reader following the path opens the re-exporting file first: the
+                # path through it counts as an import of it too.
+                found.add(target)
+                target = reexports[target][name]
+            else:
+                break
+        found.add(target)
+        return {t for t in found if t and t != p}
+
     edges = {p: set() for p in files}
     for p, text in files.items():
         me = module_path(p)
@@ -109,21 +132,13 @@ def circles(root):
             if m.group(1):
                 continue
             for path in expand(m.group(2)):
-                base, rest = base_of(me, clean(path).split("::"))
-                if base is None:
-                    continue
-                rest = [s for s in rest if s not in ("*", "self")]
-                target = resolve(base + rest)
-                for _ in range(10):
-                    if not (target and rest):
-                        break
-                    name = rest[-1]
-                    if name in reexports.get(target, {}) and not defines(target, name):
-                        target = reexports[target][name]
-                    else:
-                        break
-                if target and target != p:
-                    edges[p].add(target)
+                edges[p] |= imports(p, me, path)
+        # A path written out in the code (`crate::wind::WindSpec` in a field's type) is an
+        # import too, outside the file's test module.
+        code = re.split(r"(?m)^#\[cfg\(test\)\]\s*\n\s*mod\s+\w+", text)[0]
+        code = re.sub(r"\bpub\(in\s+[\w:]+\)", "pub", code)  # visibility, not a path
+        for m in re.finditer(r"(?<![\w:])((?:crate|super)(?:::\w+)+)", code):
+            edges[p] |= imports(p, me, m.group(1))
 
     index, low, stack, on, found, counter = {}, {}, [], set(), [], [0]
     sys.setrecursionlimit(10000)

@@ -1,6 +1,8 @@
 """The house (issue #28): in every crate, no two files import each other, directly or
 through others (scripts/house/import_circles.py, which follows `pub use` re-exports to the
-file that defines a name); its own cases show it finds a circle and passes a ladder."""
+file that defines a name, counting each re-exporting file on the way, and reads paths written
+out in code as imports too, issue #40); its own cases show it finds a circle and passes a
+ladder."""
 
 import pathlib
 import subprocess
@@ -54,11 +56,27 @@ def test_a_circle_hidden_behind_a_re_export_is_found(tmp_path):
     assert "a.rs, b.rs" in proc.stdout, proc.stdout
 
 
+def test_a_circle_through_a_re_exporting_file_and_a_written_out_path_is_found(tmp_path):
+    # flapsim's last circle (issue #40): a takes D through r, which re-exports it from d;
+    # r imports b; b names crate::a::A in a field's type, with no `use` line.
+    src = crate(tmp_path, {
+        "lib.rs": "mod a;\nmod b;\nmod d;\nmod r;\n",
+        "a.rs": "use crate::r::D;\npub struct A(D);\n",
+        "r.rs": "use crate::b::B;\npub use crate::d::D;\npub struct R(B);\n",
+        "b.rs": "pub struct B(crate::a::A);\n",
+        "d.rs": "pub struct D;\n",
+    })
+    proc = run(src)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert "a.rs, b.rs, r.rs" in proc.stdout, proc.stdout
+
+
 def test_a_ladder_and_a_test_module_pass(tmp_path):
     src = crate(tmp_path, {
         "lib.rs": "mod a;\nmod b;\npub use a::A;\n",
         "a.rs": "use crate::b::B;\npub struct A(B);\n",
-        "b.rs": "pub struct B;\n#[cfg(test)]\nmod tests {\n    use crate::a::A;\n}\n",
+        "b.rs": ("pub struct B;\n#[cfg(test)]\nmod tests {\n    use crate::a::A;\n"
+                 "    fn t() -> crate::a::A {\n        A(crate::b::B)\n    }\n}\n"),
     })
     proc = run(src)
     assert proc.returncode == 0, proc.stdout + proc.stderr

@@ -16,7 +16,7 @@
 use nalgebra::Vector3;
 use wingforce::Term;
 
-use crate::Vehicle;
+use crate::model::Vehicle;
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::{Error, Result};
 use crate::sun_xiong;

@@ -16,7 +16,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::Vehicle;
+use crate::model::Vehicle;
 use crate::derivatives::{LONGITUDINAL, Reference, reference};
 use crate::error::{Error, Result};
 use crate::stability::{ModeInfo, ModeKind, StabilityReport, modes};

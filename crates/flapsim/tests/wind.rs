@@ -406,6 +406,22 @@ fn bad_wind_input_is_an_error_naming_the_field() {
         "[wind.turbulence]\nintensity_m_s = [0.1, 0.1, 0.1]\nlength_scale_m = [1.0, 0.0, 1.0]\n",
     );
     assert!(e.contains("wind.turbulence.length_scale_m[1]"), "{e}");
+    // Issue #40: a length scale far below the Kolmogorov microscale (1e-12 m) asked for
+    // ~1e13 samples a metre and ran the process out of memory; it is refused with the range.
+    let e = load(
+        "[wind.turbulence]\nintensity_m_s = [0.1, 0.1, 0.1]\nlength_scale_m = [1.0, 1e-12, 1.0]\n",
+    );
+    assert!(
+        e.contains("wind.turbulence.length_scale_m[1]") && e.contains("0.001"),
+        "{e}"
+    );
+    let e = load(
+        "[wind.turbulence]\nintensity_m_s = [0.1, 0.1, 0.1]\nlength_scale_m = [0.01, 0.01, 0.01]\nsample_spacing_m = 2e-6\n",
+    );
+    assert!(
+        e.contains("wind.turbulence.sample_spacing_m") && e.contains("0.00001"),
+        "{e}"
+    );
     let e = load(
         "[[wind.gusts]]\namplitude_m_s = 1.0\ndirection_world = [0.0, 0.0, 0.0]\nstart_s = 0.0\nduration_s = 0.1\n",
     );

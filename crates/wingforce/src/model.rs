@@ -248,7 +248,7 @@ impl WingModelSpec {
         let wing = Wing::builder(geometry, kinematics)
             .fluid(fluid)
             .options(options)
-            .mount(Mount::fixed(crate::Side::Left))
+            .mount(Mount::fixed(crate::mount::Side::Left))
             .build();
         check_wing(&v, &wing)?;
         Ok(wing)
@@ -297,7 +297,7 @@ pub fn check_wing(v: &Validator<'_>, wing: &Wing) -> Result<()> {
             ));
         }
     }
-    let body = crate::BodyMotion::default();
+    let body = crate::mount::BodyMotion::default();
     for i in 0..16 {
         let f = wing.evaluate(i as f64 / 16.0 + 0.01, &body);
         let values = f

@@ -304,7 +304,7 @@ pub struct Actuation {
 impl Actuation {
     /// The drives under drive controls `c` (offsets on the model's drives; left-minus-right
     /// differences split half and half), checked against the actuator's voltage limit.
-    pub fn controlled_drives(&self, c: &crate::model::Controls) -> Result<[Drive; 2]> {
+    pub fn controlled_drives(&self, c: &crate::controls::Controls) -> Result<[Drive; 2]> {
         let lim = self.dynamics.stroke.voltage_limit_v();
         let mut out = self.base_drives;
         for (i, d) in out.iter_mut().enumerate() {
@@ -315,7 +315,7 @@ impl Actuation {
             d.second_harmonic += half * c.diff_second_harmonic;
             let side = if i == 0 { "left" } else { "right" };
             if !(d.peak_bound_v() <= lim) || !(d.freq_hz > 0.0) {
-                return Err(crate::Error::Analysis(format!(
+                return Err(crate::error::Error::Analysis(format!(
                     "the drive controls (bias {:+.2} V, amplitude {:+.2} V, differences {:+.2} V amplitude, {:+.2} V bias, {:+.3} second harmonic, frequency {:+.2} Hz) give the {side} wing a peak |V| up to {:.1} V at {:.1} Hz; allowed: |V| <= {lim} V (the actuator's limit) and a frequency > 0",
                     c.bias_v,
                     c.amplitude_v,

@@ -5,7 +5,7 @@
 use serde::{Deserialize, Serialize};
 use wingforce::{AeroSpec, FluidSpec, KinematicsSpec, WingSpec};
 
-use crate::actuated::ActuationSpec;
+use crate::actuated::spec::ActuationSpec;
 
 /// Rigid body of the vehicle (wings excluded unless `wing_mass_kg` is set).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

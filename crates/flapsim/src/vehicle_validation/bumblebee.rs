@@ -10,7 +10,7 @@
 use wingforce::{AddedMassForm, AeroOptions};
 
 use super::rows::{Check, RowBuilder};
-use crate::Vehicle;
+use crate::model::Vehicle;
 use crate::error::Result;
 use crate::operating_points::{SUN_XIONG_SOURCE, bumblebee_pitch_modes_note};
 use crate::stability::analyze;

@@ -34,7 +34,7 @@ mod rows;
 use nalgebra::Vector3;
 use wingforce::Term;
 
-use crate::Vehicle;
+use crate::model::Vehicle;
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::Result;
 use crate::operating_points::{builtin, lift_over_weight};

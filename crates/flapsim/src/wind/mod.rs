@@ -96,13 +96,15 @@ impl Default for WindSpec {
 pub struct TurbulenceSpec {
     /// RMS of the longitudinal, lateral and vertical components, m/s.
     pub intensity_m_s: [f64; 3],
-    /// Length scales L_u, L_v, L_w, m.
+    /// Length scales L_u, L_v, L_w, m: from [`MIN_LENGTH_SCALE_M`] (1 mm, the Kolmogorov
+    /// microscale's order: Dryden's spectra end there) to 1e5.
     pub length_scale_m: [f64; 3],
     /// Seed of the random field: the same seed gives the same turbulence.
     #[serde(default)]
     pub seed: u64,
     /// Spacing of the generated samples along the convected coordinate, m (default the
-    /// smallest length scale / 64; allowed 1e-4 to 1 times it).
+    /// smallest length scale / 64; allowed 1e-4 to 1 times it, and at least
+    /// [`MIN_SPACING_M`], 1e-5 m).
     #[serde(default)]
     pub sample_spacing_m: Option<f64>,
 }
@@ -142,6 +144,17 @@ pub struct WindParams {
 
 const MAX_SPEED: f64 = 100.0;
 
+/// The smallest Dryden length scale, m. Dryden's spectra describe the inertial range of
+/// turbulence; eddies below the Kolmogorov microscale eta = (nu^3 / epsilon)^(1/4) are
+/// damped by viscosity, and near the ground (nu = 1.5e-5 m^2/s, dissipation epsilon of
+/// 1e-2 to 1e-1 m^2/s^3) eta is 0.4 to 0.8 mm. A length scale below 1 mm describes no air
+/// (and with the default spacing L/64 a 1e-12 m scale asked for ~1e13 samples a metre).
+pub const MIN_LENGTH_SCALE_M: f64 = 1e-3;
+
+/// The finest sample spacing of the turbulence field, m: a run generates (convection speed
+/// x duration) / spacing samples of 24 bytes, so 1e-5 m keeps a 1 s run at 1 m/s to 2.4 MB.
+pub const MIN_SPACING_M: f64 = 1e-5;
+
 impl WindSpec {
     /// Validates the table (`field` is its name in errors, e.g. `wind`).
     pub fn build(&self, v: &Validator<'_>, field: &str) -> Result<WindParams> {
@@ -175,7 +188,7 @@ impl WindSpec {
                     length_scale_m: checked3(
                         &format!("{f}.length_scale_m"),
                         t.length_scale_m,
-                        |f, x| v.within_open_low(f, x, 0.0, 1e5),
+                        |f, x| v.within(f, x, MIN_LENGTH_SCALE_M, 1e5),
                     )?,
                 };
                 let l_min = p
@@ -190,14 +203,15 @@ impl WindSpec {
                     }
                 };
                 // Finer spacings lose the reversed process's noise covariance to round-off
-                // (its (1,1) entry is O((h/L)^3) of the stationary one).
-                if spacing < l_min * 1e-4 {
+                // (its (1,1) entry is O((h/L)^3) of the stationary one), and below
+                // MIN_SPACING_M the samples a run needs outgrow memory.
+                if spacing < (l_min * 1e-4).max(MIN_SPACING_M) {
                     return Err(v
                         .invalid(
                             &format!("{f}.sample_spacing_m"),
                             spacing,
                             &format!(
-                                "a spacing of at least 1e-4 of the smallest length scale ({l_min} m)"
+                                "a spacing of at least 1e-4 of the smallest length scale ({l_min} m) and at least {MIN_SPACING_M} m"
                             ),
                         )
                         .into());

@@ -241,8 +241,8 @@ impl Wing {
 
     /// Sets the kinematic viscosity so that the paper's Re = V_ref c_bar / nu equals `re`
     /// (finite and > 0; anything else is refused with an error naming `--re`/`reynolds`).
-    pub fn set_reynolds(&mut self, re: f64) -> crate::Result<()> {
-        crate::Validator::new("set_reynolds").positive("reynolds", re)?;
+    pub fn set_reynolds(&mut self, re: f64) -> crate::error::Result<()> {
+        crate::error::Validator::new("set_reynolds").positive("reynolds", re)?;
         let v_ref = self.peak_stroke_rate_rad_s() * self.geometry.r_gyration_m;
         self.fluid.kinematic_viscosity_m2_s = v_ref * self.geometry.mean_chord_m / re;
         self.refresh();
