@@ -163,6 +163,13 @@ pub fn open(
         (None, false, true) => Some(default_path(command, "rrd", &stamp)),
         _ => None,
     };
+    // Both outputs are checked together first: one path for both, or the model file.
+    let inputs = crate::outputs::model_input(&src.origin);
+    let outputs: Vec<crate::outputs::Named<'_>> = [("--mcap", &mcap), ("--rrd", &rrd)]
+        .into_iter()
+        .filter_map(|(flag, p)| p.as_deref().map(|p| crate::outputs::Named::new(flag, p)))
+        .collect();
+    crate::outputs::check(&inputs, &outputs, args.force)?;
     for p in mcap.iter().chain(rrd.iter()) {
         check_target(p, args.force)?;
     }
@@ -236,6 +243,19 @@ pub fn record(rec: &mut Option<Recorder>, out: &flapsim::StepOutput) -> anyhow::
     Ok(())
 }
 
+/// Records one step of `sim` (`out`, the step's output, copied out of the simulation) with
+/// every wing's forces from its wing set, if there is a recorder: any number of wings.
+pub fn record_all(
+    rec: &mut Option<Recorder>,
+    out: &flapsim::StepOutput,
+    sim: &flapsim::Simulation,
+) -> anyhow::Result<()> {
+    if let Some(r) = rec.as_mut() {
+        r.record_wings(out, sim.wing_set().output())?;
+    }
+    Ok(())
+}
+
 /// Logs each wing's wind at the step at `t_s` if there is a recorder (see
 /// [`Recorder::wind`]): the simulation's per-wing winds, or the uniform wind at every wing
 /// when there is no wind field.
@@ -248,7 +268,7 @@ pub fn record_wind(
         let uniform = sim.uniform_wind_m_s();
         let winds = sim.wing_winds_m_s();
         if winds.is_empty() {
-            r.wind(t_s, &uniform, &[uniform; 2])?;
+            r.wind(t_s, &uniform, &vec![uniform; sim.vehicle().wings.len()])?;
         } else {
             r.wind(t_s, &uniform, winds)?;
         }

@@ -10,6 +10,7 @@ mod input;
 mod interrupt;
 mod logging;
 mod output;
+mod outputs;
 mod pacing;
 mod plot;
 mod progress;

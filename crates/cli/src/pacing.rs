@@ -17,6 +17,8 @@ use crate::error::input_error;
 pub struct PaceArgs {
     /// Pace the run to FACTOR simulated seconds per wall-clock second (1 is real time, 0.01
     /// is 100 times slower, to watch the wings flap in a live view); default: unpaced.
+    /// Allowed: a finite FACTOR > 0 whose paced run lasts at most 24 h of wall-clock time
+    /// (FACTOR >= duration / 86400 s: 1.16e-5 for a 1 s run).
     #[arg(long, value_name = "FACTOR")]
     pub realtime: Option<f64>,
     /// With --foxglove: before the run, wait until a Foxglove client has connected and
@@ -31,6 +33,11 @@ pub struct PaceArgs {
     )]
     pub wait_timeout_s: Option<f64>,
 }
+
+/// The longest wall-clock time a paced run may take, s (24 h): `--realtime` is for
+/// watching a run, and a factor that would stretch it past a day is a typo (`1e-300` for
+/// `1e-3`), not a view anyone watches. The smallest factor is the run's duration over this.
+pub const MAX_PACED_WALL_S: f64 = 86_400.0;
 
 /// Sleeps shorter than this are skipped (the step runs up to this much early).
 const MIN_SLEEP_S: f64 = 0.001;
@@ -82,9 +89,9 @@ pub fn pace(pacer: &mut Option<Pacer>, t_s: f64) {
     }
 }
 
-/// Checks the flags (before anything is opened) and returns the run's pacer (`None`
-/// without `--realtime`).
-pub fn check(args: &PaceArgs) -> anyhow::Result<Option<Pacer>> {
+/// Checks the flags (before anything is opened) for a run of `duration_s` simulated seconds
+/// and returns the run's pacer (`None` without `--realtime`).
+pub fn check(args: &PaceArgs, duration_s: f64) -> anyhow::Result<Option<Pacer>> {
     if let Some(t) = args.wait_timeout_s
         && !(t.is_finite() && t >= 0.0)
     {
@@ -92,13 +99,33 @@ pub fn check(args: &PaceArgs) -> anyhow::Result<Option<Pacer>> {
             "--wait-timeout-s {t} is not allowed: a finite number of seconds >= 0"
         )));
     }
+    let min_factor = duration_s / MAX_PACED_WALL_S;
     match args.realtime {
         None => Ok(None),
-        Some(f) if f.is_finite() && f > 0.0 => Ok(Some(Pacer::new(f))),
+        Some(f) if f.is_finite() && f > 0.0 && duration_s / f <= MAX_PACED_WALL_S => {
+            Ok(Some(Pacer::new(f)))
+        }
+        Some(f) if f.is_finite() && f > 0.0 => Err(input_error(format!(
+            "--realtime {} is not allowed: it would pace the {duration_s} s run over {:.3e} s \
+             of wall-clock time; a paced run lasts at most {MAX_PACED_WALL_S} s (24 h), so the \
+             factor must be >= {min_factor:.3e} (the duration over 24 h)",
+            shown(f),
+            duration_s / f
+        ))),
         Some(f) => Err(input_error(format!(
             "--realtime {f} is not allowed: a finite factor > 0 (simulated seconds per \
-             wall-clock second: 1 is real time, 0.01 is 100 times slower)"
+             wall-clock second: 1 is real time, 0.01 is 100 times slower) and >= \
+             {min_factor:.3e} (the run's duration over 24 h)"
         ))),
+    }
+}
+
+/// A factor as the user would write it: `1e-300` rather than three hundred zeros.
+fn shown(f: f64) -> String {
+    if f != 0.0 && !(1e-4..1e6).contains(&f.abs()) {
+        format!("{f:e}")
+    } else {
+        f.to_string()
     }
 }
 
@@ -162,10 +189,10 @@ mod tests {
 
     #[test]
     fn checks_the_factor() {
-        assert!(check(&args(None, None)).unwrap().is_none());
-        assert!(check(&args(Some(0.01), Some(0.0))).unwrap().is_some());
+        assert!(check(&args(None, None), 1.0).unwrap().is_none());
+        assert!(check(&args(Some(0.01), Some(0.0)), 1.0).unwrap().is_some());
         for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-            let e = check(&args(Some(bad), None)).unwrap_err();
+            let e = check(&args(Some(bad), None), 1.0).unwrap_err();
             assert_eq!(crate::error::exit_code(&e), crate::error::EXIT_BAD_INPUT);
             let text = e.to_string();
             assert!(
@@ -173,8 +200,24 @@ mod tests {
                 "{text}"
             );
         }
-        let e = check(&args(None, Some(-1.0))).unwrap_err().to_string();
+        let e = check(&args(None, Some(-1.0)), 1.0).unwrap_err().to_string();
         assert!(e.contains("--wait-timeout-s -1"), "{e}");
+    }
+
+    #[test]
+    fn bounds_the_paced_wall_time() {
+        // A 1 s run may be paced over at most a day: factor 1/86400 is the slowest.
+        let slowest = 1.0 / MAX_PACED_WALL_S;
+        assert!(check(&args(Some(slowest), None), 1.0).unwrap().is_some());
+        for (factor, duration_s) in [(1e-300, 1.0), (slowest * 0.99, 1.0), (1e-3, 100.0)] {
+            let e = check(&args(Some(factor), None), duration_s).unwrap_err();
+            assert_eq!(crate::error::exit_code(&e), crate::error::EXIT_BAD_INPUT);
+            let text = e.to_string();
+            assert!(
+                text.contains(&format!("--realtime {}", shown(factor))) && text.contains("24 h"),
+                "{text}"
+            );
+        }
     }
 
     #[test]

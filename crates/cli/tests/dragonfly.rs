@@ -1,10 +1,11 @@
-//! The four-winged built-in dragonfly through the real binary: it flies (`--no-log`), and
-//! what supports one wing pair only (logs, hover trim at forward-flight kinematics) says so
-//! with an error, never a panic.
+//! The four-winged built-in dragonfly through the real binary: it flies (`--no-log`), its
+//! logs carry every wing (frames, channels, planforms and force arrows) and replay, and what
+//! supports one wing pair only (hover trim at forward-flight kinematics) says so with an
+//! error, never a panic.
 
 mod common;
 
-use common::flapwing;
+use common::{flapwing, flapwing_in};
 
 #[test]
 fn the_dragonfly_flies_without_a_log() {
@@ -27,27 +28,147 @@ fn the_dragonfly_flies_without_a_log() {
     assert!((lw - 0.769).abs() < 0.01, "{lw}");
 }
 
-#[test]
-fn a_log_of_four_wings_is_refused_with_the_way_out() {
-    let dir = tempfile::tempdir().unwrap();
-    let mcap = dir.path().join("d.mcap");
-    let run = flapwing(&[
-        "simulate",
-        "--model",
-        "dragonfly",
-        "--duration-s",
-        "0.01",
-        "--mcap",
-        mcap.to_str().unwrap(),
-    ]);
-    run.assert_bad_input();
-    assert!(
-        run.stderr.contains("dragonfly")
-            && run.stderr.contains("4 wings")
-            && run.stderr.contains("--no-log"),
-        "{run:?}"
+/// The CSV export of one channel of `log`: (header, rows), each a list of cells.
+fn csv_of(dir: &std::path::Path, log: &str, channel: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let out = dir.join(format!("{}.csv", channel.replace('/', "_")));
+    let run = flapwing_in(
+        dir,
+        &["replay", log, "--csv", channel, out.to_str().unwrap()],
     );
-    assert!(!mcap.exists(), "no partial log left behind");
+    assert_eq!(run.code, 0, "{run:?}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text
+        .lines()
+        .map(|l| l.split(',').map(str::to_owned).collect());
+    let header: Vec<String> = lines.next().unwrap();
+    (header, lines.collect())
+}
+
+/// A row's cell in the column named `name`.
+fn cell<'a>(header: &[String], row: &'a [String], name: &str) -> &'a str {
+    let i = header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no {name}"));
+    &row[i]
+}
+
+#[test]
+fn a_log_of_four_wings_replays_with_every_wing() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = flapwing_in(
+        dir.path(),
+        &[
+            "simulate",
+            "--model",
+            "dragonfly",
+            "--duration-s",
+            "0.04",
+            "--mcap",
+            "d.mcap",
+            "--rrd",
+            "d.rrd",
+        ],
+    );
+    assert_eq!(run.code, 0, "{run:?}");
+    let labels = ["left", "right", "pairs0_left", "pairs0_right"];
+    // The summary names the four wings and lists each one's frame and channels.
+    let replay = flapwing_in(dir.path(), &["replay", "d.mcap"]);
+    assert_eq!(replay.code, 0, "{replay:?}");
+    assert!(
+        replay
+            .stdout
+            .contains("wings      4: left, right, pairs0_left, pairs0_right"),
+        "{}",
+        replay.stdout
+    );
+    assert!(
+        replay.stdout.contains("(all 4 wings, body frame)"),
+        "{}",
+        replay.stdout
+    );
+    let j = flapwing_in(dir.path(), &["replay", "d.mcap", "--json"]).json();
+    assert_eq!(j["wings"], serde_json::json!(labels));
+    let topics: Vec<&str> = j["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["topic"].as_str().unwrap())
+        .collect();
+    let samples = j["samples"].as_u64().unwrap();
+    assert!(samples >= 70, "{samples}");
+    for l in labels {
+        for t in [
+            format!("/tf/wing_{l}"),
+            format!("/wing/{l}/kinematics"),
+            format!("/wing/{l}/forces"),
+        ] {
+            let c = j["channels"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|c| c["topic"] == t.as_str())
+                .unwrap_or_else(|| panic!("no {t} in {topics:?}"));
+            assert_eq!(c["message_count"].as_u64(), Some(samples), "{t}");
+        }
+    }
+    // Foxglove's 3D panel: each wing's transform is a child of base_link, its planform is
+    // drawn in its frame and its force arrow comes from its hinge.
+    let hinges: Vec<f64> = labels
+        .iter()
+        .map(|l| {
+            let (h, rows) = csv_of(dir.path(), "d.mcap", &format!("/tf/wing_{l}"));
+            assert_eq!(cell(&h, &rows[0], "parent_frame_id"), "base_link");
+            assert_eq!(cell(&h, &rows[0], "child_frame_id"), format!("wing_{l}"));
+            cell(&h, &rows[0], "translation.x").parse().unwrap()
+        })
+        .collect();
+    // Forewings ahead of the centre of mass, hindwings behind (models/dragonfly.toml).
+    assert!(
+        hinges[0] > 0.0 && hinges[1] > 0.0 && hinges[2] < 0.0 && hinges[3] < 0.0,
+        "{hinges:?}"
+    );
+    let (h, rows) = csv_of(dir.path(), "d.mcap", "/scene/wings");
+    let (fh, frows) = csv_of(dir.path(), "d.mcap", "/scene/forces");
+    assert_eq!(frows.len() as u64, samples);
+    for (k, l) in labels.iter().enumerate() {
+        assert_eq!(
+            cell(&h, &rows[0], &format!("entities.{k}.frame_id")),
+            format!("wing_{l}")
+        );
+        assert_eq!(
+            cell(&fh, &frows[0], &format!("entities.{k}.id")),
+            format!("force_{l}")
+        );
+        let x: f64 = cell(
+            &fh,
+            &frows[0],
+            &format!("entities.{k}.arrows.0.pose.position.x"),
+        )
+        .parse()
+        .unwrap();
+        assert_eq!(x, hinges[k], "{l}");
+    }
+    assert!(
+        !fh.iter().any(|c| c.starts_with("entities.4.")),
+        "four arrows, no more"
+    );
+    // The log re-runs bit for bit and converts to Rerun with every sample.
+    let check = flapwing_in(dir.path(), &["replay", "d.mcap", "--check"]);
+    assert_eq!(check.code, 0, "{check:?}");
+    assert!(
+        check
+            .stdout
+            .contains(&format!("match: {samples} samples identical")),
+        "{check:?}"
+    );
+    let rrd = flapwing_in(dir.path(), &["replay", "d.mcap", "--rrd", "again.rrd"]);
+    assert_eq!(rrd.code, 0, "{rrd:?}");
+    assert!(
+        rrd.stdout.contains(&format!("wrote {samples} samples")),
+        "{rrd:?}"
+    );
+    assert!(std::fs::metadata(dir.path().join("d.rrd")).unwrap().len() > 10_000);
 }
 
 #[test]

@@ -15,12 +15,11 @@ use crate::chunk::RawChunk;
 use crate::decimate::Decimator;
 use crate::pb::{Pb, SAMPLE_BOUND};
 use crate::proto;
-use crate::sample::{Encoded, SAMPLE_MESSAGES, Sample, SampleBuilder, timestamp};
+use crate::sample::{Encoded, Sample, SampleBuilder, timestamp};
 use crate::scene::ForceArrows;
-use crate::schema::{
-    CHANNELS, EVENTS, FORCE_ARROWS_MAX_RATE_HZ, OPTIONAL_CHANNELS, SCENE_FORCES, SCENE_WINGS,
-    channel_id,
-};
+use crate::schema::{FORCE_ARROWS_MAX_RATE_HZ, OPTIONAL_CHANNELS, WingLayout, channel_id};
+use flapsim::actuated::ActuatedWingOutput;
+use wingforce::WingForces;
 
 /// Writes each logged step's messages into the open chunk: the ten of the sample and, at
 /// most [`FORCE_ARROWS_MAX_RATE_HZ`] times per simulated second, its force arrows, after the
@@ -35,12 +34,14 @@ pub(crate) struct SampleEncoder {
     arrow_decimator: Decimator,
     /// The wing planforms, until they go out with the first sample.
     planforms: Option<SceneUpdate>,
-    /// Per channel: [`CHANNELS`], then [`OPTIONAL_CHANNELS`].
-    sequences: [u32; CHANNELS.len() + OPTIONAL_CHANNELS.len()],
+    /// Per channel: the layout's channels, then [`OPTIONAL_CHANNELS`].
+    sequences: Vec<u32>,
+    layout: WingLayout,
 }
 
 impl SampleEncoder {
     pub fn new(builder: SampleBuilder, arrows: ForceArrows, planforms: SceneUpdate) -> Self {
+        let layout = WingLayout::new(builder.wings());
         Self {
             builder,
             sample: Sample::default(),
@@ -48,7 +49,8 @@ impl SampleEncoder {
             arrow_message: SceneUpdate::default(),
             arrow_decimator: Decimator::new(Some(FORCE_ARROWS_MAX_RATE_HZ)),
             planforms: Some(planforms),
-            sequences: [0; CHANNELS.len() + OPTIONAL_CHANNELS.len()],
+            sequences: vec![0; layout.channel_count() + OPTIONAL_CHANNELS.len()],
+            layout,
         }
     }
 
@@ -65,19 +67,28 @@ impl SampleEncoder {
         s
     }
 
-    /// Builds the messages of `out` and appends their records to `raw`; the number of
+    /// Builds the messages of `out` with every wing's forces and actuator state (see
+    /// [`SampleBuilder::build_wings`]) and appends their records to `raw`; the number of
     /// messages written.
-    pub fn sample(&mut self, out: &StepOutput, raw: &mut RawChunk) -> u64 {
-        let mut messages = SAMPLE_MESSAGES as u64;
-        self.builder.build(out, &mut self.sample);
+    pub fn sample(
+        &mut self,
+        out: &StepOutput,
+        wings: &[WingForces],
+        actuated: Option<&[ActuatedWingOutput]>,
+        raw: &mut RawChunk,
+    ) -> u64 {
+        let mut messages = self.layout.sample_messages() as u64;
+        self.builder
+            .build_wings(out, wings, actuated, &mut self.sample);
         let t_ns = self.sample.t_ns;
+        let (scene_wings, scene_forces) = (self.layout.scene_wings(), self.layout.scene_forces());
         if let Some(mut scene) = self.planforms.take() {
             messages += 1;
             for e in &mut scene.entities {
                 e.timestamp = Some(timestamp(t_ns));
             }
-            let seq = self.next(SCENE_WINGS);
-            raw.message(channel_id(SCENE_WINGS), seq, t_ns, &scene);
+            let seq = self.next(scene_wings);
+            raw.message(channel_id(scene_wings), seq, t_ns, &scene);
         }
         let Self {
             sample,
@@ -93,9 +104,9 @@ impl SampleEncoder {
         });
         if self.arrow_decimator.take(out.t_s) {
             arrows.build(sample, arrow_message);
-            let seq = self.next(SCENE_FORCES);
+            let seq = self.next(scene_forces);
             let bound = arrow_scene_bound(&self.arrow_message);
-            raw.message_with(channel_id(SCENE_FORCES), seq, t_ns, bound, |p| {
+            raw.message_with(channel_id(scene_forces), seq, t_ns, bound, |p| {
                 arrow_scene(p, &self.arrow_message);
             });
             messages += 1;
@@ -113,14 +124,15 @@ impl SampleEncoder {
         message: &dyn Encoded,
         raw: &mut RawChunk,
     ) {
-        let seq = self.next(CHANNELS.len() + optional);
+        let seq = self.next(self.layout.channel_count() + optional);
         raw.message(id, seq, t_ns, message);
     }
 
     /// Appends an event's record to `raw`.
     pub fn event(&mut self, t_ns: u64, log: &foxglove::messages::Log, raw: &mut RawChunk) {
-        let seq = self.next(EVENTS);
-        raw.message(channel_id(EVENTS), seq, t_ns, log);
+        let events = self.layout.events();
+        let seq = self.next(events);
+        raw.message(channel_id(events), seq, t_ns, log);
     }
 }
 
@@ -246,10 +258,11 @@ pub(crate) fn arrow_scene_bound(m: &SceneUpdate) -> usize {
     64 + m.entities.iter().map(entity).sum::<usize>()
 }
 
-/// Calls `f(channel index, bound, encoder)` for the ten messages of a sample, in channel
-/// order (see [`Sample::each`], which gives them to prost); `bound` is room enough for the
+/// Calls `f(channel index, bound, encoder)` for the messages of a sample, in channel order
+/// (see [`Sample::each`], which gives them to prost); `bound` is room enough for the
 /// message.
 pub(crate) fn each_encoder(s: &Sample, mut f: impl FnMut(usize, usize, &dyn Fn(&mut Pb))) {
+    let n = s.wings();
     f(0, SAMPLE_BOUND + s.pose.frame_id.len(), &|p| {
         pose_in_frame(p, &s.pose)
     });
@@ -257,12 +270,14 @@ pub(crate) fn each_encoder(s: &Sample, mut f: impl FnMut(usize, usize, &dyn Fn(&
         let strings = t.parent_frame_id.len() + t.child_frame_id.len();
         f(1 + i, SAMPLE_BOUND + strings, &|p| frame_transform(p, t));
     }
-    f(4, SAMPLE_BOUND, &|p| vehicle_state(p, &s.state));
-    f(5, SAMPLE_BOUND, &|p| controls(p, &s.controls));
-    f(6, SAMPLE_BOUND, &|p| wing_kinematics(p, &s.kinematics[0]));
-    f(7, SAMPLE_BOUND, &|p| wing_kinematics(p, &s.kinematics[1]));
-    f(8, SAMPLE_BOUND, &|p| wing_forces(p, &s.forces[0]));
-    f(9, SAMPLE_BOUND, &|p| wing_forces(p, &s.forces[1]));
+    f(2 + n, SAMPLE_BOUND, &|p| vehicle_state(p, &s.state));
+    f(3 + n, SAMPLE_BOUND, &|p| controls(p, &s.controls));
+    for (i, k) in s.kinematics.iter().enumerate() {
+        f(4 + n + i, SAMPLE_BOUND, &|p| wing_kinematics(p, k));
+    }
+    for (i, w) in s.forces.iter().enumerate() {
+        f(4 + 2 * n + i, SAMPLE_BOUND, &|p| wing_forces(p, w));
+    }
 }
 
 #[cfg(test)]
@@ -356,7 +371,7 @@ mod tests {
             assert_eq!(p, h, "value {x}");
         }
         // Absent sub-messages and empty strings are left out as prost leaves them out.
-        let mut s = Sample::default();
+        let mut s = Sample::with_wings(2);
         s.forces[1].total = Some(proto::ForceTerm::default());
         let a = SceneUpdate {
             deletions: Vec::new(),

@@ -24,9 +24,7 @@ use foxglove::{
 use crate::error::{Error, Result};
 use crate::options::LogOptions;
 use crate::sample::{Encoded, Sample};
-use crate::schema::{
-    self, EVENTS, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCENE_FORCES, SCENE_WINGS, SCHEMA_ENCODING,
-};
+use crate::schema::{self, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, WingLayout};
 
 /// The running server and its channels (in the order of [`schema::declared_channels`]).
 pub(crate) struct LiveSink {
@@ -34,6 +32,10 @@ pub(crate) struct LiveSink {
     channels: Vec<Arc<RawChannel>>,
     /// Each of [`OPTIONAL_CHANNELS`]' index in `channels`, if declared.
     optional: [Option<usize>; OPTIONAL_CHANNELS.len()],
+    /// The indexes of /events, /scene/wings and /scene/forces in `channels`.
+    events: usize,
+    scene_wings: usize,
+    scene_forces: usize,
     buf: Vec<u8>,
     /// Whether the current /scene/wings subscription has had the planforms.
     scene_sent: bool,
@@ -131,20 +133,20 @@ fn host_port(addr: &str) -> Result<(String, u16)> {
 
 impl LiveSink {
     /// Starts the server at `addr` (`host:port`; port 0 picks a free one) with the channels
-    /// a log with `options` declares.
-    pub fn start(addr: &str, options: &LogOptions) -> Result<Self> {
+    /// a log of a vehicle with `wings` and `options` declares.
+    pub fn start(addr: &str, options: &LogOptions, wings: &WingLayout) -> Result<Self> {
         let (host, port) = host_port(addr)?;
         let context = Context::new();
-        let declared = schema::declared_channels(options);
+        let declared = schema::declared_channels(wings, options);
         let mut optional = [None; OPTIONAL_CHANNELS.len()];
         for (i, c) in OPTIONAL_CHANNELS.iter().enumerate() {
-            optional[i] = declared.iter().position(|d| d == c);
+            optional[i] = declared.iter().position(|d| d.0 == c.0);
         }
         let mut channels = Vec::with_capacity(declared.len());
         for (topic, name) in declared {
             let data = schema::schema_data(name).unwrap_or_default();
             let channel = context
-                .channel_builder(topic)
+                .channel_builder(topic.as_str())
                 .message_encoding(MESSAGE_ENCODING)
                 .schema(Schema::new(name, SCHEMA_ENCODING, data))
                 .build_raw()
@@ -167,6 +169,9 @@ impl LiveSink {
             server,
             channels,
             optional,
+            events: wings.events(),
+            scene_wings: wings.scene_wings(),
+            scene_forces: wings.scene_forces(),
             buf: Vec::new(),
             scene_sent: false,
             _context: context,
@@ -227,23 +232,23 @@ impl LiveSink {
 
     /// Sends an event on /events.
     pub fn event(&mut self, t_ns: u64, log: &foxglove::messages::Log) {
-        self.log(EVENTS, t_ns, log);
+        self.log(self.events, t_ns, log);
     }
 
     /// True while a client subscribes to /scene/forces.
     pub fn forces_wanted(&self) -> bool {
-        self.channels[SCENE_FORCES].has_sinks()
+        self.channels[self.scene_forces].has_sinks()
     }
 
     /// Sends a sample's force arrows on /scene/forces.
     pub fn forces(&mut self, t_ns: u64, arrows: &foxglove::messages::SceneUpdate) {
-        self.log(SCENE_FORCES, t_ns, arrows);
+        self.log(self.scene_forces, t_ns, arrows);
     }
 
     /// Sends the wing planforms on /scene/wings to a subscribed client that has not had them
     /// yet (a client may join at any time).
     pub fn scene(&mut self, make: impl FnOnce() -> foxglove::messages::SceneUpdate, t_ns: u64) {
-        let c = SCENE_WINGS;
+        let c = self.scene_wings;
         let subscribed = self.channels[c].has_sinks();
         if subscribed && !self.scene_sent {
             self.log(c, t_ns, &make());
@@ -272,7 +277,12 @@ mod tests {
 
     #[test]
     fn waiting_for_a_client_ends() {
-        let sink = LiveSink::start("127.0.0.1:0", &crate::options::LogOptions::default()).unwrap();
+        let sink = LiveSink::start(
+            "127.0.0.1:0",
+            &crate::options::LogOptions::default(),
+            &crate::schema::WingLayout::new(2),
+        )
+        .unwrap();
         let short = Some(Duration::from_millis(50));
         assert_eq!(
             sink.wait_for_client(short, || false),

@@ -3,16 +3,17 @@
 //!
 //! Entities (world z up, `ViewCoordinates::RIGHT_HAND_Z_UP` on `world`):
 //! * `world/body`: Transform3D world_from_body; `world/body/axes`: the body axes (static).
-//! * `world/body/wing_left`, `world/body/wing_right`: Transform3D body_from_wing (the wing
+//! * `world/body/wing_left`, `world/body/wing_right` (and `world/body/wing_{label}` of every
+//!   further wing, [`crate::schema::WingLayout`]): Transform3D body_from_wing (the wing
 //!   frame of [`crate::schema::wing_frame_doc`]); `.../mesh`: the planform (static).
 //! * `world/body/forces/<term>` and `world/body/forces/total`: one arrow per wing from its
 //!   hinge, body frame, length = |F| / weight * body length (so an arrow as long as the body
 //!   is a force equal to the weight).
-//! * `plots/c_l/{left,right}`, `plots/c_d/{left,right}`: C_L and C_D of each term and the
+//! * `plots/c_l/{label}`, `plots/c_d/{label}` per wing: C_L and C_D of each term and the
 //!   total; `plots/lift_over_weight`; `plots/position_m` (x, y, z); `plots/attitude_deg`
 //!   (roll, pitch, yaw).
 //! * `events`: TextLog of the run events.
-//! * Runs with a wind field: `plots/wind_m_s/{left,right}`: each wing's wind at its hinge,
+//! * Runs with a wind field: `plots/wind_m_s/{label}`: each wing's wind at its hinge,
 //!   world frame (x, y, z).
 //! * Runs flown on a state estimate: `world/estimate`: Transform3D world_from_body of the
 //!   estimate, with `world/estimate/axes` (static, grey; the true body is `world/body`);
@@ -37,7 +38,7 @@ use crate::estimate_msg::EstimateView;
 use crate::options::{Level, LogOptions};
 use crate::sample::FrameData;
 use crate::scene::planform_mesh;
-use crate::schema::FORCE_PARTS;
+use crate::schema::{FORCE_PARTS, WingLayout};
 
 const APP_ID: &str = "flapwing";
 const TIMELINE: &str = "sim_time";
@@ -61,6 +62,8 @@ pub(crate) struct RerunSink {
     arrow_m_per_n: f64,
     /// The vehicle's length, m (the estimate's axes).
     body_length_m: f64,
+    /// Each wing's label (`left`, `right`, `pairs0_left`, ...).
+    labels: Vec<String>,
 }
 
 impl RerunSink {
@@ -119,6 +122,7 @@ impl RerunSink {
             streams,
             arrow_m_per_n,
             body_length_m: len,
+            labels: WingLayout::new(vehicle.wings.len()).labels().to_vec(),
         };
         let wing_colors = [
             rerun::Rgba32::from_unmultiplied_rgba(90, 160, 255, 200),
@@ -143,18 +147,18 @@ impl RerunSink {
                 ]),
             )
             .map_err(rr)?;
-            for (i, side) in ["wing_left", "wing_right"].iter().enumerate() {
+            for (i, side) in sink.labels.iter().enumerate() {
                 let (verts, tris) = planform_mesh(vehicle.wings[i].geometry());
                 rec.log_static(
-                    format!("world/body/{side}/mesh"),
+                    format!("world/body/wing_{side}/mesh"),
                     &rerun::Mesh3D::new(verts)
                         .with_triangle_indices(tris)
-                        .with_albedo_factor(wing_colors[i]),
+                        .with_albedo_factor(wing_colors[i % 2]),
                 )
                 .map_err(rr)?;
             }
             for kind in ["c_l", "c_d"] {
-                for side in ["left", "right"] {
+                for side in &sink.labels {
                     rec.log_static(
                         format!("plots/{kind}/{side}"),
                         &rerun::SeriesLines::new().with_names(FORCE_PARTS),
@@ -202,30 +206,30 @@ impl RerunSink {
                 &rerun::Transform3D::from_translation_rotation(f3(f.position), q4(f.attitude)),
             )
             .map_err(rr)?;
-            for (i, side) in ["wing_left", "wing_right"].iter().enumerate() {
+            for (side, w) in self.labels.iter().zip(&f.wings) {
                 rec.log(
-                    format!("world/body/{side}"),
-                    &rerun::Transform3D::from_translation_rotation(
-                        f3(f.wing_hinge[i]),
-                        q4(f.wing_rotation[i]),
-                    ),
+                    format!("world/body/wing_{side}"),
+                    &rerun::Transform3D::from_translation_rotation(f3(w.hinge), q4(w.rotation)),
                 )
                 .map_err(rr)?;
             }
             for (j, part) in FORCE_PARTS.iter().enumerate() {
-                let vecs = [0, 1].map(|i| f3(f.force_n[i][j].map(|x| x * self.arrow_m_per_n)));
+                let vecs = f
+                    .wings
+                    .iter()
+                    .map(|w| f3(w.force_n[j].map(|x| x * self.arrow_m_per_n)));
                 rec.log(
                     format!("world/body/forces/{part}"),
                     &rerun::Arrows3D::from_vectors(vecs)
-                        .with_origins([f3(f.wing_hinge[0]), f3(f.wing_hinge[1])])
-                        .with_colors([part_colors[j], part_colors[j]]),
+                        .with_origins(f.wings.iter().map(|w| f3(w.hinge)))
+                        .with_colors(vec![part_colors[j]; f.wings.len()]),
                 )
                 .map_err(rr)?;
             }
-            for (i, side) in ["left", "right"].iter().enumerate() {
-                rec.log(format!("plots/c_l/{side}"), &rerun::Scalars::new(f.c_l[i]))
+            for (side, w) in self.labels.iter().zip(&f.wings) {
+                rec.log(format!("plots/c_l/{side}"), &rerun::Scalars::new(w.c_l))
                     .map_err(rr)?;
-                rec.log(format!("plots/c_d/{side}"), &rerun::Scalars::new(f.c_d[i]))
+                rec.log(format!("plots/c_d/{side}"), &rerun::Scalars::new(w.c_d))
                     .map_err(rr)?;
             }
             rec.log(
@@ -238,8 +242,7 @@ impl RerunSink {
             rec.log("plots/attitude_deg", &rerun::Scalars::new(f.euler_deg))
                 .map_err(rr)?;
             if let Some(a) = &f.actuation {
-                for (i, side) in ["left", "right"].iter().enumerate() {
-                    let [volt, hinge, pitch] = a[i];
+                for (side, [volt, hinge, pitch]) in self.labels.iter().zip(a.iter().copied()) {
                     rec.log(
                         format!("plots/actuation/{side}/voltage_v"),
                         &rerun::Scalars::single(volt),
@@ -265,7 +268,7 @@ impl RerunSink {
     pub fn wind(&self, t_ns: u64, wing_winds_world_m_s: &[nalgebra::Vector3<f64>]) -> Result<()> {
         for rec in &self.streams {
             Self::set_time(rec, t_ns);
-            for (w, side) in wing_winds_world_m_s.iter().zip(["left", "right"]) {
+            for (w, side) in wing_winds_world_m_s.iter().zip(&self.labels) {
                 let v = [w.x, w.y, w.z].map(|x| if x.is_finite() { x } else { 0.0 });
                 rec.log(format!("plots/wind_m_s/{side}"), &rerun::Scalars::new(v))
                     .map_err(rr)?;

@@ -1,20 +1,19 @@
-//! One logged step as protobuf messages: the ten messages of a sample (channel order of
-//! [`crate::schema::CHANNELS`]), built from a [`StepOutput`] with the Foxglove types of the
+//! One logged step as protobuf messages: the messages of a sample (channel order of
+//! [`crate::schema::WingLayout::channels`], ten for two wings), built from a [`StepOutput`] with the Foxglove types of the
 //! foxglove crate and flapwing's own ([`crate::proto`]). Numbers go in as the simulation
 //! produced them (protobuf doubles carry NaN and infinity); only the Rerun view's numbers
 //! ([`FrameData`]) are made finite.
 
 use flapsim::StepOutput;
+use flapsim::actuated::ActuatedWingOutput;
 use foxglove::messages::{FrameTransform, PoseInFrame, Timestamp};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use wingforce::Side;
+use wingforce::WingForces;
 use wingforce::wing::WingFrame;
 
 use crate::proto;
-use crate::schema::{FRAME_BODY, FRAME_WING_LEFT, FRAME_WING_RIGHT, FRAME_WORLD};
-
-/// Messages per sample: channel indexes 0..10 of [`crate::schema::CHANNELS`] (events excluded).
-pub(crate) const SAMPLE_MESSAGES: usize = 10;
+use crate::schema::{FRAME_BODY, FRAME_WORLD, WingLayout};
 
 /// Simulation time in integer nanoseconds (0 for negative or non-finite times).
 pub(crate) fn time_ns(t_s: f64) -> u64 {
@@ -45,16 +44,17 @@ pub(crate) struct WingStatic {
 }
 
 impl WingStatic {
-    /// Both wings of `vehicle`.
-    pub fn of(vehicle: &flapsim::Vehicle) -> [Self; 2] {
-        [0, 1].map(|i| {
-            let w = &vehicle.wings[i];
-            WingStatic {
+    /// Every wing of `vehicle`, in its order.
+    pub fn of(vehicle: &flapsim::Vehicle) -> Vec<Self> {
+        vehicle
+            .wings
+            .iter()
+            .map(|w| WingStatic {
                 side: w.mount().side,
                 hinge_in_body_m: w.mount().hinge_in_body_m,
                 body_from_stroke: *w.body_from_stroke(),
-            }
-        })
+            })
+            .collect()
     }
 }
 
@@ -87,34 +87,55 @@ fn angles(phi: f64, theta: f64, eta: f64) -> Option<proto::WingAngles> {
     Some(proto::WingAngles { phi, theta, eta })
 }
 
-/// The ten messages of one sample.
+/// The messages of one sample (`4 + 3 n` for `n` wings).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Sample {
     pub t_ns: u64,
     pub pose: PoseInFrame,
-    /// world -> base_link, base_link -> wing_left, base_link -> wing_right.
-    pub transforms: [FrameTransform; 3],
+    /// world -> base_link, then base_link -> each wing's frame.
+    pub transforms: Vec<FrameTransform>,
     pub state: proto::VehicleState,
     pub controls: proto::Controls,
-    pub kinematics: [proto::WingKinematics; 2],
-    pub forces: [proto::WingForces; 2],
+    /// Per wing.
+    pub kinematics: Vec<proto::WingKinematics>,
+    /// Per wing.
+    pub forces: Vec<proto::WingForces>,
 }
 
 impl Sample {
-    /// Calls `f(channel index, message)` for the ten messages in channel order (the live view
-    /// encodes them with prost; the MCAP file with [`crate::encode::each_encoder`]).
+    /// An empty sample of `wings` wings.
+    pub fn with_wings(wings: usize) -> Self {
+        Self {
+            transforms: vec![FrameTransform::default(); 1 + wings],
+            kinematics: vec![proto::WingKinematics::default(); wings],
+            forces: vec![proto::WingForces::default(); wings],
+            ..Self::default()
+        }
+    }
+
+    /// Number of wings.
+    pub fn wings(&self) -> usize {
+        self.forces.len()
+    }
+
+    /// Calls `f(channel index, message)` for the sample's messages in channel order (the
+    /// live view encodes them with prost; the MCAP file with
+    /// [`crate::encode::each_encoder`]).
     #[cfg_attr(not(feature = "live"), allow(dead_code))]
     pub fn each(&self, mut f: impl FnMut(usize, &dyn Encoded)) {
+        let n = self.wings();
         f(0, &self.pose);
         for (i, t) in self.transforms.iter().enumerate() {
             f(1 + i, t);
         }
-        f(4, &self.state);
-        f(5, &self.controls);
-        f(6, &self.kinematics[0]);
-        f(7, &self.kinematics[1]);
-        f(8, &self.forces[0]);
-        f(9, &self.forces[1]);
+        f(2 + n, &self.state);
+        f(3 + n, &self.controls);
+        for (i, k) in self.kinematics.iter().enumerate() {
+            f(4 + n + i, k);
+        }
+        for (i, w) in self.forces.iter().enumerate() {
+            f(4 + 2 * n + i, w);
+        }
     }
 }
 
@@ -136,17 +157,48 @@ impl<M: prost::Message> Encoded for M {
 /// Builds the messages of each logged step.
 #[derive(Debug, Clone)]
 pub(crate) struct SampleBuilder {
-    wings: [WingStatic; 2],
+    wings: Vec<WingStatic>,
+    /// Each wing's frame name.
+    frames: Vec<String>,
     weight_n: f64,
 }
 
 impl SampleBuilder {
-    pub fn new(wings: [WingStatic; 2], weight_n: f64) -> Self {
-        Self { wings, weight_n }
+    pub fn new(wings: Vec<WingStatic>, weight_n: f64) -> Self {
+        let layout = WingLayout::new(wings.len());
+        let frames = (0..wings.len()).map(|i| layout.frame(i)).collect();
+        Self {
+            wings,
+            frames,
+            weight_n,
+        }
     }
 
-    /// The messages of `out`, written over `s` (which keeps its frame names between samples).
+    /// Number of wings.
+    pub fn wings(&self) -> usize {
+        self.wings.len()
+    }
+
+    /// The messages of a two-winged vehicle's `out`, written over `s` (which keeps its frame
+    /// names between samples).
+    #[cfg(test)]
     pub fn build(&self, out: &StepOutput, s: &mut Sample) {
+        self.build_wings(out, &out.wings, out.actuated.as_ref().map(|a| &a[..]), s);
+    }
+
+    /// The messages of `out` with every wing's forces (`wings`, the vehicle's order) and
+    /// actuator state (`actuated`, `None` for prescribed kinematics), written over `s`.
+    pub fn build_wings(
+        &self,
+        out: &StepOutput,
+        wings: &[WingForces],
+        actuated: Option<&[ActuatedWingOutput]>,
+        s: &mut Sample,
+    ) {
+        let n = self.wings.len();
+        if s.wings() != n || s.transforms.len() != 1 + n {
+            *s = Sample::with_wings(n);
+        }
         let t_ns = time_ns(out.t_s);
         let ts = Some(timestamp(t_ns));
         let st = &out.state;
@@ -161,16 +213,17 @@ impl SampleBuilder {
             orientation,
         });
 
-        let [body, left, right] = &mut s.transforms;
+        let (body, wing_tfs) = s.transforms.split_at_mut(1);
+        let body = &mut body[0];
         frames(body, FRAME_WORLD, FRAME_BODY);
         body.timestamp = ts;
         body.translation = position;
         body.rotation = orientation;
-        for (i, tf) in [left, right].into_iter().enumerate() {
-            frames(tf, FRAME_BODY, [FRAME_WING_LEFT, FRAME_WING_RIGHT][i]);
+        for (i, tf) in wing_tfs.iter_mut().enumerate() {
+            frames(tf, FRAME_BODY, &self.frames[i]);
             tf.timestamp = ts;
             tf.translation = Some(fox_vec(&self.wings[i].hinge_in_body_m));
-            let q = wing_rotation(&self.wings[i], &out.wings[i].angles);
+            let q = wing_rotation(&self.wings[i], &wings[i].angles);
             tf.rotation = Some(fox_quat(&q));
         }
 
@@ -213,7 +266,7 @@ impl SampleBuilder {
             diff_amplitude_deg: c.diff_amplitude_rad.to_degrees(),
             diff_pitch_bias_deg: c.diff_pitch_bias_rad.to_degrees(),
             diff_mean_stroke_deg: c.diff_mean_stroke_rad.to_degrees(),
-            drive: out.actuated.as_ref().map(|_| proto::Drive {
+            drive: actuated.map(|_| proto::Drive {
                 bias_v: c.bias_v,
                 amplitude_v: c.amplitude_v,
                 diff_amplitude_v: c.diff_amplitude_v,
@@ -222,7 +275,7 @@ impl SampleBuilder {
             }),
         };
 
-        for (i, wf) in out.wings.iter().enumerate() {
+        for (i, wf) in wings.iter().enumerate().take(n) {
             let a = &wf.angles;
             s.kinematics[i] = proto::WingKinematics {
                 timestamp: ts,
@@ -236,7 +289,7 @@ impl SampleBuilder {
                 t_star: wf.phase.t_star,
                 half_stroke: wf.phase.half_stroke,
                 downstroke: wf.phase.downstroke,
-                actuation: out.actuated.as_ref().map(|act| {
+                actuation: actuated.map(|act| {
                     let x = &act[i];
                     proto::Actuation {
                         hinge_moment_nm: x.hinge_moment_nm,
@@ -286,7 +339,7 @@ fn frames(tf: &mut FrameTransform, parent: &str, child: &str) {
 }
 
 /// The numbers a 3D view needs for one sample (all finite: non-finite numbers as 0).
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 #[cfg_attr(not(feature = "rerun"), allow(dead_code))]
 pub(crate) struct FrameData {
     pub t_ns: u64,
@@ -295,15 +348,23 @@ pub(crate) struct FrameData {
     pub attitude: [f64; 4],
     pub euler_deg: [f64; 3],
     pub lift_over_weight: f64,
-    /// Per wing: hinge (body frame), base_link_from_wing (x y z w).
-    pub wing_hinge: [[f64; 3]; 2],
-    pub wing_rotation: [[f64; 4]; 2],
-    /// Per wing, per part (4 terms and total): force (body frame, N), C_L, C_D.
-    pub force_n: [[[f64; 3]; 5]; 2],
-    pub c_l: [[f64; 5]; 2],
-    pub c_d: [[f64; 5]; 2],
+    /// Per wing.
+    pub wings: Vec<WingView>,
     /// Per wing of an actuated vehicle: drive voltage (V), hinge moment (N m), pitch (deg).
-    pub actuation: Option<[[f64; 3]; 2]>,
+    pub actuation: Option<Vec<[f64; 3]>>,
+}
+
+/// One wing's numbers in a [`FrameData`].
+#[derive(Debug, Clone, Copy, Default)]
+#[cfg_attr(not(feature = "rerun"), allow(dead_code))]
+pub(crate) struct WingView {
+    /// Hinge (body frame), m; base_link_from_wing (x y z w).
+    pub hinge: [f64; 3],
+    pub rotation: [f64; 4],
+    /// Per part (4 terms and total): force (body frame, N), C_L, C_D.
+    pub force_n: [[f64; 3]; 5],
+    pub c_l: [f64; 5],
+    pub c_d: [f64; 5],
 }
 
 #[cfg_attr(not(feature = "rerun"), allow(dead_code))]
@@ -335,9 +396,11 @@ impl FrameData {
             lift_over_weight: fin(s.state.lift_over_weight),
             ..FrameData::default()
         };
-        for i in 0..2 {
-            f.wing_hinge[i] = v3(s.transforms[1 + i].translation);
-            f.wing_rotation[i] = q4(s.transforms[1 + i].rotation);
+        let n = s.wings();
+        f.wings = vec![WingView::default(); n];
+        for (i, wv) in f.wings.iter_mut().enumerate() {
+            wv.hinge = v3(s.transforms[1 + i].translation);
+            wv.rotation = q4(s.transforms[1 + i].rotation);
             let w = &s.forces[i];
             let parts = [
                 w.translational,
@@ -348,18 +411,22 @@ impl FrameData {
             ];
             for (j, t) in parts.iter().enumerate() {
                 let t = t.unwrap_or_default();
-                f.force_n[i][j] = p3(t.force_n);
-                f.c_l[i][j] = fin(t.c_l);
-                f.c_d[i][j] = fin(t.c_d);
+                wv.force_n[j] = p3(t.force_n);
+                wv.c_l[j] = fin(t.c_l);
+                wv.c_d[j] = fin(t.c_d);
             }
         }
-        if s.kinematics.iter().all(|k| k.actuation.is_some()) {
-            f.actuation = Some([0, 1].map(|i| {
-                let k = &s.kinematics[i];
-                let a = k.actuation.unwrap_or_default();
-                let pitch_deg = k.angles_deg.map_or(0.0, |a| a.theta);
-                [fin(a.voltage_v), fin(a.hinge_moment_nm), fin(pitch_deg)]
-            }));
+        if n > 0 && s.kinematics.iter().all(|k| k.actuation.is_some()) {
+            f.actuation = Some(
+                s.kinematics
+                    .iter()
+                    .map(|k| {
+                        let a = k.actuation.unwrap_or_default();
+                        let pitch_deg = k.angles_deg.map_or(0.0, |a| a.theta);
+                        [fin(a.voltage_v), fin(a.hinge_moment_nm), fin(pitch_deg)]
+                    })
+                    .collect(),
+            );
         }
         f
     }

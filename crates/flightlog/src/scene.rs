@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 
 use crate::proto;
 use crate::sample::{Sample, timestamp};
-use crate::schema::{FRAME_BODY, FRAME_WING_LEFT, FRAME_WING_RIGHT};
+use crate::schema::{FRAME_BODY, WingLayout};
 
 /// An arrow's head, as a fraction of its whole length (the rest is the shaft).
 pub const ARROW_HEAD_FRACTION: f64 = 0.2;
@@ -15,16 +15,19 @@ pub const ARROW_HEAD_FRACTION: f64 = 0.2;
 pub const ARROW_SHAFT_DIAMETER_BODY: f64 = 0.02;
 /// See [`ARROW_SHAFT_DIAMETER_BODY`].
 pub const ARROW_HEAD_DIAMETER_BODY: f64 = 0.05;
-/// Arrow colours, left wing and right wing (r, g, b, a).
+/// Arrow colours, left wings and right wings (r, g, b, a).
 const ARROW_COLOURS: [[f64; 4]; 2] = [[1.0, 0.45, 0.1, 0.9], [0.1, 0.6, 1.0, 0.9]];
 
-/// Builds the `/scene/forces` message of a sample: per wing one entity in `base_link` (the
+/// Builds the `/scene/forces` message of a sample: per wing one entity `force_{label}` (the
+/// wing's label of [`WingLayout`]: `force_left`, `force_right`, ...) in `base_link` (the
 /// body frame the forces are in), `frame_locked`, holding one arrow from the hinge along the
 /// wing's total aerodynamic force. Length = |F| / weight * body length (an arrow as long as
 /// the body is a force equal to the weight, the scale of the Rerun recording's arrows).
 #[derive(Debug, Clone)]
 pub(crate) struct ForceArrows {
-    hinge_m: [Vector3<f64>; 2],
+    hinge_m: Vec<Vector3<f64>>,
+    /// Each wing's entity id.
+    ids: Vec<String>,
     /// Arrow length per newton, m/N.
     m_per_n: f64,
     shaft_diameter_m: f64,
@@ -35,7 +38,16 @@ impl ForceArrows {
     pub fn of(vehicle: &flapsim::Vehicle) -> Self {
         let length_m = vehicle.length_m;
         Self {
-            hinge_m: [0, 1].map(|i| vehicle.wings[i].mount().hinge_in_body_m),
+            hinge_m: vehicle
+                .wings
+                .iter()
+                .map(|w| w.mount().hinge_in_body_m)
+                .collect(),
+            ids: WingLayout::new(vehicle.wings.len())
+                .labels()
+                .iter()
+                .map(|l| format!("force_{l}"))
+                .collect(),
             m_per_n: length_m / vehicle.weight_n(),
             shaft_diameter_m: ARROW_SHAFT_DIAMETER_BODY * length_m,
             head_diameter_m: ARROW_HEAD_DIAMETER_BODY * length_m,
@@ -45,7 +57,8 @@ impl ForceArrows {
     /// The arrows of sample `s`, written over `msg` (which keeps its allocations).
     pub fn build(&self, s: &Sample, msg: &mut SceneUpdate) {
         msg.deletions.clear();
-        msg.entities.resize_with(2, SceneEntity::default);
+        msg.entities
+            .resize_with(self.ids.len(), SceneEntity::default);
         for (i, e) in msg.entities.iter_mut().enumerate() {
             let f = s.forces[i]
                 .total
@@ -53,7 +66,7 @@ impl ForceArrows {
                 .unwrap_or_default();
             e.timestamp = Some(timestamp(s.t_ns));
             set(&mut e.frame_id, FRAME_BODY);
-            set(&mut e.id, ["force_left", "force_right"][i]);
+            set(&mut e.id, &self.ids[i]);
             e.frame_locked = true;
             e.arrows.resize_with(1, ArrowPrimitive::default);
             let a = &mut e.arrows[0];
@@ -71,7 +84,7 @@ impl ForceArrows {
             a.head_length = ARROW_HEAD_FRACTION * length_m;
             a.shaft_diameter = self.shaft_diameter_m;
             a.head_diameter = self.head_diameter_m;
-            let [r, g, b, alpha] = ARROW_COLOURS[i];
+            let [r, g, b, alpha] = ARROW_COLOURS[i % 2];
             a.color = Some(Color { r, g, b, a: alpha });
         }
     }
@@ -154,11 +167,14 @@ pub(crate) fn planform_mesh(g: &wingforce::Geometry) -> (Vec<[f32; 3]>, Vec<[u32
 /// planform flaps with `/tf/wing_*`, drawn as a triangle list.
 pub(crate) fn wing_scene(vehicle: &flapsim::Vehicle, t_ns: u64) -> foxglove::messages::SceneUpdate {
     use foxglove::messages::{Point3, TriangleListPrimitive};
-    let entities = [FRAME_WING_LEFT, FRAME_WING_RIGHT]
+    let layout = WingLayout::new(vehicle.wings.len());
+    let entities = vehicle
+        .wings
         .iter()
         .enumerate()
-        .map(|(i, frame)| {
-            let (verts, tris) = planform_mesh(vehicle.wings[i].geometry());
+        .map(|(i, wing)| {
+            let frame = layout.frame(i);
+            let (verts, tris) = planform_mesh(wing.geometry());
             let points = tris
                 .iter()
                 .flatten()
@@ -173,7 +189,7 @@ pub(crate) fn wing_scene(vehicle: &flapsim::Vehicle, t_ns: u64) -> foxglove::mes
                 .collect();
             SceneEntity {
                 timestamp: Some(timestamp(t_ns)),
-                frame_id: (*frame).to_owned(),
+                frame_id: frame.clone(),
                 id: format!("planform_{frame}"),
                 frame_locked: true,
                 triangles: vec![TriangleListPrimitive {

@@ -72,7 +72,8 @@ pub fn wing_frame_doc() -> &'static str {
      left wing, -n on the right); rotation base_link_from_wing = body_from_stroke * [e_le e_span z]"
 }
 
-/// Every channel: (topic, schema name).
+/// Every channel of a two-winged vehicle's log: (topic, schema name). Logs of other wing
+/// counts have each wing's channels ([`WingLayout::channels`]).
 pub const CHANNELS: [(&str, &str); 13] = [
     (TOPIC_POSE, "foxglove.PoseInFrame"),
     (TOPIC_TF_BODY, "foxglove.FrameTransform"),
@@ -96,19 +97,13 @@ pub const CHANNELS: [(&str, &str); 13] = [
 /// and 200 arrows per wingbeat show nothing that 20 do not.
 pub const FORCE_ARROWS_MAX_RATE_HZ: f64 = 2000.0;
 
-/// Index of /events in [`CHANNELS`].
-pub(crate) const EVENTS: usize = 10;
-/// Index of /scene/wings in [`CHANNELS`].
-pub(crate) const SCENE_WINGS: usize = 11;
-/// Index of /scene/forces in [`CHANNELS`].
-pub(crate) const SCENE_FORCES: usize = 12;
-
 /// The MCAP channel id of channel `index` of [`CHANNELS`] (added in order, numbered from 1).
 pub(crate) fn channel_id(index: usize) -> u16 {
     index as u16 + 1
 }
 
-/// The sensor channels, declared after [`CHANNELS`] (channel ids 14 and 15) when
+/// The sensor channels, declared after [`CHANNELS`] (channel ids 14 and 15 in a two-winged
+/// vehicle's log) when
 /// [`crate::LogOptions::sensors`] is set; one message per delivered reading
 /// ([`crate::Recorder::sensor`]).
 pub const SENSOR_CHANNELS: [(&str, &str); 2] = [
@@ -145,28 +140,153 @@ pub(crate) const OPT_WIND: usize = 2;
 /// Index of /estimate in [`OPTIONAL_CHANNELS`].
 pub(crate) const OPT_ESTIMATE: usize = 3;
 
-/// The channels a log with `options` declares, in order ([`CHANNELS`], then those of
-/// [`OPTIONAL_CHANNELS`] it asks for): (topic, schema name).
+/// The channels a log of a vehicle with `wings` and `options` declares, in order (the
+/// wings' [`WingLayout::channels`], then those of [`OPTIONAL_CHANNELS`] it asks for):
+/// (topic, schema name). For two wings the first thirteen are [`CHANNELS`].
 pub fn declared_channels(
+    wings: &WingLayout,
     options: &crate::options::LogOptions,
-) -> Vec<(&'static str, &'static str)> {
+) -> Vec<(String, &'static str)> {
     let wanted = [
         options.sensors,
         options.sensors,
         options.wind,
         options.estimate,
     ];
-    CHANNELS
-        .iter()
-        .copied()
+    wings
+        .channels()
+        .into_iter()
         .chain(
             OPTIONAL_CHANNELS
                 .iter()
                 .zip(wanted)
                 .filter(|(_, w)| *w)
-                .map(|(c, _)| *c),
+                .map(|(c, _)| ((*c).0.to_owned(), (*c).1)),
         )
         .collect()
+}
+
+/// The per-wing names of a log: the channels and frames of each of a vehicle's wings, in the
+/// vehicle's order. Wing `i` of pair `p = i / 2` is labelled by its side (`left` for even
+/// `i`, `right` for odd): `left` and `right` for the first pair (so two-winged logs keep the
+/// names above), `pairs{k}_left` and `pairs{k}_right` for the model file's `[[pairs]]` entry
+/// `k = p - 1` (flapsim's `Vehicle::wing_name` "pairs[k] left"). Wing `label` has the frame
+/// `wing_{label}` (`/tf/wing_{label}`) and the channels `/wing/{label}/kinematics` and
+/// `/wing/{label}/forces`.
+///
+/// The channels are, in order: `/vehicle/pose`, `/tf/base_link`, each wing's `/tf/wing_*`,
+/// `/vehicle/state`, `/vehicle/controls`, each wing's kinematics, each wing's forces,
+/// `/events`, `/scene/wings`, `/scene/forces` (`7 + 3 n` for `n` wings; [`CHANNELS`] for two).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WingLayout {
+    labels: Vec<String>,
+}
+
+impl WingLayout {
+    /// The layout of `n` wings.
+    pub fn new(n: usize) -> Self {
+        Self {
+            labels: (0..n).map(wing_label).collect(),
+        }
+    }
+
+    /// Number of wings.
+    pub fn len(&self) -> usize {
+        self.labels.len()
+    }
+
+    /// True for no wings.
+    pub fn is_empty(&self) -> bool {
+        self.labels.is_empty()
+    }
+
+    /// The wings' labels (`left`, `right`, `pairs0_left`, ...).
+    pub fn labels(&self) -> &[String] {
+        &self.labels
+    }
+
+    /// Wing `i`'s frame, `wing_{label}`.
+    pub fn frame(&self, i: usize) -> String {
+        format!("wing_{}", self.labels[i])
+    }
+
+    /// Wing `i`'s transform topic, `/tf/wing_{label}`.
+    pub fn tf_topic(&self, i: usize) -> String {
+        format!("/tf/wing_{}", self.labels[i])
+    }
+
+    /// Wing `i`'s kinematics topic, `/wing/{label}/kinematics`.
+    pub fn kinematics_topic(&self, i: usize) -> String {
+        format!("/wing/{}/kinematics", self.labels[i])
+    }
+
+    /// Wing `i`'s forces topic, `/wing/{label}/forces`.
+    pub fn forces_topic(&self, i: usize) -> String {
+        format!("/wing/{}/forces", self.labels[i])
+    }
+
+    /// Messages per sample (every channel before `/events`).
+    pub fn sample_messages(&self) -> usize {
+        4 + 3 * self.len()
+    }
+
+    /// Index of `/events` in [`WingLayout::channels`].
+    pub fn events(&self) -> usize {
+        4 + 3 * self.len()
+    }
+
+    /// Index of `/scene/wings`.
+    pub fn scene_wings(&self) -> usize {
+        5 + 3 * self.len()
+    }
+
+    /// Index of `/scene/forces`.
+    pub fn scene_forces(&self) -> usize {
+        6 + 3 * self.len()
+    }
+
+    /// Number of always-declared channels, `7 + 3 n`.
+    pub fn channel_count(&self) -> usize {
+        7 + 3 * self.len()
+    }
+
+    /// The always-declared channels: (topic, schema name).
+    pub fn channels(&self) -> Vec<(String, &'static str)> {
+        let n = self.len();
+        let mut c = Vec::with_capacity(self.channel_count());
+        c.push((TOPIC_POSE.to_owned(), "foxglove.PoseInFrame"));
+        c.push((TOPIC_TF_BODY.to_owned(), "foxglove.FrameTransform"));
+        c.extend((0..n).map(|i| (self.tf_topic(i), "foxglove.FrameTransform")));
+        c.push((TOPIC_STATE.to_owned(), "flapwing.VehicleState"));
+        c.push((TOPIC_CONTROLS.to_owned(), "flapwing.Controls"));
+        c.extend((0..n).map(|i| (self.kinematics_topic(i), "flapwing.WingKinematics")));
+        c.extend((0..n).map(|i| (self.forces_topic(i), "flapwing.WingForces")));
+        c.push((TOPIC_EVENTS.to_owned(), "foxglove.Log"));
+        c.push((TOPIC_SCENE.to_owned(), "foxglove.SceneUpdate"));
+        c.push((TOPIC_SCENE_FORCES.to_owned(), "foxglove.SceneUpdate"));
+        c
+    }
+
+    /// The wings of a log, from its `/wing/{label}/forces` topics in channel order (`None`
+    /// when it has none).
+    pub fn from_topics<'a>(topics: impl IntoIterator<Item = &'a str>) -> Option<Self> {
+        let labels: Vec<String> = topics
+            .into_iter()
+            .filter_map(|t| t.strip_prefix("/wing/")?.strip_suffix("/forces"))
+            .filter(|l| !l.is_empty() && !l.contains('/'))
+            .map(str::to_owned)
+            .collect();
+        (!labels.is_empty()).then_some(Self { labels })
+    }
+}
+
+/// Wing `i`'s label (see [`WingLayout`]).
+pub fn wing_label(i: usize) -> String {
+    let side = if i % 2 == 0 { "left" } else { "right" };
+    match i / 2 {
+        0 => side.to_owned(),
+        p => format!("pairs{}_{side}", p - 1),
+    }
 }
 
 /// The names of the four terms and the total, in the order of the forces message's objects.

@@ -87,6 +87,11 @@ pub struct FlightData {
     /// replay sets them there too; otherwise only where they change (so that the wing
     /// phases are those of the original run, see `flapsim::Simulation::start_at_step`).
     pub controls_each_wingbeat: bool,
+    /// What a truncated or damaged MCAP log lost, and what was recovered from it
+    /// (flightlog's `ReplaySummary::damage`: "file truncated or damaged at byte N of M: ...;
+    /// recovered K messages from C complete chunks"); `None` for a whole file and a CSV. The
+    /// data above is what the complete chunks hold: callers should say so.
+    pub damage: Option<String>,
 }
 
 fn log_err(path: &Path, detail: impl Into<String>) -> Error {
@@ -377,6 +382,7 @@ impl FlightData {
                 != Some(true);
         Ok(Self {
             controls_each_wingbeat,
+            damage: summary.damage.clone(),
             source: path.to_owned(),
             format: "mcap",
             model_toml,
@@ -421,6 +427,7 @@ impl FlightData {
         let starts = mocap_starts(&csv.mocap, freq_hz, wingbeat_controls.len() as u64);
         Ok(Self {
             controls_each_wingbeat: true,
+            damage: None,
             source: path.to_owned(),
             format: "csv",
             model_toml: model_toml.to_owned(),

@@ -38,7 +38,7 @@ pub struct EnvelopeArgs {
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
     /// Plot the power required, the trim angles and the modes' real parts against speed
-    /// (SVG, or PNG by extension).
+    /// (FILE.svg: SVG, FILE.png: PNG; other extensions are refused).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
     /// Replace the --csv and --plot files if they exist.
@@ -65,7 +65,23 @@ pub fn run(args: EnvelopeArgs) -> Result<()> {
     };
     let grid = EnvelopeGrid::new(speeds, climbs, "--speeds-m-s / --climbs-m-s")
         .input_context("envelope grid")?;
-    // Fail before the work if an output cannot be written.
+    // Fail before the work if an output cannot be written: the plot's format, then both
+    // outputs together (distinct, not the model file, existing ones only with --force).
+    if let Some(p) = &args.plot {
+        crate::plot::check_path("--plot", p)?;
+    }
+    let mut outputs = Vec::new();
+    if let Some(p) = &args.csv {
+        outputs.push(crate::outputs::Named::new("--csv", p));
+    }
+    if let Some(p) = &args.plot {
+        outputs.push(crate::outputs::Named::new("--plot", p));
+    }
+    crate::outputs::check(
+        &crate::outputs::model_input(&src.origin),
+        &outputs,
+        args.force,
+    )?;
     let csv_file = match &args.csv {
         Some(p) => Some(crate::output::create_output_file(p, args.force, "CSV")?),
         None => None,
@@ -118,13 +134,13 @@ fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
     writeln!(
         o,
         "{:>7} {:>7} {:>8} {:>8} {:>8} {:>10} {:>7} {:>9} {:>9}  modes / reason",
-        "U m/s", "W m/s", "pitch", "plane", "ampl", "power W", "W/kg", "margin", "max Re"
+        "U m/s", "W m/s", "pitch", "plane", "ampl", "power W", "W/kg", "margin", "sigma 1/s"
     )?;
     for r in rows {
         let c = &r.condition;
         match &r.point {
             Some(p) => {
-                let max_re = p
+                let sigma = p
                     .longitudinal_modes
                     .iter()
                     .chain(&p.lateral_modes)
@@ -156,7 +172,7 @@ fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
                     p.point.power.aero_w,
                     p.point.power.aero_w / mass_kg,
                     100.0 * p.margin.fraction,
-                    max_re,
+                    sigma,
                     if unstable.is_empty() {
                         "all stable".to_owned()
                     } else {
@@ -173,7 +189,7 @@ fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
     }
     writeln!(
         o,
-        "pitch: body pitch, deg; plane: stroke plane to the horizontal, deg (tilted forward > 0); ampl: stroke amplitude, deg; power: aerodynamic, W (W/kg of body mass); margin: to the amplitude or voltage limit; modes: the unstable ones, longitudinal (lon) and lateral (lat)"
+        "pitch: body pitch, deg; plane: stroke plane to the horizontal, deg (tilted forward > 0); ampl: stroke amplitude, deg; power: aerodynamic, W (W/kg of body mass); margin: to the amplitude or voltage limit; sigma: the largest real part of the modes' eigenvalues, 1/s (> 0: a mode grows); modes: the unstable ones, longitudinal (lon) and lateral (lat)"
     )?;
     crate::output::print_stdout(&o)
 }

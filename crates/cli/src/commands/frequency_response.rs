@@ -103,7 +103,15 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
         }
     }
     let plot_file = match &args.plot {
-        Some(p) => Some(crate::output::create_output_file(p, args.force, "plot")?),
+        Some(p) => {
+            crate::plot::check_path("--plot", p)?;
+            crate::outputs::check(
+                &crate::outputs::model_input(&src.origin),
+                &[crate::outputs::Named::new("--plot", p)],
+                args.force,
+            )?;
+            Some(crate::output::create_output_file(p, args.force, "plot")?)
+        }
         None => None,
     };
     let freqs: Vec<f64> = (0..args.points)

@@ -147,7 +147,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
     let vehicle = build_vehicle(&src)?;
     let duration_s = check_duration(args.duration_s)?;
-    let mut pacer = crate::pacing::check(&args.pace)?;
+    let mut pacer = crate::pacing::check(&args.pace, duration_s)?;
     let disturbance = parse_disturbance(&args.disturbance)?;
     let condition = args.condition.check(&vehicle)?;
     if !condition.is_hover() && args.feedback == Feedback::Estimated {

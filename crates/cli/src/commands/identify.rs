@@ -111,14 +111,18 @@ pub fn run(args: IdentifyArgs) -> Result<()> {
         start_states: args.start_states.into(),
     };
     opts.check().map_err(classify)?;
-    if let Some(out) = &args.out
-        && out.exists()
-        && !args.force
-    {
-        return Err(input_error(format!(
-            "`{}` exists: add --force to replace it",
-            out.display()
-        )));
+    if let Some(out) = &args.out {
+        // The fitted model never replaces the flight or the model it was read from.
+        let mut inputs = vec![crate::outputs::Named::new("FILE", &args.file)];
+        let model = args.model.as_deref().map(std::path::Path::new);
+        if let Some(m) = model.filter(|m| m.is_file()) {
+            inputs.push(crate::outputs::Named::new("--model", m));
+        }
+        crate::outputs::check(
+            &inputs,
+            &[crate::outputs::Named::new("--out", out)],
+            args.force,
+        )?;
     }
     let is_csv = args
         .file
@@ -136,6 +140,16 @@ pub fn run(args: IdentifyArgs) -> Result<()> {
     } else {
         FlightData::from_mcap(&args.file).map_err(classify)?
     };
+    if let Some(damage) = &data.damage {
+        // A killed run's log: fit what its complete chunks hold, and say so.
+        crate::output::note(&format!(
+            "warning: `{}` is incomplete ({damage}); fitting the {} motion-capture frames ({:.3} s) and {} IMU samples recovered from it",
+            args.file.display(),
+            data.mocap.len(),
+            data.duration_s(),
+            data.imu.len()
+        ));
+    }
     if let (false, Some(model)) = (is_csv, args.model.as_deref()) {
         let src = crate::vehicle::read_vehicle(Some(model))?;
         crate::vehicle::build_vehicle(&src)?;

@@ -3,7 +3,8 @@
 //!
 //! Exit codes: 0 ok (and `--check` matched), 1 `--check` found a difference or a conversion
 //! failed while running, 2 bad input (missing file, not MCAP, not a flapwing log, unknown
-//! channel, a log that cannot be re-run, an existing output without --force).
+//! channel, a log that cannot be re-run, an existing output without --force, an output
+//! that is the input log or the other output).
 
 use std::path::PathBuf;
 
@@ -13,6 +14,7 @@ use flightlog::replay;
 
 use crate::error::input_error;
 use crate::output::{create_output_file, print_json, print_stdout};
+use crate::outputs::Named;
 
 /// Arguments of `flapwing replay`.
 #[derive(Debug, clap::Args)]
@@ -56,17 +58,28 @@ pub fn run(args: ReplayArgs) -> Result<()> {
             args.file.display()
         )));
     }
+    // Every output is checked before any is touched: writing the input log (or one output
+    // over the other) would destroy what is read.
+    let csv_out = match args.csv.as_deref() {
+        Some([channel, out]) => Some((channel.as_str(), PathBuf::from(out))),
+        Some(_) => return Err(input_error("--csv takes a channel and an output file")),
+        None => None,
+    };
+    let mut outputs = Vec::new();
+    if let Some((_, out)) = &csv_out {
+        outputs.push(Named::new("--csv", out));
+    }
+    if let Some(out) = &args.rrd {
+        outputs.push(Named::new("--rrd", out));
+    }
+    crate::outputs::check(&[Named::new("FILE", &args.file)], &outputs, args.force)?;
     let mut did_something = false;
-    if let Some(csv) = &args.csv {
-        let [channel, out] = csv.as_slice() else {
-            return Err(input_error("--csv takes a channel and an output file"));
-        };
-        let out = PathBuf::from(out);
+    if let Some((channel, out)) = &csv_out {
         // Fail on bad input before touching the output.
         replay::read_summary(&args.file).map_err(classify)?;
-        drop(create_output_file(&out, args.force, "CSV file")?);
-        let stats = replay::export_csv(&args.file, channel, &out).map_err(|e| {
-            let _ = std::fs::remove_file(&out);
+        drop(create_output_file(out, args.force, "CSV file")?);
+        let stats = replay::export_csv(&args.file, channel, out).map_err(|e| {
+            let _ = std::fs::remove_file(out);
             classify(e)
         })?;
         if !args.json {

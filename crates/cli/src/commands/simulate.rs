@@ -65,7 +65,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
     let vehicle = build_vehicle(&src)?;
     let duration_s = check_duration(args.duration_s)?;
-    let mut pacer = crate::pacing::check(&args.pace)?;
+    let mut pacer = crate::pacing::check(&args.pace, duration_s)?;
     let mode = if args.tethered {
         Mode::Tethered
     } else if args.longitudinal {
@@ -131,8 +131,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     // Simulation::run_while's loop, with the simulation's wing winds after each step.
     let mut result = Ok(true);
     for _ in 0..n {
+        // A copy, so that the wing set's output of the step can be read beside it.
         let out = match sim.step() {
-            Ok(out) => out,
+            Ok(out) => *out,
             Err(e) => {
                 result = Err(e);
                 break;
@@ -140,9 +141,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         };
         let (t_s, step) = (out.t_s, out.step);
         crate::pacing::pace(&mut pacer, t_s);
-        summary.observe(out, dt);
-        let logged = crate::logging::record(&mut rec, out)
-            .and_then(|()| crate::sensing::observe(&mut sensors, &mut rec, out))
+        summary.observe(&out, dt);
+        let logged = crate::logging::record_all(&mut rec, &out, &sim)
+            .and_then(|()| crate::sensing::observe(&mut sensors, &mut rec, &out))
             .and_then(|()| match log_wind {
                 true => crate::logging::record_wind(&mut rec, t_s, &sim),
                 false => Ok(()),

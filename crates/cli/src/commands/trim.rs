@@ -78,11 +78,19 @@ pub fn run(args: TrimArgs) -> Result<()> {
         )));
     }
     let out_file = match &args.write {
-        Some(p) => Some(crate::output::create_output_file(
-            p,
-            args.force,
-            "trimmed model",
-        )?),
+        Some(p) => {
+            // The trimmed model never replaces the model file it was read from.
+            crate::outputs::check(
+                &crate::outputs::model_input(&src.origin),
+                &[crate::outputs::Named::new("--write", p)],
+                args.force,
+            )?;
+            Some(crate::output::create_output_file(
+                p,
+                args.force,
+                "trimmed model",
+            )?)
+        }
         None => None,
     };
     let lift = match args.vary {

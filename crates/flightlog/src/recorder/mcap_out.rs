@@ -6,7 +6,9 @@ use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::Path;
 
+use flapsim::actuated::ActuatedWingOutput;
 use flapsim::{StepOutput, Vehicle};
+use wingforce::WingForces;
 
 use crate::chunk::RawChunk;
 use crate::encode::SampleEncoder;
@@ -16,7 +18,7 @@ use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, CHANNELS, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, channel_id,
+    self, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, WingLayout, channel_id,
 };
 use crate::writer::{Flushed, Writer};
 
@@ -51,8 +53,14 @@ impl McapOut {
         self.writer.chunk(full, self.upto)
     }
 
-    /// Adds a sample; the number of messages written.
-    pub(super) fn sample(&mut self, out: &StepOutput) -> Result<u64> {
+    /// Adds a sample (every wing's forces and actuator state); the number of messages
+    /// written.
+    pub(super) fn sample(
+        &mut self,
+        out: &StepOutput,
+        wings: &[WingForces],
+        actuated: Option<&[ActuatedWingOutput]>,
+    ) -> Result<u64> {
         let t_ns = time_ns(out.t_s);
         if self.chunk_samples > 0 && t_ns.saturating_sub(self.chunk_start_ns) >= FLUSH_INTERVAL_NS {
             self.close_chunk()?;
@@ -60,7 +68,7 @@ impl McapOut {
         if self.chunk_samples == 0 {
             self.chunk_start_ns = t_ns;
         }
-        let messages = self.encoder.sample(out, &mut self.chunk);
+        let messages = self.encoder.sample(out, wings, actuated, &mut self.chunk);
         self.chunk_samples += 1;
         self.upto = Flushed {
             samples: self.upto.samples + 1,
@@ -131,10 +139,11 @@ pub(super) fn open_mcap(
     options: &LogOptions,
 ) -> Result<McapOut> {
     let log_rate_hz = options.log_rate_hz;
-    let declared = schema::declared_channels(options);
+    let layout = WingLayout::new(vehicle.wings.len());
+    let declared = schema::declared_channels(&layout, options);
     let mut optional_ids = [None; OPTIONAL_CHANNELS.len()];
-    for (i, c) in declared.iter().enumerate().skip(CHANNELS.len()) {
-        if let Some(k) = OPTIONAL_CHANNELS.iter().position(|o| o == c) {
+    for (i, c) in declared.iter().enumerate().skip(layout.channel_count()) {
+        if let Some(k) = OPTIONAL_CHANNELS.iter().position(|o| o.0 == c.0) {
             optional_ids[k] = Some(channel_id(i));
         }
     }

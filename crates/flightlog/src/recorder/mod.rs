@@ -14,7 +14,9 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use flapsim::{Controls, StepOutput, Vehicle};
+use flapsim::actuated::ActuatedWingOutput;
+use flapsim::{Controls, StepOutput, Vehicle, WingSetOutput};
+use wingforce::WingForces;
 
 use crate::error::{Error, Result};
 use crate::options::{Level, LogOptions, RunInfo};
@@ -79,7 +81,7 @@ pub struct Recorder {
     last_sample: Option<(u64, flapsim::State)>,
     #[cfg(feature = "rerun")]
     estimate_statics: std::sync::atomic::AtomicBool,
-    wake_warned: [bool; 2],
+    wake_warned: Vec<bool>,
     stats: LogStats,
     finished: bool,
 }
@@ -99,14 +101,14 @@ impl Recorder {
     /// bad path fails before the run; the live server starts listening. With no output asked
     /// for, returns a recorder that records nothing.
     ///
+    /// The log has channels and frames for every wing of `vehicle`
+    /// ([`crate::schema::WingLayout`]); a vehicle with more than two wings is recorded with
+    /// [`Recorder::record_wings`].
+    ///
     /// Errors: an invalid `log_rate_hz` (not finite and > 0), an uncreatable file, a Rerun or
     /// Foxglove option without its feature, no Rerun viewer to spawn or connect to, an
-    /// address the live server cannot listen on, a vehicle with more than one wing pair.
+    /// address the live server cannot listen on.
     pub fn create(options: &LogOptions, info: &RunInfo, vehicle: &Vehicle) -> Result<Self> {
-        // The log's wing channels (kinematics, forces, scene) are the two wings of one pair.
-        vehicle.require_one_pair(
-            "flight logging (the log's per-wing channels; write no log: `--no-log`)",
-        )?;
         if let Some(r) = options.log_rate_hz
             && !(r.is_finite() && r > 0.0)
         {
@@ -130,7 +132,11 @@ impl Recorder {
         // Servers and viewers first (they fail most often), then files.
         #[cfg(feature = "live")]
         let live = match &options.foxglove {
-            Some(addr) => Some(crate::live::LiveSink::start(addr, options)?),
+            Some(addr) => Some(crate::live::LiveSink::start(
+                addr,
+                options,
+                &crate::schema::WingLayout::new(vehicle.wings.len()),
+            )?),
             None => None,
         };
         #[cfg(feature = "rerun")]
@@ -171,7 +177,7 @@ impl Recorder {
             last_sample: None,
             #[cfg(feature = "rerun")]
             estimate_statics: std::sync::atomic::AtomicBool::new(false),
-            wake_warned: [false; 2],
+            wake_warned: vec![false; vehicle.wings.len()],
             stats: LogStats {
                 mcap_path: options.mcap.clone(),
                 rrd_path: options.rrd.clone(),
@@ -220,10 +226,46 @@ impl Recorder {
         false
     }
 
-    /// Takes one step's output; logs it if the decimation picks it. Blocks only when the
-    /// writer thread is two chunks behind. Errors of the writer thread (a full disk, say)
-    /// come back here.
+    /// Takes one step's output of a two-winged vehicle; logs it if the decimation picks it.
+    /// Blocks only when the writer thread is two chunks behind. Errors of the writer thread
+    /// (a full disk, say) come back here. A [`StepOutput`] holds the first pair's wings
+    /// only: a vehicle with more wings is an error here ([`Recorder::record_wings`] takes
+    /// them all).
     pub fn record(&mut self, out: &StepOutput) -> Result<()> {
+        let n = self.vehicle.wings.len();
+        if n != 2 {
+            return Err(Error::Options(format!(
+                "{}: a step output holds two wings of its {n}; record them with Recorder::record_wings",
+                self.vehicle.name
+            )));
+        }
+        self.record_inner(out, &out.wings, out.actuated.as_ref().map(|a| &a[..]))
+    }
+
+    /// Takes one step's output with the wing set's output of the same step (every wing's
+    /// forces and actuator state, e.g. `Simulation::wing_set().output()` after the step);
+    /// logs it if the decimation picks it. For any number of wings; errors as
+    /// [`Recorder::record`], and when `wings` does not hold the vehicle's wings.
+    pub fn record_wings(&mut self, out: &StepOutput, wings: &WingSetOutput) -> Result<()> {
+        let n = self.vehicle.wings.len();
+        if wings.wings.len() != n || !(wings.actuated.is_empty() || wings.actuated.len() == n) {
+            return Err(Error::Options(format!(
+                "{}: the wing set output holds {} wings ({} actuated), the vehicle {n}",
+                self.vehicle.name,
+                wings.wings.len(),
+                wings.actuated.len()
+            )));
+        }
+        let actuated = (!wings.actuated.is_empty()).then_some(&wings.actuated[..]);
+        self.record_inner(out, &wings.wings, actuated)
+    }
+
+    fn record_inner(
+        &mut self,
+        out: &StepOutput,
+        wings: &[WingForces],
+        actuated: Option<&[ActuatedWingOutput]>,
+    ) -> Result<()> {
         self.stats.steps_seen += 1;
         if self.controls != Some(out.controls) {
             if self.controls.is_some() && self.vehicle.apply_controls(&out.controls).is_ok() {
@@ -238,24 +280,32 @@ impl Recorder {
         self.stats.last_t_s = out.t_s;
         self.last_sample = Some((time_ns(out.t_s), out.state));
         if let Some(m) = &mut self.mcap {
-            self.stats.mcap_messages += m.sample(out)?;
+            self.stats.mcap_messages += m.sample(out, wings, actuated)?;
         }
         #[cfg(any(feature = "rerun", feature = "live"))]
-        self.view(out)?;
+        self.view(out, wings, actuated)?;
+        #[cfg(not(any(feature = "rerun", feature = "live")))]
+        let _ = actuated;
         Ok(())
     }
 
     /// Hands the sample to the Rerun and live views that want it (the messages the MCAP
     /// output built, or built here without one).
     #[cfg(any(feature = "rerun", feature = "live"))]
-    fn view(&mut self, out: &StepOutput) -> Result<()> {
+    fn view(
+        &mut self,
+        out: &StepOutput,
+        wings: &[WingForces],
+        actuated: Option<&[ActuatedWingOutput]>,
+    ) -> Result<()> {
         if !self.view_wanted() {
             return Ok(());
         }
         let sample = match &self.mcap {
             Some(m) => m.encoder.last(),
             None => {
-                self.builder.build(out, &mut self.sample);
+                self.builder
+                    .build_wings(out, wings, actuated, &mut self.sample);
                 &self.sample
             }
         };
@@ -317,7 +367,8 @@ impl Recorder {
     }
 
     /// Logs each wing's wind for the step at `t_s` to `/wind` ([`schema::WIND_CHANNEL`]):
-    /// `wing_winds_world_m_s` per wing in the vehicle's order (left, right), what
+    /// `wing_winds_world_m_s` per wing in the vehicle's order (left, right, then any further
+    /// pairs), what
     /// [`flapsim::Simulation::wing_winds_m_s`] gives after the step (it includes the uniform
     /// part), and `uniform_world_m_s`, the uniform wind of
     /// [`flapsim::Simulation::set_wind`]; world frame, m/s. Call it after
@@ -464,10 +515,10 @@ impl Recorder {
         &self,
         timeout: Option<std::time::Duration>,
         cancel: impl Fn() -> bool,
-    ) -> crate::LiveWait {
+    ) -> crate::live::LiveWait {
         match &self.live {
             Some(l) => l.wait_for_client(timeout, cancel),
-            None => crate::LiveWait::NoServer,
+            None => crate::live::LiveWait::NoServer,
         }
     }
 
@@ -533,9 +584,9 @@ impl Drop for Recorder {
 
 /// The warnings for wings whose wake-capture inputs lie outside the fitted range of the
 /// regressions (once per wing until it changes back; `wake_warned` keeps track).
-fn wake_capture_warnings(vehicle: &Vehicle, wake_warned: &mut [bool; 2]) -> Vec<String> {
+fn wake_capture_warnings(vehicle: &Vehicle, wake_warned: &mut [bool]) -> Vec<String> {
     let mut out_messages = Vec::new();
-    for i in 0..2 {
+    for i in 0..vehicle.wings.len().min(wake_warned.len()) {
         let flags = vehicle.wings[i]
             .wake_capture()
             .map(|p| p.flags)
@@ -554,7 +605,7 @@ fn wake_capture_warnings(vehicle: &Vehicle, wake_warned: &mut [bool; 2]) -> Vec<
             if flags.dtau_d_clamped {
                 what.push(format!("dtau_D = {dd:.3}"));
             }
-            let side = if i == 0 { "left" } else { "right" };
+            let side = Vehicle::wing_name(i);
             out_messages.push(format!(
                 "{side} wing: wake-capture input outside its fitted range ({}); the regressions use the nearest fitted value",
                 what.join(", ")

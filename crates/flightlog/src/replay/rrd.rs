@@ -10,13 +10,13 @@ use crate::error::{Error, Result};
 use crate::json::Json;
 use crate::options::Level;
 use crate::read::read_log;
-use crate::schema::{TOPIC_EVENTS, TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT, TOPIC_STATE};
+use crate::schema::{TOPIC_EVENTS, TOPIC_STATE};
 
 /// What [`to_rrd`] wrote.
 #[cfg(feature = "rerun")]
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct RrdStats {
-    /// Samples converted (times with a state, both wing transforms and both wings' forces).
+    /// Samples converted (times with a state, every wing's transform and forces).
     pub frames: u64,
     /// Events converted.
     pub events: u64,
@@ -31,8 +31,8 @@ pub struct RrdStats {
 /// have `/estimate` and `/wind`). The wing meshes come from the embedded model.
 #[cfg(feature = "rerun")]
 pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats> {
-    use crate::sample::FrameData;
-    use crate::schema::{FORCE_PARTS, TOPIC_TF_WING_LEFT, TOPIC_TF_WING_RIGHT};
+    use crate::sample::{FrameData, WingView};
+    use crate::schema::{FORCE_PARTS, WingLayout};
 
     let path = path.as_ref();
     let log = read_log(path)?;
@@ -49,25 +49,31 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
         ))
     })?;
 
-    // Assemble samples by log time; bit flags say which parts arrived.
-    let mut frames: BTreeMap<u64, (FrameData, u8)> = BTreeMap::new();
-    fn slot(frames: &mut BTreeMap<u64, (FrameData, u8)>, t: u64) -> &mut (FrameData, u8) {
+    // The wings' channels are those of the embedded model's wings.
+    let layout = WingLayout::new(vehicle.wings.len());
+    let n = layout.len();
+    // Assemble samples by log time; flags say which parts arrived (the state, then each
+    // wing's transform, then each wing's forces).
+    type Slot = (FrameData, Vec<bool>);
+    fn slot(frames: &mut BTreeMap<u64, Slot>, t: u64, n: usize) -> &mut Slot {
         frames.entry(t).or_insert_with(|| {
             (
                 FrameData {
                     t_ns: t,
+                    wings: vec![WingView::default(); n],
                     ..FrameData::default()
                 },
-                0,
+                vec![false; 1 + 2 * n],
             )
         })
     }
+    let mut frames: BTreeMap<u64, Slot> = BTreeMap::new();
     for m in log.on(TOPIC_STATE) {
         let Some(v) = log.parse(m) else { continue };
         let (Some(p), Some(q)) = (v.vec3_at("position_m"), v.quat_at("attitude")) else {
             continue;
         };
-        let s = slot(&mut frames, m.log_time);
+        let s = slot(&mut frames, m.log_time, n);
         s.0.position = p;
         s.0.attitude = q;
         s.0.euler_deg = [
@@ -76,24 +82,24 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
             v.f64_at("euler_deg.yaw").unwrap_or(0.0),
         ];
         s.0.lift_over_weight = v.f64_at("lift_over_weight").unwrap_or(0.0);
-        s.1 |= 1;
+        s.1[0] = true;
     }
-    for (i, topic) in [TOPIC_TF_WING_LEFT, TOPIC_TF_WING_RIGHT].iter().enumerate() {
-        for m in log.on(topic) {
+    for i in 0..n {
+        for m in log.on(&layout.tf_topic(i)) {
             let Some(v) = log.parse(m) else { continue };
             let (Some(t), Some(q)) = (v.vec3_at("translation"), v.quat_at("rotation")) else {
                 continue;
             };
-            let s = slot(&mut frames, m.log_time);
-            s.0.wing_hinge[i] = t;
-            s.0.wing_rotation[i] = q;
-            s.1 |= 2 << i;
+            let s = slot(&mut frames, m.log_time, n);
+            s.0.wings[i].hinge = t;
+            s.0.wings[i].rotation = q;
+            s.1[1 + i] = true;
         }
     }
-    for (i, topic) in [TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT].iter().enumerate() {
-        for m in log.on(topic) {
+    for i in 0..n {
+        for m in log.on(&layout.forces_topic(i)) {
             let Some(v) = log.parse(m) else { continue };
-            let s = slot(&mut frames, m.log_time);
+            let s = slot(&mut frames, m.log_time, n);
             let mut ok = true;
             for (j, part) in FORCE_PARTS.iter().enumerate() {
                 match (
@@ -102,15 +108,15 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
                     v.f64_at(&format!("{part}.c_d")),
                 ) {
                     (Some(f), Some(cl), Some(cd)) => {
-                        s.0.force_n[i][j] = f;
-                        s.0.c_l[i][j] = cl;
-                        s.0.c_d[i][j] = cd;
+                        s.0.wings[i].force_n[j] = f;
+                        s.0.wings[i].c_l[j] = cl;
+                        s.0.wings[i].c_d[j] = cd;
                     }
                     _ => ok = false,
                 }
             }
             if ok {
-                s.1 |= 8 << i;
+                s.1[1 + n + i] = true;
             }
         }
     }
@@ -119,7 +125,7 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
     let sink = crate::rerun_sink::RerunSink::new(vec![stream], &vehicle)?;
     let mut n = 0u64;
     for (frame, seen) in frames.values() {
-        if *seen == 0b11111 {
+        if seen.iter().all(|&x| x) {
             sink.frame(frame)?;
             n += 1;
         }
@@ -127,7 +133,7 @@ pub fn to_rrd(path: impl AsRef<Path>, out: impl AsRef<Path>) -> Result<RrdStats>
     let mut estimates = 0u64;
     for m in log.on(crate::schema::TOPIC_ESTIMATE) {
         let Some(v) = log.parse(m) else { continue };
-        let Some((truth, _)) = frames.get(&m.log_time).filter(|(_, seen)| seen & 1 == 1) else {
+        let Some((truth, _)) = frames.get(&m.log_time).filter(|(_, seen)| seen[0]) else {
             continue;
         };
         let (Some(p), Some(q)) = (v.vec3_at("position_world_m"), v.quat_at("attitude")) else {

@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::json::Json;
 use crate::options::{Level, SimSettings};
 use crate::read::{AttachmentSummary, ChannelSummary, LogFile, read_log};
-use crate::schema::{self, TOPIC_EVENTS, TOPIC_FORCES_LEFT, TOPIC_FORCES_RIGHT, TOPIC_STATE};
+use crate::schema::{self, TOPIC_EVENTS, TOPIC_STATE, WingLayout};
 
 /// A run event (from /events).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -30,7 +30,8 @@ pub struct CycleMean {
     /// Complete wingbeats averaged (the one in progress at the end is left out, as in
     /// flapsim's `SummaryBuilder`).
     pub wingbeats: u64,
-    /// Mean of both wings' total aerodynamic force, body frame, N (from /wing/*/forces).
+    /// Mean of every wing's total aerodynamic force summed, body frame, N (from
+    /// /wing/*/forces).
     pub force_body_n: [f64; 3],
     /// Mean of their moment about the centre of mass, body frame, N m.
     pub moment_body_nm: [f64; 3],
@@ -59,6 +60,10 @@ pub struct ReplaySummary {
     pub duration_s: f64,
     /// Every channel, by topic.
     pub channels: Vec<ChannelSummary>,
+    /// The wings' labels, from the `/wing/{label}/forces` channels in channel order (`left`,
+    /// `right`, then `pairs{k}_left`, `pairs{k}_right` of further pairs; see
+    /// [`crate::schema::WingLayout`]).
+    pub wings: Vec<String>,
     /// The `flapwing` metadata record (version, command, command_line, model_toml,
     /// model_origin, settings, ...).
     pub metadata: BTreeMap<String, String>,
@@ -128,6 +133,16 @@ impl fmt::Display for ReplaySummary {
             "time       {:.6} s to {:.6} s ({:.6} s), {} samples, {} messages",
             self.start_s, self.end_s, self.duration_s, self.samples, self.message_count
         )?;
+        writeln!(
+            f,
+            "wings      {}: {}",
+            self.wings.len(),
+            if self.wings.is_empty() {
+                "none logged".to_owned()
+            } else {
+                self.wings.join(", ")
+            }
+        )?;
         writeln!(f, "channels")?;
         for c in &self.channels {
             writeln!(
@@ -145,9 +160,13 @@ impl fmt::Display for ReplaySummary {
         }
         match &self.cycle_mean {
             Some(m) => {
+                let wings = match self.wings.len() {
+                    2 => "both wings".to_owned(),
+                    n => format!("all {n} wings"),
+                };
                 writeln!(
                     f,
-                    "cycle mean over {} wingbeats (both wings, body frame)",
+                    "cycle mean over {} wingbeats ({wings}, body frame)",
                     m.wingbeats
                 )?;
                 writeln!(
@@ -276,10 +295,16 @@ fn summarize(log: &LogFile) -> ReplaySummary {
         }
     }
 
-    // Forces: both wings' totals at each sample time.
-    let mut per_time: BTreeMap<u64, (f64, [f64; 6], u8)> = BTreeMap::new();
-    for (topic, bit) in [(TOPIC_FORCES_LEFT, 1u8), (TOPIC_FORCES_RIGHT, 2u8)] {
-        for m in log.on(topic) {
+    // Forces: every wing's totals at each sample time.
+    let layout = WingLayout::from_topics(log.channels.values().map(|c| c.topic.as_str()));
+    let labels = layout
+        .as_ref()
+        .map(|l| l.labels().to_vec())
+        .unwrap_or_default();
+    let mut per_time: BTreeMap<u64, (f64, [f64; 6], Vec<bool>)> = BTreeMap::new();
+    for (i, label) in labels.iter().enumerate() {
+        let topic = format!("/wing/{label}/forces");
+        for m in log.on(&topic) {
             let Some(v) = log.parse(m) else { continue };
             let (Some(ph), Some(f), Some(mo)) = (
                 v.f64_at("phase"),
@@ -288,19 +313,21 @@ fn summarize(log: &LogFile) -> ReplaySummary {
             ) else {
                 continue;
             };
-            let e = per_time.entry(m.log_time).or_insert((ph, [0.0; 6], 0));
-            if e.2 & bit == 0 {
+            let e = per_time
+                .entry(m.log_time)
+                .or_insert_with(|| (ph, [0.0; 6], vec![false; labels.len()]));
+            if !e.2[i] {
                 for k in 0..3 {
                     e.1[k] += f[k];
                     e.1[3 + k] += mo[k];
                 }
-                e.2 |= bit;
+                e.2[i] = true;
             }
         }
     }
     let loads: Vec<(f64, [f64; 6])> = per_time
         .values()
-        .filter(|(_, _, seen)| *seen == 3)
+        .filter(|(_, _, seen)| seen.iter().all(|&s| s))
         .map(|(ph, v, _)| (*ph, *v))
         .collect();
     let cycle = cycle_mean(&loads).map(|(n, v)| CycleMean {
@@ -327,6 +354,7 @@ fn summarize(log: &LogFile) -> ReplaySummary {
         end_s,
         duration_s: end_s - start_s,
         channels: log.channels.values().cloned().collect(),
+        wings: labels,
         metadata: log.run_metadata().clone(),
         end_metadata,
         attachments: log.attachments.clone(),
