@@ -89,7 +89,15 @@ fn wake_l18_runs_table_2() {
     let rows: Vec<Vec<f64>> = csv
         .lines()
         .skip(1)
-        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .map(|l| {
+            // Every case finished: `status` ok, `error` empty; the rest are numbers.
+            let cells: Vec<&str> = l.split(',').collect();
+            assert_eq!(cells[cells.len() - 2..], ["ok", ""], "{l}");
+            cells[..cells.len() - 2]
+                .iter()
+                .map(|f| f.parse().unwrap())
+                .collect()
+        })
         .collect();
     assert_eq!(rows.len(), 18);
     let mut nu: Vec<f64> = rows.iter().map(|r| r[1]).collect();

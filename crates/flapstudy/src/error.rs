@@ -38,6 +38,20 @@ pub enum StudyError {
         /// The model error.
         source: flapsim::Error,
     },
+    /// Every design a search tried failed (no periodic motion, diverged, refused by the
+    /// model): the study's box holds nothing to optimize from. Names how many were tried and
+    /// the first reason.
+    #[error(
+        "every design tried failed ({tried} designs: the centre of the factor box and a grid around it), so there is nothing to optimize from; the first failure, at the box centre ({settings}): {reason}"
+    )]
+    AllFailed {
+        /// Designs tried.
+        tried: usize,
+        /// The factor settings of the first design tried.
+        settings: String,
+        /// Why it failed.
+        reason: String,
+    },
 }
 
 fn column_text(column: &Option<String>) -> String {

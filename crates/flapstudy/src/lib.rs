@@ -8,7 +8,8 @@
 //!   errors, t values and p-values (Student's t via the regularized incomplete beta);
 //! - [`spec`], [`responses`], [`sweep`]: study files, tethered hover responses of each case
 //!   (no rigid-body simulation: [`flapsim::averaged::mean_loads`] and the wings' cycle means),
-//!   parallel sweeps with deterministic CSV output, shards and their merge;
+//!   parallel sweeps with deterministic CSV output (a case whose analysis fails is a row
+//!   with its reason, [`sweep::CaseOutcome`]), shards and their merge;
 //! - [`shard`] and [`slurm`]: the study content hash, atomic shard files and their merge, and
 //!   the Slurm job-array script that runs one shard per task;
 //! - [`optimize`]: Nelder-Mead, and lift per power under a weight-support penalty;
@@ -32,5 +33,5 @@ pub use error::{StudyError, StudyResult};
 pub use fit_wake::{WakeCaptureData, WakeCaptureFit, fit_wake_capture};
 pub use responses::{HoverResponses, Response, hover_responses};
 pub use spec::{DesignKind, Study, StudySpec};
-pub use sweep::{CaseResult, merge_csv};
+pub use sweep::{CaseOutcome, CaseResult, FailedCase, merge_csv};
 pub use taguchi::{OrthogonalArray, SnrKind};

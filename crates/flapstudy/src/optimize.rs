@@ -14,7 +14,12 @@
 //!
 //! where u in [0, 1]^k maps linearly onto the factors' intervals (coordinates outside are
 //! clamped back, so every evaluated design lies inside the box) and x0 is the box centre.
-//! A design the model rejects (e.g. dtau_A + dtau_D > 0.5) scores +infinity. A quadratic
+//! A design that fails is infeasible and scores +infinity, and the search goes on: one the
+//! model rejects (e.g. dtau_A + dtau_D > 0.5) or whose analysis fails (an actuated wing that
+//! does not settle into a periodic motion, diverged dynamics); [`HoverOptimum::failed_evals`]
+//! counts them. When the box centre itself fails, the start is the first design that does
+//! not of a grid around it ([`start_candidates`]); when every one of those fails, the search
+//! stops with [`StudyError::AllFailed`]. A quadratic
 //! penalty's minimizer undershoots the constraint by about (objective slope)/(2 rho), so the
 //! search runs as a sequence of Nelder-Mead stages with rho = 1e2, 1e4, 1e6, 1e8, each
 //! restarted from the previous stage's best point with a smaller simplex (the sequential
@@ -204,6 +209,42 @@ pub struct HoverOptimum {
     pub stages: Vec<NelderMeadResult>,
     /// Objective evaluations over all stages.
     pub evals: usize,
+    /// Designs tried for a start that does not fail (1 when the box centre works).
+    pub starts_tried: usize,
+    /// Evaluations (start search and stages) whose design failed and scored +infinity.
+    pub failed_evals: usize,
+    /// Why the first failed design failed, with its factor settings.
+    pub first_failure: Option<String>,
+}
+
+/// At most this many designs are tried for a start (see [`start_candidates`]).
+pub const MAX_START_CANDIDATES: usize = 64;
+
+/// The unit-box points tried, in order, for a start that does not fail: the centre, then the
+/// grid of levels 0.5, 0.25, 0.75, 0 and 1 on every factor, nearest the centre first (ties in
+/// grid order), at most [`MAX_START_CANDIDATES`] in all.
+pub fn start_candidates(k: usize) -> Vec<DVector<f64>> {
+    const LEVELS: [f64; 5] = [0.5, 0.25, 0.75, 0.0, 1.0];
+    let mut grid: Vec<Vec<f64>> = vec![Vec::new()];
+    for _ in 0..k {
+        grid = grid
+            .into_iter()
+            .flat_map(|p| {
+                LEVELS.iter().map(move |&l| {
+                    let mut q = p.clone();
+                    q.push(l);
+                    q
+                })
+            })
+            .take(MAX_START_CANDIDATES * 16)
+            .collect();
+    }
+    let dist = |p: &[f64]| p.iter().map(|x| (x - 0.5) * (x - 0.5)).sum::<f64>();
+    grid.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+    grid.into_iter()
+        .take(MAX_START_CANDIDATES)
+        .map(|p| DVector::from_vec(p))
+        .collect()
 }
 
 /// Maximizes lift per aerodynamic power over the study's factor intervals subject to
@@ -244,12 +285,37 @@ pub fn optimize_hover(
             wake_capture_clamped: r.wake_capture_clamped,
         })
     };
-    let u0 = DVector::from_element(k, 0.5);
-    let start = design(to_values(&u0)).map_err(|source| StudyError::Case {
-        case: 0,
-        settings: "the centre of the factor box".to_owned(),
-        source,
-    })?;
+    let settings = |values: &[f64]| study.settings_at(values);
+    let failed_evals = std::cell::Cell::new(0usize);
+    let first_failure = std::cell::RefCell::new(None::<(String, String)>);
+    let note_failure = |values: &[f64], e: &flapsim::Error| {
+        failed_evals.set(failed_evals.get() + 1);
+        first_failure
+            .borrow_mut()
+            .get_or_insert_with(|| (settings(values), e.to_string()));
+    };
+    let candidates = start_candidates(k);
+    let mut found = None;
+    let mut tried = 0;
+    for u in &candidates {
+        tried += 1;
+        let values = to_values(u);
+        match design(values.clone()) {
+            Ok(d) => {
+                found = Some((u.clone(), d));
+                break;
+            }
+            Err(e) => note_failure(&values, &e),
+        }
+    }
+    let Some((u0, start)) = found else {
+        let (settings, reason) = first_failure.borrow_mut().take().unwrap_or_default();
+        return Err(StudyError::AllFailed {
+            tried,
+            settings,
+            reason,
+        });
+    };
     let scale = start.lift_per_power_n_per_w.abs().max(f64::MIN_POSITIVE);
     let mut u = u0;
     let mut stages = Vec::with_capacity(PENALTIES.len());
@@ -259,7 +325,10 @@ pub fn optimize_hover(
                 let short = (target - d.lift_over_weight).max(0.0);
                 -d.lift_per_power_n_per_w / scale + rho * short * short
             }
-            Err(_) => f64::INFINITY,
+            Err(e) => {
+                note_failure(&to_values(u), &e);
+                f64::INFINITY
+            }
         };
         let stage_opts = NelderMeadOptions {
             max_evals: (opts.max_evals / PENALTIES.len()).max(2 * k + 2),
@@ -285,5 +354,10 @@ pub fn optimize_hover(
         best,
         stages,
         evals,
+        starts_tried: tried,
+        failed_evals: failed_evals.get(),
+        first_failure: first_failure
+            .into_inner()
+            .map(|(settings, reason)| format!("{settings}: {reason}")),
     })
 }

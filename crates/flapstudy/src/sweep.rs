@@ -1,10 +1,22 @@
 //! Running a study's cases in parallel and writing them as CSV; merging shards.
 //!
 //! CSV layout: `case` (0-based case index), one column per factor (headed by its path), one
-//! column per response (in the study's order), then `reynolds` and `wake_capture_clamped`
-//! (0 or 1). Numbers use Rust's shortest round-trip formatting (`{:?}`), so a value read
-//! back is the value computed, bit for bit, and the same case always prints the same row:
-//! the row order and content do not depend on the number of threads or the sharding.
+//! column per response (in the study's order), then `reynolds`, `wake_capture_clamped` (0 or
+//! 1), `status` and `error`. Numbers use Rust's shortest round-trip formatting (`{:?}`), so a
+//! value read back is the value computed, bit for bit, and the same case always prints the
+//! same row: the row order and content do not depend on the number of threads or the
+//! sharding.
+//!
+//! **Failed cases.** A design study explores corners where the analysis of a design can fail:
+//! an actuated wing that does not settle into a periodic motion, dynamics that diverge. Such a
+//! case is a row of the table like any other: `status` is `failed`, `error` says why (the
+//! analysis's message, with `,` written as `;` because the table has no quoting), and the
+//! responses, `reynolds` and `wake_capture_clamped` are empty. A finished case has `status` =
+//! `ok` and an empty `error`. What counts as a failed case is [`is_case_failure`]: the
+//! analysis could not find what it looked for ([`flapsim::Error::Analysis`]) or the run
+//! diverged ([`flapsim::Error::Diverged`]). A bad study (an unknown field, a value or a
+//! combination of values the model refuses) is an error before any case runs
+//! ([`Study::check_cases`]), never a row.
 
 use std::ops::Range;
 
@@ -12,11 +24,25 @@ use rayon::prelude::*;
 
 use super::error::{StudyError, StudyResult};
 use super::responses::{HoverResponses, Response, hover_responses};
-use super::spec::Study;
+use super::spec::{Study, value_text};
 use super::table::Table;
 
 /// Columns every sweep CSV ends with.
-pub const FLAG_COLUMNS: [&str; 2] = ["reynolds", "wake_capture_clamped"];
+pub const FLAG_COLUMNS: [&str; 4] = ["reynolds", "wake_capture_clamped", "status", "error"];
+
+/// The `status` of a finished case.
+pub const STATUS_OK: &str = "ok";
+/// The `status` of a failed case.
+pub const STATUS_FAILED: &str = "failed";
+
+/// What became of one case.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CaseOutcome {
+    /// The evaluation finished: everything it produced.
+    Done(HoverResponses),
+    /// The analysis of this design failed (see [`is_case_failure`]): why, in words.
+    Failed(String),
+}
 
 /// One evaluated case.
 #[derive(Debug, Clone, PartialEq)]
@@ -25,40 +51,118 @@ pub struct CaseResult {
     pub case: usize,
     /// Factor values.
     pub inputs: Vec<f64>,
-    /// Everything the evaluation produced.
-    pub all: HoverResponses,
-    /// The study's responses, in order.
+    /// The evaluation's result, or why it failed.
+    pub outcome: CaseOutcome,
+    /// The study's responses, in order (NaN for a failed case).
     pub responses: Vec<f64>,
 }
 
+impl CaseResult {
+    /// Everything the evaluation produced, unless the case failed.
+    pub fn done(&self) -> Option<&HoverResponses> {
+        match &self.outcome {
+            CaseOutcome::Done(all) => Some(all),
+            CaseOutcome::Failed(_) => None,
+        }
+    }
+
+    /// Why the case failed, if it did.
+    pub fn failure(&self) -> Option<&str> {
+        match &self.outcome {
+            CaseOutcome::Done(_) => None,
+            CaseOutcome::Failed(why) => Some(why),
+        }
+    }
+}
+
+/// Whether an error of a case's evaluation is that design's failure (a row of the table with
+/// its reason) rather than a bad study: the analysis could not find what it looked for (no
+/// periodic motion of actuated wings, no trim, controls the wings cannot follow) or the
+/// dynamics diverged. Model and input errors are the study's: they stop the sweep.
+pub fn is_case_failure(e: &flapsim::Error) -> bool {
+    matches!(
+        e,
+        flapsim::Error::Analysis(_) | flapsim::Error::Diverged { .. }
+    )
+}
+
+/// A failure reason as one CSV cell: `,` becomes `;` and line breaks become spaces (the table
+/// has no quoting).
+pub fn csv_cell_text(reason: &str) -> String {
+    reason
+        .chars()
+        .map(|c| match c {
+            ',' => ';',
+            '\n' | '\r' => ' ',
+            c => c,
+        })
+        .collect()
+}
+
 impl Study {
-    /// Evaluates one case.
+    /// Evaluates one case. A failed analysis of the design ([`is_case_failure`]) is a
+    /// [`CaseOutcome::Failed`] result; any other error (the case's vehicle cannot be built, the
+    /// model does not fit the responses) is the study's and is returned.
     pub fn evaluate(&self, case: usize) -> StudyResult<CaseResult> {
         let vehicle = self.vehicle(case)?;
-        let mut all = hover_responses(&vehicle, self.steps_per_wingbeat).map_err(|source| {
-            StudyError::Case {
-                case,
-                settings: self.settings_text(case),
-                source,
+        let outcome = match hover_responses(&vehicle, self.steps_per_wingbeat) {
+            Ok(mut all) => {
+                if self.responses.contains(&Response::TrimFeasible) {
+                    all.trim_feasible = Some(flapsim::trim::trim(&vehicle).is_ok());
+                }
+                CaseOutcome::Done(all)
             }
-        })?;
-        if self.responses.contains(&Response::TrimFeasible) {
-            all.trim_feasible = Some(flapsim::trim::trim(&vehicle).is_ok());
-        }
+            Err(e) if is_case_failure(&e) => CaseOutcome::Failed(e.to_string()),
+            Err(source) => {
+                return Err(StudyError::Case {
+                    case,
+                    settings: self.settings_text(case),
+                    source,
+                });
+            }
+        };
+        let responses = match &outcome {
+            CaseOutcome::Done(all) => self.responses.iter().map(|r| all.get(r)).collect(),
+            CaseOutcome::Failed(_) => vec![f64::NAN; self.responses.len()],
+        };
         Ok(CaseResult {
             case,
             inputs: self.cases[case].clone(),
-            responses: self.responses.iter().map(|r| all.get(r)).collect(),
-            all,
+            outcome,
+            responses,
         })
     }
 
+    /// Checks, before any case runs, that every case of `range` makes a vehicle the model
+    /// accepts and the responses can be evaluated on (one wing pair): a bad study is an error
+    /// naming the first bad case and its settings, never a failed row. Cheap next to the
+    /// cases themselves (no wingbeat is evaluated).
+    pub fn check_cases(&self, range: Range<usize>) -> StudyResult<()> {
+        let first_bad = range
+            .into_par_iter()
+            .map(|i| {
+                self.vehicle(i)?
+                    .require_one_pair("flapstudy's hover responses")
+                    .map_err(|source| StudyError::Case {
+                        case: i,
+                        settings: self.settings_text(i),
+                        source,
+                    })
+            })
+            .find_first(|r| r.is_err());
+        match first_bad {
+            Some(Err(e)) => Err(e),
+            _ => Ok(()),
+        }
+    }
+
     /// Evaluates the cases `range` on the current rayon pool, calling `progress` after each
-    /// case. Results are in case order; the first failing case (lowest index) is the error.
+    /// case. Results are in case order, failed cases included (see the module docs); a bad
+    /// study is an error before any case runs ([`Study::check_cases`]).
     pub fn run(
         &self,
         range: Range<usize>,
-        progress: &(dyn Fn() + Sync),
+        progress: &(dyn Fn(&CaseResult) + Sync),
     ) -> StudyResult<Vec<CaseResult>> {
         self.run_until(range, progress, &|| false)
     }
@@ -68,9 +172,10 @@ impl Study {
     pub fn run_until(
         &self,
         range: Range<usize>,
-        progress: &(dyn Fn() + Sync),
+        progress: &(dyn Fn(&CaseResult) + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> StudyResult<Vec<CaseResult>> {
+        self.check_cases(range.clone())?;
         let results: Vec<Option<StudyResult<CaseResult>>> = range
             .into_par_iter()
             .map(|i| {
@@ -78,7 +183,9 @@ impl Study {
                     return None;
                 }
                 let r = self.evaluate(i);
-                progress();
+                if let Ok(done) = &r {
+                    progress(done);
+                }
                 Some(r)
             })
             .collect();
@@ -98,9 +205,20 @@ impl Study {
     pub fn csv_row(&self, r: &CaseResult) -> String {
         let mut cols = vec![r.case.to_string()];
         cols.extend(r.inputs.iter().map(|v| format!("{v:?}")));
-        cols.extend(r.responses.iter().map(|v| format!("{v:?}")));
-        cols.push(format!("{:?}", r.all.reynolds));
-        cols.push(if r.all.wake_capture_clamped { "1" } else { "0" }.to_owned());
+        match &r.outcome {
+            CaseOutcome::Done(all) => {
+                cols.extend(r.responses.iter().map(|v| format!("{v:?}")));
+                cols.push(format!("{:?}", all.reynolds));
+                cols.push(if all.wake_capture_clamped { "1" } else { "0" }.to_owned());
+                cols.push(STATUS_OK.to_owned());
+                cols.push(String::new());
+            }
+            CaseOutcome::Failed(why) => {
+                cols.extend(std::iter::repeat_n(String::new(), r.responses.len() + 2));
+                cols.push(STATUS_FAILED.to_owned());
+                cols.push(csv_cell_text(why));
+            }
+        }
         cols.join(",")
     }
 
@@ -114,6 +232,114 @@ impl Study {
         }
         out
     }
+
+    /// The failed cases of `results`, as [`FailedCase`]s.
+    pub fn failed_cases(&self, results: &[CaseResult]) -> Vec<FailedCase> {
+        results
+            .iter()
+            .filter_map(|r| {
+                r.failure().map(|why| FailedCase {
+                    case: r.case,
+                    settings: self.settings_text(r.case),
+                    reason: csv_cell_text(why),
+                })
+            })
+            .collect()
+    }
+}
+
+/// A failed case, as a summary lists it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FailedCase {
+    /// Case index.
+    pub case: usize,
+    /// `path = value` of every factor, joined by commas.
+    pub settings: String,
+    /// Why it failed (as in the `error` column).
+    pub reason: String,
+}
+
+/// At most this many failed cases are listed one per line by [`failure_summary`].
+pub const LISTED_FAILURES: usize = 10;
+
+/// The lines that report a table's failed cases (empty when none failed): a count, then one
+/// line per failed case (at most [`LISTED_FAILURES`], then how many more).
+pub fn failure_summary(failed: &[FailedCase], cases: usize) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::new();
+    if failed.is_empty() {
+        return out;
+    }
+    let indices: Vec<String> = failed.iter().map(|f| f.case.to_string()).collect();
+    let _ = writeln!(
+        out,
+        "{} of {cases} case(s) failed (status = failed; the reason is in the `error` column): case(s) {}",
+        failed.len(),
+        if failed.len() <= LISTED_FAILURES {
+            indices.join(", ")
+        } else {
+            format!("{}, ...", indices[..LISTED_FAILURES].join(", "))
+        }
+    );
+    for f in failed.iter().take(LISTED_FAILURES) {
+        let _ = writeln!(out, "  case {} ({}): {}", f.case, f.settings, f.reason);
+    }
+    if failed.len() > LISTED_FAILURES {
+        let _ = writeln!(
+            out,
+            "  ... and {} more failed case(s)",
+            failed.len() - LISTED_FAILURES
+        );
+    }
+    out
+}
+
+/// The failed cases of a sweep CSV (e.g. a merged table), in row order. The factor columns
+/// are those between `case` and the first response or flag column. A table without a
+/// `status` column (written before failed cases were recorded) has none.
+pub fn failed_rows(text: &str, origin: &str) -> StudyResult<Vec<FailedCase>> {
+    let t = Table::parse(text, origin)?;
+    let (Some(status), Some(error)) = (t.find("status"), t.find("error")) else {
+        return Ok(Vec::new());
+    };
+    let end = t
+        .columns
+        .iter()
+        .position(|c| Response::parse(c).is_some() || FLAG_COLUMNS.contains(&c.as_str()))
+        .unwrap_or(t.columns.len());
+    let mut out = Vec::new();
+    for (r, (_, fields)) in t.rows.iter().enumerate() {
+        match fields[status].as_str() {
+            STATUS_OK => {}
+            STATUS_FAILED => {
+                let case = fields[0].parse().map_err(|_| {
+                    t.cell_error(r, 0, format!("`{}` is not a case index", fields[0]))
+                })?;
+                let settings = (1..end.max(1))
+                    .map(|c| {
+                        let v = fields[c]
+                            .parse()
+                            .map_or_else(|_| fields[c].clone(), value_text);
+                        format!("{} = {v}", t.columns[c])
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                out.push(FailedCase {
+                    case,
+                    settings,
+                    reason: fields[error].clone(),
+                });
+            }
+            other => {
+                return Err(t.cell_error(
+                    r,
+                    status,
+                    format!("`{other}` is not a case status: `{STATUS_OK}` or `{STATUS_FAILED}`"),
+                ));
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// Merges sweep CSV texts (`(origin, text)` pairs, e.g. the shards of one study) into one

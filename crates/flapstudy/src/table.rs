@@ -120,8 +120,21 @@ impl Table {
 
     fn number_at(&self, line: usize, fields: &[String], col: usize) -> StudyResult<f64> {
         let text = &fields[col];
-        match text.parse::<f64>() {
-            Ok(x) if x.is_finite() => Ok(x),
+        // A failed case of a sweep (its `status` is `failed`) has no responses.
+        let failed_case = self
+            .find("status")
+            .filter(|&s| fields[s] == "failed")
+            .map(|_| self.find("error").map_or("", |e| fields[e].as_str()));
+        match (text.parse::<f64>(), failed_case) {
+            (Ok(x), _) if x.is_finite() => Ok(x),
+            (_, Some(why)) => Err(StudyError::Table {
+                origin: self.origin.clone(),
+                line,
+                column: Some(format!("`{}` ({})", self.columns[col], col + 1)),
+                message: format!(
+                    "no value: this case failed in the sweep (status `failed`, error: {why}); leave its row out to use the others"
+                ),
+            }),
             _ => Err(StudyError::Table {
                 origin: self.origin.clone(),
                 line,
@@ -166,6 +179,18 @@ mod tests {
         assert!(e.starts_with("t.csv, line 1, column `z`: required column is missing"));
         assert!(Table::parse("# only\n", "t.csv").is_err());
         assert!(Table::parse("x,x\n", "t.csv").is_err());
+        let failed = Table::parse(
+            "case,x,y,status,error\n0,1,2,ok,\n1,3,,failed,no periodic motion\n",
+            "s.csv",
+        )
+        .unwrap();
+        assert_eq!(failed.numbers(1).unwrap(), [1.0, 3.0]);
+        let e = failed.numbers(2).unwrap_err().to_string();
+        assert!(
+            e.starts_with("s.csv, line 3, column `y` (3): no value: this case failed")
+                && e.contains("error: no periodic motion"),
+            "{e}"
+        );
         assert!(
             Table::parse("x,y\nnan,1\n", "t.csv")
                 .unwrap()

@@ -41,7 +41,7 @@ fn study(text: &str) -> Study {
 /// The text of shard k of n as `flapwing sweep --shard` writes it.
 fn shard_text(s: &Study, k: usize, n: usize, file: &str) -> String {
     let h = ShardHeader::new(s, &study_hash(s), k, n, file);
-    let results = s.run(h.cases.clone(), &|| ()).unwrap();
+    let results = s.run(h.cases.clone(), &|_| ()).unwrap();
     format!("{}\n{}", h.line(), s.csv(&results))
 }
 
@@ -166,7 +166,7 @@ fn atomic_write_replaces_whole_files_and_temp_files_are_ignored() {
 fn merge_refuses_other_studies_and_lists_missing_shards() {
     let dir = tempfile::tempdir().unwrap();
     let s = study(FACTORIAL);
-    let whole = s.csv(&s.run(0..s.case_count(), &|| ()).unwrap());
+    let whole = s.csv(&s.run(0..s.case_count(), &|_| ()).unwrap());
     let n = 4;
     for k in [1, 2, 4] {
         let path = dir.path().join(shard_file_name("grid", k, n));

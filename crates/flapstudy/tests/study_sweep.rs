@@ -68,7 +68,7 @@ fn full_factorial_order_and_responses() {
     assert_eq!(s.cases[5], [160.0, 45.0]);
     let v = s.vehicle(4).unwrap();
     assert!((v.wings[0].kinematics().amplitude_rad.to_degrees() - 160.0).abs() < 1e-12);
-    let results = s.run(0..6, &|| ()).unwrap();
+    let results = s.run(0..6, &|_| ()).unwrap();
     for r in &results {
         let get =
             |name: &str| r.responses[s.responses.iter().position(|x| x.name() == name).unwrap()];
@@ -79,7 +79,7 @@ fn full_factorial_order_and_responses() {
             .sum();
         assert!((get("cl_mean_total") - sum).abs() < 1e-12);
         assert!(get("aero_power_w") > 0.0);
-        let lpp = get("lift_over_weight") * r.all.weight_n / get("aero_power_w");
+        let lpp = get("lift_over_weight") * r.done().unwrap().weight_n / get("aero_power_w");
         assert!((get("lift_per_power_n_per_w") - lpp).abs() < 1e-12 * lpp.abs());
         // Eq 23's peak: 0.3 dCL / (mu* sqrt(2 pi)) of the (in-range) regressions.
         let w = s.vehicle(r.case).unwrap().wings[0]
@@ -106,7 +106,7 @@ path = "fluid.density_kg_m3"
 levels = [1.204, 2.408]
 "#,
     );
-    let r = s.run(0..2, &|| ()).unwrap();
+    let r = s.run(0..2, &|_| ()).unwrap();
     let ratio = |k: usize| r[1].responses[k] / r[0].responses[k];
     assert!((ratio(0) - 2.0).abs() < 1e-12, "lift ratio {}", ratio(0));
     assert!((ratio(1) - 2.0).abs() < 1e-12, "power ratio {}", ratio(1));
@@ -132,9 +132,9 @@ path = "fluid.reynolds"
 levels = [{re0:?}]
 "#
     ));
-    let r = s.run(0..2, &|| ()).unwrap();
-    assert!((r[0].all.reynolds - re0).abs() < 1e-9 * re0);
-    assert!((r[1].all.reynolds - re0).abs() < 1e-9 * re0);
+    let r = s.run(0..2, &|_| ()).unwrap();
+    assert!((r[0].done().unwrap().reynolds - re0).abs() < 1e-9 * re0);
+    assert!((r[1].done().unwrap().reynolds - re0).abs() < 1e-9 * re0);
     let ratio = |k: usize| r[1].responses[k] / r[0].responses[k];
     assert!((ratio(0) - 4.0).abs() < 1e-9, "lift ratio {}", ratio(0));
     assert!((ratio(1) - 8.0).abs() < 1e-9, "power ratio {}", ratio(1));
@@ -144,19 +144,19 @@ levels = [{re0:?}]
 #[test]
 fn merged_shards_equal_one_unsharded_run() {
     let s = study(FACTORIAL);
-    let whole = s.csv(&s.run(0..s.case_count(), &|| ()).unwrap());
+    let whole = s.csv(&s.run(0..s.case_count(), &|_| ()).unwrap());
     for n in [1, 2, 4, 6] {
         let mut parts = Vec::new();
         // Shards in reverse order: the merge sorts by case index.
         for k in (1..=n).rev() {
-            let results = s.run(s.shard_range(k, n), &|| ()).unwrap();
+            let results = s.run(s.shard_range(k, n), &|_| ()).unwrap();
             parts.push((format!("shard {k}/{n}"), s.csv(&results)));
         }
         assert_eq!(merge_csv(&parts).unwrap(), whole, "{n} shards");
     }
     // Overlapping shards are refused.
-    let a = s.csv(&s.run(0..3, &|| ()).unwrap());
-    let b = s.csv(&s.run(2..6, &|| ()).unwrap());
+    let a = s.csv(&s.run(0..3, &|_| ()).unwrap());
+    let b = s.csv(&s.run(2..6, &|_| ()).unwrap());
     let e = merge_csv(&[("a".into(), a), ("b".into(), b)])
         .unwrap_err()
         .to_string();
@@ -181,8 +181,8 @@ fn thread_count_does_not_change_the_output() {
         .num_threads(2)
         .build()
         .unwrap();
-    let a = one.install(|| s.csv(&s.run(0..6, &|| ()).unwrap()));
-    let b = two.install(|| s.csv(&s.run(0..6, &|| ()).unwrap()));
+    let a = one.install(|| s.csv(&s.run(0..6, &|_| ()).unwrap()));
+    let b = two.install(|| s.csv(&s.run(0..6, &|_| ()).unwrap()));
     assert_eq!(a, b);
 }
 
@@ -215,11 +215,11 @@ levels = [0.06, 0.12, 0.18]
         ];
         assert_eq!(got, row[..3]);
     }
-    let r = s.run(0..18, &|| ()).unwrap();
+    let r = s.run(0..18, &|_| ()).unwrap();
     // Re = V_ref c_bar / nu: tests 1 and 4 of Table 2 share dtau_D and dtau_A (so V_ref)
     // and differ in nu by a factor 2.
     assert_eq!(s.cases[0][1..], s.cases[3][1..]);
-    let ratio = r[3].all.reynolds / r[0].all.reynolds;
+    let ratio = r[3].done().unwrap().reynolds / r[0].done().unwrap().reynolds;
     assert!((ratio - 2.0).abs() < 1e-12, "{ratio}");
 }
 
@@ -353,7 +353,7 @@ fn a_sweep_over_an_actuated_robobee_drive() {
     let s = study(
         "name = \"robobee_drive\"\nbase_model = \"robobee\"\ndesign = \"full_factorial\"\nresponses = [\"lift_over_weight\", \"aero_power_w\", \"trim_feasible\"]\n[[factor]]\npath = \"actuation.drive.amplitude_v\"\nlevels = [60.0, 80.0, 100.0]\n",
     );
-    let r = s.run(0..3, &|| ()).unwrap();
+    let r = s.run(0..3, &|_| ()).unwrap();
     let lw: Vec<f64> = r.iter().map(|c| c.responses[0]).collect();
     assert!(lw[0] < lw[1] && lw[1] < lw[2], "L/W {lw:?}");
     assert!(lw[0] < 1.0, "L/W {lw:?}");

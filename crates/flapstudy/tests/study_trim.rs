@@ -24,7 +24,7 @@ levels = [1.0e-6, 1.0e-5]
             &spec.base_model,
         )
         .unwrap();
-    let rows = study.run(0..2, &|| {}).unwrap();
+    let rows = study.run(0..2, &|_| {}).unwrap();
     // 1 mg: lift/weight 1.01 at 140 deg, trims at about 139.5 deg. 10 mg: lift/weight below 0.1
     // (the downwash grows with the weight);
     // lift grows with amplitude squared at most, so even 180 deg cannot carry ten times more.

@@ -3,6 +3,11 @@
 //! The search is one deterministic chain (Nelder-Mead stages from the box centre, each stage
 //! started from the previous one's best point), not independent restarts, so it has no shards
 //! and runs on one machine (see `flapstudy::optimize`).
+//!
+//! A design whose analysis fails (wings that do not settle, diverged dynamics) or that the
+//! model refuses is infeasible: the search goes on, and the report counts such designs. When
+//! the box centre fails, the search starts from the first design of a grid around it that
+//! does not; when all of them fail, the command says so and exits 1 (the run failed).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -44,14 +49,17 @@ fn parse_positive(s: &str) -> Result<f64, String> {
 /// supporting the weight (Nelder-Mead with a sequence of quadratic penalties; see
 /// `flapstudy::optimize`). Responses are tethered at the hover attitude, as in a sweep.
 pub fn run(args: OptimizeArgs) -> anyhow::Result<()> {
+    use flapstudy::StudyError;
     use flapstudy::optimize::{NelderMeadOptions, optimize_hover};
     let study = load_study(&args.study)?;
     let opts = NelderMeadOptions {
         max_evals: args.max_evals as usize,
         ..NelderMeadOptions::default()
     };
-    let opt = optimize_hover(&study, args.min_lift_over_weight, &opts)
-        .map_err(|e| input_error(e.to_string()))?;
+    let opt = optimize_hover(&study, args.min_lift_over_weight, &opts).map_err(|e| match e {
+        StudyError::AllFailed { .. } => anyhow::anyhow!("{}: {e}", study.origin),
+        e => input_error(e.to_string()),
+    })?;
     if args.json {
         return print_json(&opt);
     }
@@ -123,5 +131,19 @@ pub fn run(args: OptimizeArgs) -> anyhow::Result<()> {
             ""
         }
     );
+    if opt.starts_tried > 1 {
+        let _ = writeln!(
+            out,
+            "  the box centre failed: the search started from design {} of the start grid",
+            opt.starts_tried
+        );
+    }
+    if let Some(first) = &opt.first_failure {
+        let _ = writeln!(
+            out,
+            "  {} design(s) failed and counted as infeasible; the first: {first}",
+            opt.failed_evals
+        );
+    }
     print_stdout(&out)
 }

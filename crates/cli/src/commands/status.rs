@@ -7,6 +7,9 @@
 //! or pending; `sacct` (when accounting is on) tells a task that ended FAILED, CANCELLED,
 //! TIMEOUT and so on. Without them the files alone decide, and the report says which sources
 //! it used.
+//!
+//! A done shard may hold failed cases (rows with `status` = `failed`: a design whose analysis
+//! failed, see `flapstudy::sweep`): the shard is done, and the report lists those cases.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -14,6 +17,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use flapstudy::shard::{ShardState, join_indices, resubmit_command};
+use flapstudy::sweep::failed_rows;
 use serde::Serialize;
 
 use super::sweep_merge::{StudyShards, studies_in};
@@ -68,6 +72,8 @@ pub struct StudyStatus {
     pub failed: Vec<FailedShard>,
     /// Shards with no file and no task in the queue.
     pub missing: Vec<usize>,
+    /// Cases of the done shards whose analysis failed (rows with `status` = `failed`).
+    pub failed_cases: Vec<usize>,
     /// The command that reruns the failed and missing shards.
     pub resubmit: Option<String>,
 }
@@ -151,6 +157,7 @@ fn study_status(s: &StudyShards, dir: &str) -> StudyStatus {
         pending: Vec::new(),
         failed: Vec::new(),
         missing: Vec::new(),
+        failed_cases: Vec::new(),
         resubmit: None,
     };
     for k in 1..=g.n {
@@ -165,7 +172,20 @@ fn study_status(s: &StudyShards, dir: &str) -> StudyStatus {
         let file_hash = file.and_then(|f| f.state.header()).map(|h| &h.hash);
         let foreign = file.is_some() && file_hash != hash.as_ref();
         match file.map(|f| &f.state) {
-            Some(ShardState::Complete(_)) if !foreign => st.done.push(k),
+            Some(ShardState::Complete(_)) if !foreign => {
+                st.done.push(k);
+                let path = &g.files[&k].path;
+                let shown = path.display().to_string();
+                match std::fs::read_to_string(path)
+                    .map_err(|e| e.to_string())
+                    .and_then(|t| failed_rows(&t, &shown).map_err(|e| e.to_string()))
+                {
+                    Ok(rows) => st.failed_cases.extend(rows.iter().map(|r| r.case)),
+                    Err(e) => st
+                        .notes
+                        .push(format!("cannot list the failed cases of `{shown}`: {e}")),
+                }
+            }
             _ if queued.is_some_and(|q| is_running(q)) => st.running.push(k),
             _ if queued.is_some() => st.pending.push(k),
             Some(f) if foreign => st.failed.push(FailedShard {
@@ -272,6 +292,14 @@ fn status_text(dir: &str, statuses: &[StudyStatus]) -> String {
             s.missing.len(),
             list(&s.missing)
         );
+        if !s.failed_cases.is_empty() {
+            let _ = writeln!(
+                out,
+                "  failed cases in done shards: {} ({}; status = failed, the reason in the `error` column)",
+                s.failed_cases.len(),
+                join_indices(&s.failed_cases)
+            );
+        }
         if let Some(cmd) = &s.resubmit {
             let _ = writeln!(out, "  resubmit {cmd}");
         } else if s.done.len() == s.shards {

@@ -11,16 +11,26 @@
 //!   [`super::sweep_merge`]): join the shards into `DIR/<study>.csv`;
 //! - `flapwing sweep analyze` ([`super::analyze`]) and `flapwing sweep contour`.
 //!
-//! A progress bar is drawn on stderr when stderr is a terminal.
+//! A progress bar is drawn on stderr when stderr is a terminal; it counts failed cases.
+//!
+//! A case whose analysis fails (wings that do not settle, diverged dynamics) is a row of the
+//! table with `status` = `failed` and its reason in `error` (see `flapstudy::sweep`); the
+//! other cases finish, and the summary says how many failed and which. The exit code is 0
+//! when the table is written, failed cases or not (a study explores corners where designs
+//! fail); `--strict` makes it 1 when any case failed, after the table is written. A bad study
+//! (unknown field, a value or combination the model refuses) is bad input (2) before any case
+//! runs.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::{Args, Subcommand};
 use flapstudy::shard::{ShardHeader, ShardState, shard_file_name, shard_state, study_hash};
+use flapstudy::sweep::failure_summary;
 use flapstudy::{CaseResult, Study, StudySpec};
 
 use crate::error::{InputContext, input_error};
@@ -54,6 +64,10 @@ pub struct SweepArgs {
     /// when the file holds another study's shard).
     #[arg(long)]
     pub force: bool,
+    /// Exit 1 (after writing the table) when any case failed; without it a sweep whose table
+    /// is written exits 0 and the summary lists the failed cases.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// The sweep subcommands.
@@ -76,6 +90,9 @@ pub struct MergeArgs {
     /// Replace a merged CSV that already exists.
     #[arg(long)]
     pub force: bool,
+    /// Exit 1 (after writing the merged tables) when any case of them failed.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Shard K of N.
@@ -110,13 +127,15 @@ pub fn parse_shard(s: &str) -> Result<Shard, String> {
 /// Runs the command.
 pub fn run(args: SweepArgs) -> anyhow::Result<()> {
     match args.action {
-        Some(SweepAction::Merge(m)) => return super::sweep_merge::run(&m.dir, m.force),
+        Some(SweepAction::Merge(m)) => {
+            return super::sweep_merge::run(&m.dir, m.force, m.strict);
+        }
         Some(SweepAction::Analyze(a)) => return super::analyze::run(a),
         Some(SweepAction::Contour(c)) => return super::contour::run(c),
         None => {}
     }
     if let Some(dir) = &args.merge {
-        return super::sweep_merge::run(dir, args.force);
+        return super::sweep_merge::run(dir, args.force, args.strict);
     }
     let path = args
         .study
@@ -149,7 +168,7 @@ fn run_whole(study: &Study, args: &SweepArgs) -> anyhow::Result<()> {
     };
     file.write_all(study.csv(&results.0).as_bytes())
         .map_err(|e| anyhow::anyhow!("cannot write `{}`: {e}", out_path.display()))?;
-    report(study, &out_path, range.len(), &results)
+    report(study, &out_path, range.len(), &results, args.strict)
 }
 
 /// One shard: skipped when its file is already complete with this study's hash, refused when
@@ -176,10 +195,14 @@ fn run_shard(study: &Study, path: &Path, args: &SweepArgs, shard: Shard) -> anyh
         match (&state, same, args.force) {
             (_, _, true) => note(&format!("replacing `{shown}` (--force)")),
             (ShardState::Complete(_), true, false) => {
-                return print_stdout(&format!(
-                    "Skipped shard {k}/{n} of `{}`: `{shown}` is already complete (study hash {hash})\n",
-                    study.name
-                ));
+                let failed = flapstudy::sweep::failed_rows(&text, &shown)
+                    .map_err(|e| input_error(e.to_string()))?;
+                print_stdout(&format!(
+                    "Skipped shard {k}/{n} of `{}`: `{shown}` is already complete (study hash {hash})\n{}",
+                    study.name,
+                    failure_summary(&failed, header.cases.len())
+                ))?;
+                return strict_check(args.strict, failed.len(), &format!("the shard `{shown}`"));
             }
             (ShardState::Incomplete(_, why), true, false) => {
                 note(&format!("replacing the incomplete shard `{shown}` ({why})"));
@@ -206,7 +229,7 @@ fn run_shard(study: &Study, path: &Path, args: &SweepArgs, shard: Shard) -> anyh
     text.push_str(&study.csv(&results.0));
     flapstudy::shard::write_atomic(&out_path, text.as_bytes())
         .map_err(|e| anyhow::anyhow!("{e}"))?;
-    report(study, &out_path, range.len(), &results)
+    report(study, &out_path, range.len(), &results, args.strict)
 }
 
 /// Runs `range` on `jobs` threads (default: the global pool): the results and the seconds.
@@ -216,8 +239,16 @@ fn run_cases(
     jobs: Option<u16>,
 ) -> anyhow::Result<(Vec<CaseResult>, f64)> {
     let bar = crate::progress::progress_bar(range.len() as u64, study.name.clone(), "cases");
+    let failed = AtomicUsize::new(0);
+    let progress = |r: &CaseResult| {
+        if r.failure().is_some() {
+            let n = failed.fetch_add(1, Ordering::Relaxed) + 1;
+            bar.set_message(format!("{} ({n} failed)", study.name));
+        }
+        bar.inc(1);
+    };
     let started = Instant::now();
-    let run = || study.run_until(range.clone(), &|| bar.inc(1), &crate::interrupt::requested);
+    let run = || study.run_until(range.clone(), &progress, &crate::interrupt::requested);
     let results = match jobs {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n as usize)
@@ -231,23 +262,31 @@ fn run_cases(
     Ok((results, started.elapsed().as_secs_f64()))
 }
 
-/// The summary line (or the Ctrl-C error) after the CSV is written.
+/// The summary (or the Ctrl-C error) after the CSV is written: the count, the clamped
+/// wake-capture inputs, and the failed cases with their reasons.
 fn report(
     study: &Study,
     out_path: &Path,
     count: usize,
     (results, elapsed): &(Vec<CaseResult>, f64),
+    strict: bool,
 ) -> anyhow::Result<()> {
+    let failed = study.failed_cases(results);
     if results.len() < count {
         return Err(anyhow::anyhow!(
-            "interrupted by Ctrl-C: wrote the {} of {count} cases that finished to `{}`",
+            "interrupted by Ctrl-C: wrote the {} of {count} cases that finished to `{}`{}",
             results.len(),
-            out_path.display()
+            out_path.display(),
+            if failed.is_empty() {
+                String::new()
+            } else {
+                format!(" ({} of them failed)", failed.len())
+            }
         ));
     }
     let clamped = results
         .iter()
-        .filter(|r| r.all.wake_capture_clamped)
+        .filter(|r| r.done().is_some_and(|a| a.wake_capture_clamped))
         .count();
     let mut out = String::new();
     let _ = writeln!(
@@ -267,7 +306,24 @@ fn report(
             "{clamped} case(s) have wake_capture_clamped = 1: Re, dtau_A or dtau_D outside the wake-capture model's fitted range (inputs clamped)"
         );
     }
-    print_stdout(&out)
+    out.push_str(&failure_summary(&failed, count));
+    print_stdout(&out)?;
+    strict_check(
+        strict,
+        failed.len(),
+        &format!("the table `{}`", out_path.display()),
+    )
+}
+
+/// With `--strict`, an error (exit 1) when `failed` > 0 cases of the written table(s) failed;
+/// `written` says which, e.g. "the table `DIR/study.csv`".
+pub fn strict_check(strict: bool, failed: usize, written: &str) -> anyhow::Result<()> {
+    if strict && failed > 0 {
+        return Err(anyhow::anyhow!(
+            "--strict: {failed} case(s) failed ({written} is written; the reasons are in its `error` column)"
+        ));
+    }
+    Ok(())
 }
 
 /// Reads and resolves a study file; its `base_model` is a built-in name or a path relative

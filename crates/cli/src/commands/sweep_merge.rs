@@ -6,12 +6,16 @@
 //! that of the lowest-index shard. A shard of another study is refused, naming the file and both
 //! hashes. Missing and incomplete shards are listed by index with the exact `flapwing submit`
 //! command that reruns just those, and the merge of that study exits 2 without writing.
+//!
+//! Failed cases (rows with `status` = `failed`) are rows like any other: the merge keeps them
+//! and reports how many failed and which; `--strict` then exits 1 after writing.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
 
 use flapstudy::shard::{Expected, ShardError, ShardGroup, merge_group, scan_dir};
+use flapstudy::sweep::{failed_rows, failure_summary};
 
 use crate::error::input_error;
 use crate::output::{create_output_file, print_stdout};
@@ -77,7 +81,7 @@ impl StudyShards {
 }
 
 /// Runs the command.
-pub fn run(dir: &Path, force: bool) -> anyhow::Result<()> {
+pub fn run(dir: &Path, force: bool, strict: bool) -> anyhow::Result<()> {
     let shown = dir.display().to_string();
     let studies = studies_in(dir)?;
     if studies.is_empty() {
@@ -85,6 +89,7 @@ pub fn run(dir: &Path, force: bool) -> anyhow::Result<()> {
     }
     let mut report = String::new();
     let mut errors = Vec::new();
+    let mut failed_total = 0;
     for s in &studies {
         let (study, n) = (&s.group.study, s.group.n);
         let merged = match merge_group(&s.group, s.expected().as_ref(), &s.dir_for_commands(dir)) {
@@ -99,11 +104,15 @@ pub fn run(dir: &Path, force: bool) -> anyhow::Result<()> {
         file.write_all(merged.as_bytes())
             .map_err(|e| anyhow::anyhow!("cannot write `{}`: {e}", out_path.display()))?;
         let rows = merged.lines().count().saturating_sub(1);
+        let failed = failed_rows(&merged, &out_path.display().to_string())
+            .map_err(|e| input_error(e.to_string()))?;
+        failed_total += failed.len();
         let _ = writeln!(
             report,
             "Merged {n} shard(s) of `{study}` into {}: {rows} cases",
             out_path.display()
         );
+        report.push_str(&failure_summary(&failed, rows));
     }
     if !errors.is_empty() {
         if !report.is_empty() {
@@ -111,5 +120,10 @@ pub fn run(dir: &Path, force: bool) -> anyhow::Result<()> {
         }
         return Err(input_error(errors.join("\n")));
     }
-    print_stdout(&report)
+    print_stdout(&report)?;
+    super::sweep::strict_check(
+        strict,
+        failed_total,
+        &format!("the merged table in `{shown}`"),
+    )
 }

@@ -42,4 +42,4 @@ mod study;
 pub use design::{SplitMix64, latin_hypercube};
 pub use file::{DesignKind, FactorSpec, MAX_CASES, StudySpec};
 pub use path::{PathStep, parse_path, set_path};
-pub use study::{Factor, Study, shard_range, vehicle_from_table};
+pub use study::{Factor, Study, shard_range, value_text, vehicle_from_table};

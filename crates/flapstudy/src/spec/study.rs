@@ -44,6 +44,16 @@ pub struct Study {
     pub cases: Vec<Vec<f64>>,
 }
 
+/// A factor value for messages: plain between 1e-3 and 1e7 in magnitude (and 0), else in
+/// exponent form (`3e-6`, not `0.000003`); every digit Rust's shortest round trip needs.
+pub fn value_text(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e7).contains(&v.abs()) || !v.is_finite() {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// Builds a vehicle from an edited model table.
 pub fn vehicle_from_table(table: toml::Table, origin: &str) -> flapsim::Result<Vehicle> {
     let spec: VehicleSpec =
@@ -62,12 +72,18 @@ impl Study {
         self.cases.len()
     }
 
-    /// `path = value` of every factor of case `i`, joined by commas.
+    /// `path = value` of every factor of case `i`, joined by commas (values as
+    /// [`value_text`] writes them).
     pub fn settings_text(&self, i: usize) -> String {
+        self.settings_at(&self.cases[i])
+    }
+
+    /// `path = value` of every factor at `values` (one per factor), joined by commas.
+    pub fn settings_at(&self, values: &[f64]) -> String {
         self.factors
             .iter()
-            .zip(&self.cases[i])
-            .map(|(f, v)| format!("{} = {v}", f.path))
+            .zip(values)
+            .map(|(f, &v)| format!("{} = {}", f.path, value_text(v)))
             .collect::<Vec<_>>()
             .join(", ")
     }
