@@ -167,18 +167,22 @@ def test_randomising_an_actuated_vehicle_and_bad_files(tmp_path):
 
 @pytest.mark.parametrize("model", flapwing.builtin_models())
 @pytest.mark.parametrize("env_id", ["flapwing/Hover-v0", "flapwing/Recover-v0"])
-def test_every_builtin_vehicle_runs_in_every_task(env_id, model):
-    if model == "robobee":
-        # Rebuilt from its published parameter set (issue #24), the RoboBee lifts 0.95 W at
-        # its drive's 100 V limit: no hover to start a task from, and the error says so.
-        with pytest.raises(flapwing.AnalysisError, match="no hover trim"):
+def test_every_builtin_vehicle_runs_in_every_task_or_is_refused_as_the_table_says(env_id, model):
+    table = (ROOT / "docs" / "python.md").read_text()
+    row = next(line for line in table.splitlines() if line.strip().startswith(f"| `{model}` |"))
+    supported = row.split("|")[2].strip() == "yes"
+    assert supported == (model not in flapwing.envs.UNSUPPORTED), row
+    if not supported:
+        # gym.make says why, naming the table, and the task really cannot fly it: the
+        # RoboBee (rebuilt from its published parameters, issue #24) lifts 0.95 W at its
+        # drive's 100 V limit; the dragonfly (a forward-flight specimen) has no sensors.
+        with pytest.raises(ValueError, match="Gym tasks by vehicle") as e:
             gym.make(env_id, model=model)
-        return
-    if model == "dragonfly":
-        # A forward-flight specimen (Azuma & Watanabe 1988) without sensors; it has no hover
-        # trim either. The task says what it needs.
-        with pytest.raises(flapwing.AnalysisError, match=r"no \[sensors\] table"):
-            gym.make(env_id, model=model)
+        assert flapwing.envs.UNSUPPORTED[model] in str(e.value)
+        kind = "hover" if env_id == "flapwing/Hover-v0" else "recover"
+        why = {"robobee": "needs a drive peaking at 102.4 V", "dragonfly": r"no \[sensors\] table"}
+        with pytest.raises(flapwing.AnalysisError, match=why[model]):
+            flapwing.HoverTask(model, kind)
         return
     env = gym.make(env_id, model=model)
     obs, _ = env.reset(seed=7)
@@ -189,6 +193,32 @@ def test_every_builtin_vehicle_runs_in_every_task(env_id, model):
         assert np.all(np.isfinite(obs)) and np.isfinite(r)
         if term or trunc:
             break
+
+
+@pytest.mark.parametrize("model", ["hummingbird", "drosophila"])
+def test_random_actions_of_the_action_space_fly_their_first_step(model):
+    # The box is bounded by what the vehicle accepts about its trim (the hummingbird's
+    # 21.5 V actuators, the fly's 180 deg stroke): its corners, the worst cases, are
+    # accepted controls, and 200 sampled actions each fly a first step from a fresh episode
+    # without terminating (before the bound: 171 of 200 for the hummingbird).
+    env = flapwing.envs.FlapwingEnv(model=model)
+    v = flapwing.Vehicle(model)
+    trim = env.task.trim["controls"]
+    lim = env.action_space.high
+    assert np.all(lim > 0) and np.all(env.action_space.low == -lim)
+    channels = env.control_channels
+    for k in range(16):
+        corner = np.where([(k >> j) & 1 for j in range(4)], lim, -lim)
+        v.with_controls(**{c: trim[c] + u for c, u in zip(channels, corner)})
+    env.action_space.seed(0)
+    ended = []
+    for i in range(200):
+        env.reset(seed=i)
+        a = env.action_space.sample()
+        _, _, term, _, info = env.step(a)
+        if term:
+            ended.append((a, info.get("reason")))
+    assert not ended, f"{len(ended)} of 200 random actions ended the episode: {ended[:3]}"
 
 
 def test_recover_reset_observation_shows_the_disturbance():

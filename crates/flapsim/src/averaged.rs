@@ -26,6 +26,7 @@ pub struct FrozenState {
 /// that body state by the dynamics ([`crate::actuated::periodic`], which integrates at the
 /// simulation's step and ignores `steps`; its error says when there is no periodic motion).
 pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> Result<MeanLoads> {
+    crate::cancel::check()?;
     let motion = BodyMotion {
         velocity_m_s: state.velocity_body_m_s,
         angular_velocity_rad_s: state.angular_velocity_body_rad_s,

@@ -15,6 +15,7 @@
 
 pub mod actuated;
 pub mod averaged;
+pub mod cancel;
 pub mod control;
 pub mod controls;
 pub mod derivatives;

@@ -344,6 +344,7 @@ fn one_wingbeat(
     v_trim: &Vector3<f64>,
     y: &[f64],
 ) -> Result<Vec<f64>> {
+    crate::cancel::check()?;
     let mut sim = Simulation::new(v.clone(), SimMode::LONGITUDINAL);
     let s = State {
         position_m: Vector3::zeros(),

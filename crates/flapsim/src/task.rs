@@ -6,8 +6,11 @@
 //!
 //! - Action: offsets from the hover trim on the vehicle's four control channels
 //!   ([`Vehicle::control_channels`]; radians, or volts for actuated vehicles), each within
-//!   +-[`Task::action_limit`] (three times the LQR design excursions of
-//!   [`LqrWeights::control_max`], the range the hover LQR saturates at).
+//!   +-[`Task::action_limit`]: three times the LQR design excursions of
+//!   [`LqrWeights::control_max`] (the range the hover LQR saturates at), cut to what the
+//!   vehicle accepts about its trim (actuator voltage limits, stroke amplitude at most 180
+//!   deg, ...), so that every action in the box is controls the vehicle can fly (about the
+//!   nominal trim: a randomised episode's trim moves the box's edges a little).
 //! - Observation (12 numbers; 6 without motion capture): the IMU's newest delivered sample,
 //!   gyro (rad/s) and specific force minus the trim's (m/s^2), body frame; then the newest
 //!   motion-capture frame's position error from the hover point (m) and attitude error from
@@ -36,11 +39,11 @@ use serde::{Deserialize, Serialize};
 use crate::control::LqrWeights;
 use crate::error::{Error, Result};
 use crate::estimator::{Estimator, Prior};
+use crate::model::{Vehicle, VehicleSpec};
 use crate::randomize::Randomization;
 use crate::sensors::{Noise, SensorParams, Sensors};
 use crate::sim::{Mode, Simulation};
 use crate::trim::{Trim, trim, trimmed_vehicle};
-use crate::{Vehicle, VehicleSpec};
 
 /// What a task asks and how it is scored.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -103,6 +106,59 @@ impl TaskSpec {
 pub fn preroll_s(p: &SensorParams) -> f64 {
     p.mocap
         .map_or(p.imu.latency_s, |m| m.latency_s.max(p.imu.latency_s))
+}
+
+/// The action limits: `design` (three times the LQR design excursions) cut to what the
+/// vehicle accepts about its trim `t`, so that every action in the box is controls its
+/// actuators and kinematics take (an actuator's voltage limit, a stroke amplitude of at most
+/// 180 deg, ...: [`Vehicle::apply_controls`]). Each channel is first cut alone (the largest
+/// fraction of its design limit, both signs, found by bisection), then the box as a whole,
+/// until each of its 16 corners is accepted (the limits are peaks and sums of the channels,
+/// so the corners are the worst cases).
+fn admissible_limit(vehicle: &Vehicle, t: &Trim, design: [f64; 4]) -> Result<[f64; 4]> {
+    let drive = vehicle.drive_controlled();
+    let accepts = |u: &[f64; 4]| {
+        let mut v = vehicle.clone();
+        v.apply_controls(&t.controls.with_channels(drive, u))
+            .is_ok()
+    };
+    // The largest s in [0, 1] with ok(s) (ok(0) holds), to 1e-4 of the design limit.
+    let largest = |ok: &dyn Fn(f64) -> bool| {
+        if ok(1.0) {
+            return 1.0;
+        }
+        let (mut lo, mut hi) = (0.0, 1.0);
+        while hi - lo > 1e-4 {
+            let mid = 0.5 * (lo + hi);
+            if ok(mid) { lo = mid } else { hi = mid }
+        }
+        lo
+    };
+    let corners = |lim: &[f64; 4]| {
+        (0..16).all(|k: usize| {
+            let u = std::array::from_fn(|j| if k >> j & 1 == 1 { lim[j] } else { -lim[j] });
+            accepts(&u)
+        })
+    };
+    if !corners(&[0.0; 4]) {
+        return Err(Error::Analysis(format!(
+            "{}: the vehicle refuses its own trim controls",
+            vehicle.name
+        )));
+    }
+    let mut lim = design;
+    for j in 0..4 {
+        let s = largest(&|s| {
+            [1.0, -1.0].iter().all(|sign| {
+                let mut u = [0.0; 4];
+                u[j] = sign * s * design[j];
+                accepts(&u)
+            })
+        });
+        lim[j] = s * design[j];
+    }
+    let s = largest(&|s| corners(&lim.map(|l| s * l)));
+    Ok(lim.map(|l| s * l))
 }
 
 /// The result of one action.
@@ -198,7 +254,8 @@ impl Task {
         }
         let t = trim(&vehicle)?;
         let sim = Simulation::new(trimmed_vehicle(&vehicle, &t)?, Mode::Free);
-        let limit = LqrWeights::default().control_max(&vehicle).map(|u| 3.0 * u);
+        let design = LqrWeights::default().control_max(&vehicle).map(|u| 3.0 * u);
+        let limit = admissible_limit(&vehicle, &t, design)?;
         let mut task = Self {
             spec,
             origin: origin.to_owned(),

@@ -366,8 +366,9 @@ pub fn model_text(model: &str, builtins: &[(&str, &'static str)]) -> PyResult<(S
             names.join(", ")
         )));
     }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| PyOSError::new_err(format!("cannot read model file {model}: {e}")))?;
+    // Bounded: regular files of at most 1 MiB (flapsim::model::MAX_MODEL_FILE_BYTES).
+    let text =
+        flapsim::model::read_model_file(path).map_err(|e| PyOSError::new_err(e.to_string()))?;
     Ok((text, model.to_owned()))
 }
 

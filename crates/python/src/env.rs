@@ -71,11 +71,9 @@ fn task_spec(kind: &str, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<Task
 
 fn load_randomization(path: Option<&str>) -> PyResult<Option<Randomization>> {
     let Some(p) = path else { return Ok(None) };
-    let text = std::fs::read_to_string(p).map_err(|e| {
-        pyo3::exceptions::PyOSError::new_err(format!(
-            "`randomize`: cannot read the randomisation file {p}: {e}"
-        ))
-    })?;
+    // Bounded as model files are (a regular file of at most 1 MiB: a FIFO would block).
+    let text = flapsim::model::read_bounded_text(std::path::Path::new(p), "randomisation file")
+        .map_err(|e| pyo3::exceptions::PyOSError::new_err(format!("`randomize`: {e}")))?;
     Ok(Some(Randomization::from_toml(&text, p).map_err(sim_err)?))
 }
 

@@ -5,7 +5,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::sync::atomic::Ordering;
 
-use crate::convert::record;
+use crate::convert::{record, vector};
 use crate::vehicle::Vehicle;
 
 /// The envelope of `vehicle` over every forward speed of `speeds_m_s` with every climb rate
@@ -13,21 +13,24 @@ use crate::vehicle::Vehicle;
 /// (climb rates outermost), each with `condition`, `point` (the trim, the stroke-plane angle,
 /// amplitude, power and downwash, the limit margin and the modes; `None` when the point does
 /// not trim) and `no_trim_reason`. Raises `ValueError` for an empty or non-finite grid and
+/// `TypeError` for values that are not real numbers (booleans included), and
 /// `KeyboardInterrupt` on Ctrl-C.
 #[pyfunction]
 #[pyo3(signature = (vehicle, speeds_m_s, climbs_m_s = None))]
 pub fn envelope<'py>(
     py: Python<'py>,
     vehicle: &Vehicle,
-    speeds_m_s: Vec<f64>,
-    climbs_m_s: Option<Vec<f64>>,
+    speeds_m_s: &Bound<'py, PyAny>,
+    climbs_m_s: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let grid = flapstudy::envelope::EnvelopeGrid::new(
-        speeds_m_s,
-        climbs_m_s.unwrap_or_else(|| vec![0.0]),
-        "speeds_m_s / climbs_m_s",
-    )
-    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    // Real numbers only: booleans, complex and text are a TypeError naming the argument.
+    let speeds = vector("speeds_m_s", speeds_m_s, None)?;
+    let climbs = match climbs_m_s {
+        Some(c) => vector("climbs_m_s", c, None)?,
+        None => vec![0.0],
+    };
+    let grid = flapstudy::envelope::EnvelopeGrid::new(speeds, climbs, "speeds_m_s / climbs_m_s")
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let v = &vehicle.vehicle;
     let rows = crate::interrupt::watch(py, |stop| {
         flapstudy::envelope::envelope(v, &grid, &|_| {}, &|| stop.load(Ordering::Relaxed))

@@ -7,10 +7,13 @@
 //! - [`watch`]: runs work that spreads over rayon's threads on a helper thread while the
 //!   calling thread checks the signals every [`EVERY`]; on an exception it sets the stop
 //!   flag the work polls, waits for it to stop and raises the exception.
+//! - [`analysis`]: [`watch`] for flapsim's trim, stability and LQR design, whose flag is a
+//!   `flapsim::cancel` token that their loops check.
 //!
 //! After an interruption the object keeps what was done before the stop (the steps taken,
 //! the tasks' state); an interrupted task's episode has ended (reset it).
 
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -79,12 +82,39 @@ impl Signals {
 /// raises, `stop` is set, `work` is waited for (it should poll `stop` and return early) and
 /// the exception is raised.
 pub fn watch<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<T> {
-    let stop = AtomicBool::new(false);
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    watch_flag(py, stop, move || work(&flag))
+}
+
+/// A flapsim analysis (trim, stability, LQR design) under [`watch`]: it runs with a
+/// `flapsim::cancel` token installed, which Ctrl-C sets, so that it stops at its next
+/// checkpoint (well within a second) and the KeyboardInterrupt is raised.
+pub fn analysis<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let token = stop.clone();
+    watch_flag(py, stop, move || flapsim::cancel::with_cancel(token, work))
+}
+
+/// Imports numpy and its C API before a long call that returns arrays. rust-numpy imports
+/// the API capsule at the first array it makes and panics if that import raises, which a
+/// pending KeyboardInterrupt does (the import runs Python code, and so the signal handlers):
+/// imported here first, where an interrupt is an ordinary exception.
+pub fn numpy_ready(py: Python<'_>) -> PyResult<()> {
+    py.import("numpy")?;
+    numpy::PyArray1::<f64>::zeros(py, 0, false);
+    Ok(())
+}
+
+fn watch_flag<T: Send>(
+    py: Python<'_>,
+    stop: Arc<AtomicBool>,
+    work: impl FnOnce() -> T + Send,
+) -> PyResult<T> {
     let (tx, mut rx) = mpsc::channel::<()>();
     std::thread::scope(|s| {
-        let stop_ref = &stop;
         let handle = s.spawn(move || {
-            let r = work(stop_ref);
+            let r = work();
             let _ = tx.send(());
             r
         });
@@ -92,15 +122,17 @@ pub fn watch<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send
         loop {
             let r = &mut rx;
             let waited = py.detach(move || r.recv_timeout(EVERY));
-            match waited {
-                Ok(()) | Err(mpsc::RecvTimeoutError::Disconnected) => break,
-                Err(mpsc::RecvTimeoutError::Timeout) => {}
-            }
+            let finished = !matches!(waited, Err(mpsc::RecvTimeoutError::Timeout));
+            // Checked once more after the work has finished: a signal that came in its last
+            // moments is raised here, not by whatever Python code runs next.
             if raised.is_none()
                 && let Err(e) = py.check_signals()
             {
                 stop.store(true, Ordering::Relaxed);
                 raised = Some(e);
+            }
+            if finished {
+                break;
             }
         }
         let out = py.detach(move || handle.join());

@@ -8,9 +8,28 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::log_err;
 
+/// `path` if it is a regular file (or does not exist: flightlog then says so). Anything else
+/// is refused before it is opened: a FIFO with no writer would block the open, ignoring
+/// Ctrl-C, and a device read without end.
+fn log_file(path: std::path::PathBuf) -> PyResult<std::path::PathBuf> {
+    match std::fs::metadata(&path) {
+        Ok(m) if !m.is_file() => Err(pyo3::exceptions::PyOSError::new_err(format!(
+            "{} is not a regular file ({}): a flapwing log is an MCAP file",
+            path.display(),
+            if m.is_dir() {
+                "a directory"
+            } else {
+                "a FIFO, device or socket"
+            }
+        ))),
+        _ => Ok(path),
+    }
+}
+
 /// The topics of a log, in file order.
 #[pyfunction]
 pub fn log_topics(path: std::path::PathBuf) -> PyResult<Vec<String>> {
+    let path = log_file(path)?;
     let s = flightlog::replay::read_summary(&path).map_err(log_err)?;
     Ok(s.channels.into_iter().map(|c| c.topic).collect())
 }
@@ -19,6 +38,7 @@ pub fn log_topics(path: std::path::PathBuf) -> PyResult<Vec<String>> {
 /// note of where it is truncated or damaged and how much was recovered (a killed run's log).
 #[pyfunction]
 pub fn log_damage(path: std::path::PathBuf) -> PyResult<Option<String>> {
+    let path = log_file(path)?;
     let s = flightlog::replay::read_summary(&path).map_err(log_err)?;
     Ok(s.damage)
 }
@@ -32,6 +52,7 @@ pub fn read_channel<'py>(
     path: std::path::PathBuf,
     topic: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let path = log_file(path)?;
     let t = py
         .detach(|| flightlog::replay::read_table(&path, topic))
         .map_err(log_err)?;

@@ -12,6 +12,9 @@ use flapsim::State;
 
 use crate::convert::{quat_wxyz, vec3, vector};
 
+/// How far a state's quaternion norm may be from 1 (it is normalised within that).
+const MAX_NORM_ERROR: f64 = 1e-6;
+
 const STATE_KEYS: [&str; 4] = [
     "position_m",
     "world_from_body_wxyz",
@@ -60,10 +63,12 @@ pub fn state_from_dict(d: &Bound<'_, PyDict>, base: State) -> PyResult<State> {
             _ => {
                 let q = Quaternion::new(a[0], a[1], a[2], a[3]);
                 let n = q.norm();
-                if !(n.is_finite() && n > 1e-9) {
+                // A unit quaternion, as WingSet.step takes it: a norm far from 1 is not a
+                // rounding error but a wrong value (never normalised quietly).
+                if !(n.is_finite() && (n - 1.0).abs() <= MAX_NORM_ERROR) {
                     return Err(PyValueError::new_err(format!(
-                        "state `world_from_body_wxyz` must be a non-zero quaternion of finite \
-                         norm, got norm {n}"
+                        "state `world_from_body_wxyz` must be a unit quaternion (w, x, y, z), \
+                         got norm {n}; allowed: a norm within {MAX_NORM_ERROR:e} of 1"
                     )));
                 }
                 s.world_from_body = UnitQuaternion::from_quaternion(q);

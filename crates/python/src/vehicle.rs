@@ -7,7 +7,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{arg_int, matrix, merge_record, model_text, record};
+use crate::convert::{arg_int, matrix, merge_record, model_text, record, scalar};
+use crate::interrupt::{analysis, numpy_ready};
 use crate::sim_err;
 use crate::state::state_from_dict;
 use flapsim::flight::FlightCondition;
@@ -70,8 +71,14 @@ impl Vehicle {
     }
 }
 
-/// The flight condition of `speed_m_s` and `climb_m_s`, or a `ValueError` naming them.
-pub(crate) fn condition(speed_m_s: f64, climb_m_s: f64) -> PyResult<FlightCondition> {
+/// The flight condition of `speed_m_s` and `climb_m_s` (real numbers: a boolean, complex or
+/// text value is a `TypeError`), or a `ValueError` naming them.
+pub(crate) fn condition(
+    speed_m_s: Option<&Bound<'_, PyAny>>,
+    climb_m_s: Option<&Bound<'_, PyAny>>,
+) -> PyResult<FlightCondition> {
+    let real = |name, x: Option<&Bound<'_, PyAny>>| x.map_or(Ok(0.0), |x| scalar(name, x));
+    let (speed_m_s, climb_m_s) = (real("speed_m_s", speed_m_s)?, real("climb_m_s", climb_m_s)?);
     FlightCondition::new(speed_m_s, climb_m_s)
         .map_err(|e| PyValueError::new_err(format!("speed_m_s / climb_m_s: {e}")))
 }
@@ -205,29 +212,34 @@ impl Vehicle {
     /// climb rate `climb_m_s`; flapsim::flight): condition, controls, body pitch and
     /// residuals, as a dict. Raises `AnalysisError` when no trim is found, `ValueError` for
     /// a bad condition.
-    #[pyo3(signature = (speed_m_s = 0.0, climb_m_s = 0.0))]
+    #[pyo3(signature = (speed_m_s = None, climb_m_s = None))]
     fn trim<'py>(
         &self,
         py: Python<'py>,
-        speed_m_s: f64,
-        climb_m_s: f64,
+        speed_m_s: Option<&Bound<'py, PyAny>>,
+        climb_m_s: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let c = condition(speed_m_s, climb_m_s)?;
-        let t = py.detach(|| self.trim_at(&c))?;
+        let t = analysis(py, || self.trim_at(&c))??;
         record(py, &t)
     }
 
     /// The vehicle flying at its trim (controls applied, attitude at the trim pitch, and at
     /// a flight condition its velocity and the induced inflow frozen there).
-    #[pyo3(signature = (speed_m_s = 0.0, climb_m_s = 0.0))]
-    fn trimmed(&self, py: Python<'_>, speed_m_s: f64, climb_m_s: f64) -> PyResult<Self> {
+    #[pyo3(signature = (speed_m_s = None, climb_m_s = None))]
+    fn trimmed(
+        &self,
+        py: Python<'_>,
+        speed_m_s: Option<&Bound<'_, PyAny>>,
+        climb_m_s: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
         let c = condition(speed_m_s, climb_m_s)?;
-        let v = py.detach(|| -> PyResult<flapsim::Vehicle> {
+        let v = analysis(py, || -> PyResult<flapsim::Vehicle> {
             let t = self.trim_at(&c)?;
             let mut v = flapsim::trim::trimmed_vehicle(&self.vehicle, &t).map_err(sim_err)?;
             v.initial_attitude = t.attitude();
             Ok(v)
-        })?;
+        })??;
         Ok(Self {
             vehicle: v,
             toml: self.toml.clone(),
@@ -245,18 +257,20 @@ impl Vehicle {
     /// `floquet_period_s`) and `floquet_eigenvectors` (complex, column k the eigenvector of
     /// multiplier k: Phi v = mu v, unit norm, largest entry real and positive).
     /// `speed_m_s` and `climb_m_s` analyse about the trim at that flight condition.
-    #[pyo3(signature = (floquet = true, speed_m_s = 0.0, climb_m_s = 0.0))]
+    #[pyo3(signature = (floquet = true, speed_m_s = None, climb_m_s = None))]
     fn stability<'py>(
         &self,
         py: Python<'py>,
         floquet: bool,
-        speed_m_s: f64,
-        climb_m_s: f64,
+        speed_m_s: Option<&Bound<'py, PyAny>>,
+        climb_m_s: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let c = condition(speed_m_s, climb_m_s)?;
-        let r = py
-            .detach(|| flapsim::stability::analyze_at(&self.vehicle, &c, floquet))
-            .map_err(sim_err)?;
+        numpy_ready(py)?;
+        let r = analysis(py, || {
+            flapsim::stability::analyze_at(&self.vehicle, &c, floquet)
+        })?
+        .map_err(sim_err)?;
         let d = record(py, &r)?;
         let dict = d.cast::<PyDict>()?;
         dict.set_item("a_longitudinal", matrix(py, &square(&r.a_longitudinal))?)?;
@@ -329,13 +343,13 @@ impl Vehicle {
                 }
             }
         }
-        let (t, c) = py.detach(|| -> PyResult<_> {
+        let (t, c) = analysis(py, || -> PyResult<_> {
             let t = self.trim_value()?;
             let v = flapsim::trim::trimmed_vehicle(&self.vehicle, &t).map_err(sim_err)?;
             let c =
                 flapsim::control::HoverController::design(&v, &t, &w, delay).map_err(sim_err)?;
             Ok((t, c))
-        })?;
+        })??;
         if c.gain().iter().any(|x| !x.is_finite()) {
             return Err(PyValueError::new_err(
                 "the LQR gain is not finite for these weights: make the LqrWeights fields \
@@ -390,24 +404,26 @@ impl HoverController {
         record(py, &self.weights)
     }
     /// The error state (position, velocity, attitude error, body rates; 12 numbers) of a
-    /// state dict.
+    /// state dict (keys missing from it are at the hover reference; an empty dict is a
+    /// `ValueError`).
     fn error_state<'py>(
         &self,
         py: Python<'py>,
         state: &Bound<'py, PyDict>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let s = state_from_dict(state, zero_state())?;
+        let s = self.measured(state)?;
         let x = self.controller.error_state(&s);
         Ok(PyArray1::from_slice(py, x.as_slice()))
     }
-    /// Controls for the next wingbeat from the state measured now (a state dict), as a
+    /// Controls for the next wingbeat from the state measured now (a state dict; keys
+    /// missing from it are at the hover reference, an empty dict is a `ValueError`), as a
     /// dict to pass to `Simulation.set_controls(**c)`.
     fn update<'py>(
         &mut self,
         py: Python<'py>,
         state: &Bound<'py, PyDict>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let s = state_from_dict(state, zero_state())?;
+        let s = self.measured(state)?;
         let c = self.controller.update(&s);
         record(py, &c)
     }
@@ -419,11 +435,18 @@ impl HoverController {
     }
 }
 
-fn zero_state() -> flapsim::State {
-    flapsim::State {
-        position_m: nalgebra::Vector3::zeros(),
-        world_from_body: nalgebra::UnitQuaternion::identity(),
-        velocity_m_s: nalgebra::Vector3::zeros(),
-        angular_velocity_body_rad_s: nalgebra::Vector3::zeros(),
+impl HoverController {
+    /// The measured state of a state dict: at least one key (an empty dict measures nothing),
+    /// the missing ones at the hover reference (position, trim velocity and attitude, no
+    /// rotation), so that a partial state has the error of what it names only.
+    fn measured(&self, state: &Bound<'_, PyDict>) -> PyResult<flapsim::State> {
+        if state.is_empty() {
+            return Err(PyValueError::new_err(
+                "`state` is an empty dict: a measured state needs at least one of position_m, \
+                 world_from_body_wxyz, velocity_m_s, angular_velocity_body_rad_s (the missing \
+                 ones are taken at the hover reference)",
+            ));
+        }
+        state_from_dict(state, self.controller.reference_state())
     }
 }

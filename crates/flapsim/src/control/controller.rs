@@ -139,6 +139,17 @@ impl HoverController {
         self.velocity_ref_m_s
     }
 
+    /// The state the controller holds: at the reference position, the trim's velocity and
+    /// attitude, not rotating (its error state is zero).
+    pub fn reference_state(&self) -> State {
+        State {
+            position_m: self.reference_m,
+            world_from_body: self.q_trim,
+            velocity_m_s: self.velocity_ref_m_s,
+            angular_velocity_body_rad_s: Vector3::zeros(),
+        }
+    }
+
     /// The error state of `s` (see [`crate::linear`]).
     pub fn error_state(&self, s: &State) -> DVector<f64> {
         let d = (self.q_trim.inverse() * s.world_from_body).scaled_axis();

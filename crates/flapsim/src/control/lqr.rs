@@ -80,7 +80,10 @@ pub fn dlqr(
     r: &DMatrix<f64>,
 ) -> Result<DMatrix<f64>> {
     let mut p = q.clone();
-    for _ in 0..100_000 {
+    for i in 0..100_000 {
+        if i % 64 == 0 {
+            crate::cancel::check()?;
+        }
         let btp = b.transpose() * &p;
         let s = r + &btp * b;
         let Some(s_inv) = s.try_inverse() else {

@@ -5,6 +5,7 @@
 //! The file's tables are plain data in `spec`; `build` validates them into a [`Vehicle`].
 
 mod build;
+mod file;
 mod spec;
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
@@ -14,6 +15,7 @@ use crate::actuated::Actuation;
 use crate::error::Result;
 
 pub use crate::controls::{Controls, DRIVE_CHANNELS, KINEMATIC_CHANNELS};
+pub use file::{MAX_MODEL_FILE_BYTES, read_bounded_text, read_model_file};
 pub use spec::{BodySpec, ControlSpec, HingeSpec, InitialSpec, PairSpec, SimSpec, VehicleSpec};
 
 /// A validated vehicle: everything in SI units, wings prepared.

@@ -13,7 +13,7 @@ use crate::error::Result;
 pub struct ImuSpec {
     /// Output data rate, Hz.
     pub rate_hz: f64,
-    /// From sampling to delivery, s.
+    /// From sampling to delivery, s: 0 to [`MAX_LATENCY_S`] (0.1 s).
     pub latency_s: f64,
     /// Gyroscope white-noise density, deg/s/sqrt(Hz) (datasheets' unit).
     pub gyro_noise_density_deg_s_sqrt_hz: f64,
@@ -35,7 +35,7 @@ pub struct ImuSpec {
 pub struct MocapSpec {
     /// Frame rate, Hz.
     pub rate_hz: f64,
-    /// From exposure to delivery, s.
+    /// From exposure to delivery, s: 0 to [`MAX_LATENCY_S`] (0.1 s).
     pub latency_s: f64,
     /// Position noise, each axis, standard deviation, m.
     pub position_noise_m: f64,
@@ -53,6 +53,13 @@ pub struct SensorSpec {
     #[serde(default)]
     pub mocap: Option<MocapSpec>,
 }
+
+/// The longest latency of a sensor, s (`latency_s` of `[sensors.imu]` and
+/// `[sensors.mocap]`). The slowest device of the built-in models is the hummingbird's Vicon
+/// at 30 ms; 0.1 s is 22 fruit-fly wingbeats, 3.4 hummingbird wingbeats (34 Hz) and half of a
+/// `flapwing/Hover-v0` episode (0.2 s): a longer delay delivers an episode's readings after
+/// it has ended, and a task's sensors run for their latency before every episode starts.
+pub const MAX_LATENCY_S: f64 = 0.1;
 
 const G0: f64 = 9.80665; // standard gravity, m/s^2 (the g of datasheets' mg and ug)
 
@@ -105,7 +112,7 @@ impl SensorSpec {
         let i = &self.imu;
         let imu = ImuParams {
             rate_hz: v.within_open_low("sensors.imu.rate_hz", i.rate_hz, 0.0, 1e6)?,
-            latency_s: v.within("sensors.imu.latency_s", i.latency_s, 0.0, 10.0)?,
+            latency_s: v.within("sensors.imu.latency_s", i.latency_s, 0.0, MAX_LATENCY_S)?,
             gyro_noise_density: v
                 .non_negative(
                     "sensors.imu.gyro_noise_density_deg_s_sqrt_hz",
@@ -139,7 +146,7 @@ impl SensorSpec {
             None => None,
             Some(m) => Some(MocapParams {
                 rate_hz: v.within_open_low("sensors.mocap.rate_hz", m.rate_hz, 0.0, 1e6)?,
-                latency_s: v.within("sensors.mocap.latency_s", m.latency_s, 0.0, 10.0)?,
+                latency_s: v.within("sensors.mocap.latency_s", m.latency_s, 0.0, MAX_LATENCY_S)?,
                 position_noise_m: v
                     .non_negative("sensors.mocap.position_noise_m", m.position_noise_m)?,
                 attitude_noise_rad: v

@@ -224,6 +224,7 @@ fn search(
     };
     let h = [h_lift, 1e-6 * scales[0], 1e-6];
     for it in 0..40 {
+        crate::cancel::check()?;
         if r.amax() < 1e-10 {
             return Ok(finish(vehicle, lift, condition, x, r, it));
         }

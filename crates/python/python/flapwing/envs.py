@@ -8,7 +8,8 @@
 
 Both take keyword arguments: ``model`` (a built-in vehicle that hovers and has a
 ``[sensors]`` table: ``drosophila``, ``bumblebee``, ``robobee_kinematic``, ``hummingbird``;
-or a model file with one; default ``drosophila``), ``randomize`` (a domain-randomisation file, see
+or a model file with one; default ``drosophila``; the other built-in vehicles are refused
+with the reason of `UNSUPPORTED`, the table "Gym tasks by vehicle" of docs/python.md), ``randomize`` (a domain-randomisation file, see
 flapsim::randomize; the draws are in ``info["draws"]``) and any TaskSpec field:
 ``duration_s``, ``action_wingbeats`` (wingbeats per action, default 1), ``disturbance_deg``,
 ``disturbance_body_lengths_s``, ``max_position_body_lengths``, ``max_attitude_deg``, and
@@ -17,7 +18,10 @@ flies every episode in that wind (turbulence seeded from the episode's seed; its
 be randomised like any other field of the model).
 
 Action: offsets from the hover trim on the vehicle's four control channels (radians, or
-volts for actuated vehicles), each within +-``action_limit`` (3x the LQR design excursion).
+volts for actuated vehicles), each within +-``action_limit``: 3x the LQR design excursion,
+cut to what the vehicle accepts about its trim (its actuators' voltage limit, a stroke
+amplitude of at most 180 deg), so that every action of the box is controls it can fly.
+``step`` before the first ``reset`` raises ``gymnasium.error.ResetNeeded``.
 Observation: the IMU's newest delivered sample (gyro, rad/s; specific force minus the hover
 value, m/s^2; body frame), then the motion-capture frame's position error (m) and attitude
 error as a rotation vector (rad); every sensor with its noise, bias and latency. The sensors
@@ -52,6 +56,26 @@ __all__ = ["FlapwingEnv", "VecHoverEnv"]
 
 _OBS_BOUND = 1e6  # observations are physical values; the box is only their dtype's range
 
+#: The built-in vehicles (``flapwing.builtin_models()``) that the tasks cannot fly, and why
+#: (the table "Gym tasks by vehicle" of docs/python.md and crates/python/README.md; the test
+#: ``tests/python/test_envs.py`` checks that the tasks really fail on each of them and fly
+#: every other built-in vehicle).
+UNSUPPORTED = {
+    "robobee": "it has no hover trim at its 120 Hz drive: the balance needs a drive peaking "
+               "at 102.4 V and its piezo actuators allow 100 V",
+    "dragonfly": "it has no [sensors] table for the tasks' observations (and no hover trim: "
+                 "it is modelled in forward flight at 1.5 m/s)",
+}
+
+_TABLE = "the table \"Gym tasks by vehicle\" in docs/python.md"
+
+
+def _check_model(model: str) -> None:
+    if isinstance(model, str) and model in UNSUPPORTED:
+        raise ValueError(
+            f"model={model!r}: the built-in {model} cannot fly flapwing's Gym tasks "
+            f"(Hover-v0, Recover-v0): {UNSUPPORTED[model]}; see {_TABLE}")
+
 
 class FlapwingEnv(gym.Env):
     """A flapsim task as a Gymnasium environment (see the module docstring)."""
@@ -61,6 +85,7 @@ class FlapwingEnv(gym.Env):
     def __init__(self, task: str = "hover", model: str = "drosophila",
                  randomize: str | None = None, **spec: Any) -> None:
         super().__init__()
+        _check_model(model)
         self._task = HoverTask(model, task, randomize, **spec)
         lim = np.asarray(self._task.action_limit, dtype=np.float64)
         self.action_space = spaces.Box(-lim, lim, dtype=np.float64)
@@ -69,14 +94,19 @@ class FlapwingEnv(gym.Env):
                                             dtype=np.float64)
         self.control_channels = list(self._task.control_channels)
         self._rng_seed = None
+        self._was_reset = False
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
         episode_seed = int(self.np_random.integers(0, 2**63 - 1))
         obs = self._task.reset(episode_seed)
+        self._was_reset = True
         return obs, self._info()
 
     def step(self, action):
+        if not self._was_reset:
+            raise gym.error.ResetNeeded(
+                "FlapwingEnv.step called before reset(): call env.reset() to start an episode")
         # The task checks the action (shape (4,), real, finite, in range): no reshaping here.
         obs, reward, terminated, truncated, reason = self._task.step(action)
         info = self._info()
@@ -105,6 +135,7 @@ class VecHoverEnv(gym.vector.VectorEnv):
 
     def __init__(self, num_envs: int, task: str = "hover", model: str = "drosophila",
                  randomize: str | None = None, **spec: Any) -> None:
+        _check_model(model)
         self._vec = VecHoverTask(num_envs, model, task, randomize, **spec)
         self.num_envs = num_envs
         lim = np.asarray(self._vec.action_limit, dtype=np.float64)
@@ -117,6 +148,7 @@ class VecHoverEnv(gym.vector.VectorEnv):
                                                               num_envs)
         self._done = np.zeros(num_envs, dtype=bool)
         self._np_random = None
+        self._was_reset = False
 
     def _seeds(self, n: int) -> list[int]:
         return [int(s) for s in self.np_random.integers(0, 2**63 - 1, size=n)]
@@ -126,9 +158,13 @@ class VecHoverEnv(gym.vector.VectorEnv):
             self._np_random, _ = gym.utils.seeding.np_random(seed)
         obs = self._vec.reset(self._seeds(self.num_envs))
         self._done[:] = False
+        self._was_reset = True
         return obs, {}
 
     def step(self, actions):
+        if not self._was_reset:
+            raise gym.error.ResetNeeded(
+                "VecHoverEnv.step called before reset(): call reset() to start the episodes")
         # Exactly (num_envs, 4), checked by the task: reshaping would mix envs' channels.
         a = actions
         resets = None

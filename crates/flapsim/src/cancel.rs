@@ -1,0 +1,110 @@
+//! Cancelling a long analysis (trim, stability, LQR design) from another thread.
+//!
+//! The analyses run for seconds on an actuated vehicle (every trim residual settles the
+//! wings' dynamics) and call each other deep down, so the cancel token is not threaded
+//! through their signatures: [`with_cancel`] installs it for the calling thread while it
+//! runs a closure, and the analyses' loops call [`check`] at their checkpoints (each cycle
+//! average in [`crate::averaged::mean_loads`], each Newton iteration of the trim, each
+//! wingbeat of the Floquet analysis, every 64 Riccati iterations of the LQR design). Once the
+//! token is set, `check` returns an [`Error::Analysis`] whose message is [`INTERRUPTED`], and
+//! the analysis returns it (possibly wrapped in its own context). Code that installs no token
+//! (the CLI, the plugins) is never cancelled; `check` then costs one thread-local read.
+//!
+//! The Python bindings use it for Ctrl-C: the analysis runs on a helper thread under the
+//! token while the calling thread runs Python's signal handlers, and sets the token when one
+//! raises KeyboardInterrupt.
+
+use std::cell::RefCell;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::error::{Error, Result};
+
+/// The message of the error a cancelled analysis returns.
+pub const INTERRUPTED: &str = "interrupted (cancelled by the caller)";
+
+thread_local! {
+    static TOKEN: RefCell<Option<Arc<AtomicBool>>> = const { RefCell::new(None) };
+}
+
+/// Restores the token that was installed before [`with_cancel`] (also on a panic).
+struct Restore(Option<Arc<AtomicBool>>);
+
+impl Drop for Restore {
+    fn drop(&mut self) {
+        let previous = self.0.take();
+        TOKEN.with(|t| *t.borrow_mut() = previous);
+    }
+}
+
+/// Runs `work` on this thread with `token` installed: the analyses it calls stop at their
+/// next checkpoint once `token` is set (see the module documentation).
+pub fn with_cancel<T>(token: Arc<AtomicBool>, work: impl FnOnce() -> T) -> T {
+    let previous = TOKEN.with(|t| t.borrow_mut().replace(token));
+    let _restore = Restore(previous);
+    work()
+}
+
+/// `Err` ([`INTERRUPTED`]) once the token of the enclosing [`with_cancel`] is set; `Ok`
+/// without one.
+pub fn check() -> Result<()> {
+    let cancelled = TOKEN.with(|t| {
+        t.borrow()
+            .as_ref()
+            .is_some_and(|c| c.load(Ordering::Relaxed))
+    });
+    if cancelled {
+        Err(Error::Analysis(INTERRUPTED.to_owned()))
+    } else {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn check_fails_only_inside_a_set_token() {
+        assert!(check().is_ok());
+        let token = Arc::new(AtomicBool::new(false));
+        with_cancel(token.clone(), || {
+            assert!(check().is_ok());
+            token.store(true, Ordering::Relaxed);
+            let e = check().unwrap_err();
+            assert_eq!(e.to_string(), INTERRUPTED);
+        });
+        assert!(check().is_ok(), "the token is removed after the work");
+    }
+
+    #[test]
+    fn a_cancelled_trim_stops_with_the_interrupted_error() {
+        let v =
+            crate::Vehicle::from_toml(crate::builtin_model("hummingbird").unwrap(), "h").unwrap();
+        let token = Arc::new(AtomicBool::new(true));
+        let t0 = std::time::Instant::now();
+        let r = with_cancel(token, || crate::trim::trim(&v));
+        let e = r.unwrap_err().to_string();
+        assert!(e.contains(INTERRUPTED), "{e}");
+        assert!(t0.elapsed().as_secs_f64() < 0.5, "{:?}", t0.elapsed());
+    }
+
+    #[test]
+    fn a_cancelled_linearisation_floquet_analysis_and_lqr_design_stop() {
+        let v =
+            crate::Vehicle::from_toml(crate::builtin_model("drosophila").unwrap(), "d").unwrap();
+        let t = crate::trim::trim(&v).unwrap();
+        let tv = crate::trim::trimmed_vehicle(&v, &t).unwrap();
+        let token = Arc::new(AtomicBool::new(true));
+        let is_interrupted = |r: Result<()>| {
+            let e = r.unwrap_err().to_string();
+            assert!(e.contains(INTERRUPTED), "{e}");
+        };
+        with_cancel(token, || {
+            is_interrupted(crate::stability::analyze_trim(&v, &t, false).map(|_| ()));
+            is_interrupted(crate::stability::floquet_analysis(&tv, &t).map(|_| ()));
+            let w = crate::control::LqrWeights::default();
+            is_interrupted(crate::control::HoverController::design(&tv, &t, &w, 0).map(|_| ()));
+        });
+    }
+}
