@@ -3,11 +3,11 @@
 
 use nalgebra::DMatrix;
 use numpy::{Complex64, PyArray1, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::convert::{arg_int, matrix, merge_record, model_text, record, scalar};
+use crate::convert::{arg_int, describe, matrix, merge_record, model_text, real_array, record};
 use crate::interrupt::{analysis, numpy_ready};
 use crate::sim_err;
 use crate::state::state_from_dict;
@@ -77,7 +77,18 @@ pub(crate) fn condition(
     speed_m_s: Option<&Bound<'_, PyAny>>,
     climb_m_s: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<FlightCondition> {
-    let real = |name, x: Option<&Bound<'_, PyAny>>| x.map_or(Ok(0.0), |x| scalar(name, x));
+    // A real number (a boolean, complex or text value is a TypeError); its range (finite,
+    // allowed speeds) is FlightCondition's to check and name.
+    let real = |name: &str, x: Option<&Bound<'_, PyAny>>| -> PyResult<f64> {
+        let Some(x) = x else { return Ok(0.0) };
+        real_array(name, x)?;
+        x.extract::<f64>().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "`{name}` must be a real number, got {}",
+                describe(x)
+            ))
+        })
+    };
     let (speed_m_s, climb_m_s) = (real("speed_m_s", speed_m_s)?, real("climb_m_s", climb_m_s)?);
     FlightCondition::new(speed_m_s, climb_m_s)
         .map_err(|e| PyValueError::new_err(format!("speed_m_s / climb_m_s: {e}")))
