@@ -202,7 +202,11 @@ fn run_shard(study: &Study, path: &Path, args: &SweepArgs, shard: Shard) -> anyh
                     study.name,
                     failure_summary(&failed, header.cases.len())
                 ))?;
-                return strict_check(args.strict, failed.len(), &format!("the shard `{shown}`"));
+                return super::sweep_merge::strict_check(
+                    args.strict,
+                    failed.len(),
+                    &format!("the shard `{shown}`"),
+                );
             }
             (ShardState::Incomplete(_, why), true, false) => {
                 note(&format!("replacing the incomplete shard `{shown}` ({why})"));
@@ -308,22 +312,11 @@ fn report(
     }
     out.push_str(&failure_summary(&failed, count));
     print_stdout(&out)?;
-    strict_check(
+    super::sweep_merge::strict_check(
         strict,
         failed.len(),
         &format!("the table `{}`", out_path.display()),
     )
-}
-
-/// With `--strict`, an error (exit 1) when `failed` > 0 cases of the written table(s) failed;
-/// `written` says which, e.g. "the table `DIR/study.csv`".
-pub fn strict_check(strict: bool, failed: usize, written: &str) -> anyhow::Result<()> {
-    if strict && failed > 0 {
-        return Err(anyhow::anyhow!(
-            "--strict: {failed} case(s) failed ({written} is written; the reasons are in its `error` column)"
-        ));
-    }
-    Ok(())
 }
 
 /// Reads and resolves a study file; its `base_model` is a built-in name or a path relative

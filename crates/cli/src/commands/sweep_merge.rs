@@ -121,9 +121,20 @@ pub fn run(dir: &Path, force: bool, strict: bool) -> anyhow::Result<()> {
         return Err(input_error(errors.join("\n")));
     }
     print_stdout(&report)?;
-    super::sweep::strict_check(
+    strict_check(
         strict,
         failed_total,
         &format!("the merged table in `{shown}`"),
     )
+}
+
+/// With `--strict`, an error (exit 1) when `failed` > 0 cases of the written table(s) failed;
+/// `written` says which, e.g. "the table `DIR/study.csv`".
+pub fn strict_check(strict: bool, failed: usize, written: &str) -> anyhow::Result<()> {
+    if strict && failed > 0 {
+        return Err(anyhow::anyhow!(
+            "--strict: {failed} case(s) failed ({written} is written; the reasons are in its `error` column)"
+        ));
+    }
+    Ok(())
 }
