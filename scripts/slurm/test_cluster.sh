@@ -4,7 +4,10 @@
 #  2. with one task cancelled (scancel of a pending array element), `merge` and `status` report
 #     that shard missing, the resubmit command merge prints is run, and the merge then equals
 #     the unsharded table byte for byte;
-#  3. throughput: one shard run directly and as a Slurm task, interleaved, a few repeats.
+#  3. throughput: one shard run directly and as a Slurm task, interleaved, a few repeats;
+#  4. a study with a failed case (the RoboBee sweep of issue #40): every task completes and
+#     its log lists its failed cases, `status` counts the shards done and lists the failed
+#     cases, and the merge keeps the failed row and equals the unsharded table.
 # Outputs are checked, not exit codes (a job can end COMPLETED without having run). The
 # daemons are stopped at the end, also on failure. Needs root (installs slurm-wlm and munge
 # when missing). FLAPWING_BIN names the binary (default target/release/flapwing).
@@ -186,5 +189,29 @@ print(f"median cases/s with start-up (direct: process start to exit; Slurm: sbat
 print("per-task throughput " + ("within" if s >= 0.9 * d else "NOT within") + " 10% of direct")
 EOF
 
+step "4. a study with a failed case: tasks complete, status and merge list it, the row is kept"
+rb=$work/robobee_hinge_drive.toml
+rbname=robobee_hinge_drive
+cp "$root/examples/studies/$rbname.toml" "$rb"
+"$bin" sweep "$rb" --out "$work/rb-whole" | tee "$work/rb-whole.out"
+grep -q "^1 of 9 case(s) failed" "$work/rb-whole.out" || fail "the unsharded RoboBee sweep does not report 1 failed case"
+"$bin" submit "$rb" --out "$work/rb" --shards 3 >/dev/null
+job=$(last_job "$work/rb/$rbname.slurm.json")
+jobs+=("$job")
+wait_job "$job"
+for k in 1 2 3; do
+    [[ -s $work/rb/$rbname-shard-$k-of-3.csv ]] || fail "job $job: shard $k was not written ($(cat "$work"/rb/slurm/*_$k.out 2>/dev/null))"
+done
+# Case 2 is in shard 1 (cases 0..3): that task's log lists it.
+grep -q "^1 of 3 case(s) failed" "$work/rb/slurm/$rbname-${job}_1.out" ||
+    fail "task ${job}_1's log does not list its failed case: $(cat "$work/rb/slurm/$rbname-${job}_1.out")"
+"$bin" status "$work/rb" | tee "$work/rb-status.txt"
+grep -Eq '^  done +3  1,2,3$' "$work/rb-status.txt" || fail "status does not count the 3 shards done"
+grep -q '^  failed cases in done shards: 1 (2;' "$work/rb-status.txt" || fail "status does not list failed case 2"
+"$bin" sweep merge "$work/rb" | tee "$work/rb-merge.out"
+grep -q "^  case 2 (.*did not settle" "$work/rb-merge.out" || fail "merge does not list failed case 2"
+cmp "$work/rb/$rbname.csv" "$work/rb-whole/$rbname.csv" || fail "the merged RoboBee table differs from the unsharded one"
+echo "tasks completed with the failed case in their table; the merge equals the unsharded table (cmp)"
+
 ok=1
-printf '\ntest_cluster: 3 passed, 0 failed\n'
+printf '\ntest_cluster: 4 passed, 0 failed\n'
