@@ -277,6 +277,53 @@ fn a_run_without_an_estimator_advertises_no_estimate() {
 }
 
 #[test]
+fn the_live_view_serves_every_wing_of_the_dragonfly() {
+    let (mut guard, rx, _dir) = spawn(&[
+        "simulate",
+        "--model",
+        "dragonfly",
+        "--foxglove",
+        "127.0.0.1:0",
+        "--wait-for-client",
+        "--duration-s",
+        "0.01",
+        "--realtime",
+        "0.1",
+        "--no-log",
+    ]);
+    let mut seen = Vec::new();
+    let url = ws_url(&line_with(&rx, "waiting for a Foxglove client", &mut seen));
+    let (mut ws, channels) = connect(&url);
+    assert_eq!(channels.len(), 19, "7 + 3 per wing: {channels:?}");
+    let watched = ["/tf/wing_pairs0_left", "/wing/pairs0_right/forces"];
+    let mut subscriptions = Vec::new();
+    for (k, topic) in watched.iter().enumerate() {
+        let (id, _) = channels
+            .get(*topic)
+            .unwrap_or_else(|| panic!("{topic} not advertised: {channels:?}"));
+        subscriptions.push(serde_json::json!({"id": k, "channelId": id}));
+    }
+    ws.send(tungstenite::Message::Text(
+        serde_json::json!({"op": "subscribe", "subscriptions": subscriptions})
+            .to_string()
+            .into(),
+    ))
+    .unwrap();
+    let mut got = [0usize; 2];
+    while let Ok(m) = ws.read() {
+        match m {
+            tungstenite::Message::Binary(b) if b.len() >= 13 && b[0] == 1 => {
+                got[u32::from_le_bytes(b[1..5].try_into().unwrap()) as usize] += 1;
+            }
+            tungstenite::Message::Close(_) => break,
+            _ => {}
+        }
+    }
+    assert_eq!(wait_exit(&mut guard), 0, "{seen:#?}");
+    assert!(got.iter().all(|&n| n > 0), "messages per channel: {got:?}");
+}
+
+#[test]
 fn paced_hover_is_watched_from_its_first_message() {
     // 0.3 simulated seconds at 0.1 simulated seconds per wall second: 3 s of wall time.
     let (duration_s, factor) = (0.3, 0.1);
