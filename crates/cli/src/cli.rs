@@ -99,7 +99,7 @@ pub struct ForcesArgs {
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
     /// Draw C_L(t*) and C_D(t*) with and without wake capture over one wingbeat (the paper's
-    /// Fig 23-24) to this SVG file (PNG when it ends in .png).
+    /// Fig 23-24) to this SVG file (PNG when it ends in .png; other extensions are refused).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
     /// Replace the --csv or --plot file if it already exists.

@@ -42,7 +42,7 @@ pub struct FrequencyResponseArgs {
     #[arg(long, default_value_t = 100)]
     pub steps_per_cycle: usize,
     /// Draw a Bode-style figure (amplitudes, phases, lift against frequency) to this SVG
-    /// file (PNG when it ends in .png).
+    /// file (PNG when it ends in .png; other extensions are refused).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<std::path::PathBuf>,
     /// Replace the --plot file if it already exists.

@@ -28,7 +28,8 @@ pub struct StabilityArgs {
     /// The flight condition to trim at and analyse about (hover by default).
     #[command(flatten)]
     pub condition: crate::condition::ConditionArgs,
-    /// Write a plot of the eigenvalues in the complex plane (SVG, or PNG by extension).
+    /// Write a plot of the eigenvalues in the complex plane (FILE.svg: SVG, FILE.png: PNG;
+    /// other extensions are refused).
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
     /// Replace the --plot file if it exists.
