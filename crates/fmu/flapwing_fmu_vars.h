@@ -17,7 +17,7 @@
  * 0, 1, 2, ... in table order. */
 #define FLAPWING_FMU_REALS(X)                                                                    \
   X(dt_s, 0, "parameter", "fixed", 0.0, "s",                                                    \
-    "Element step; 0 takes the model's own (1 / (f steps_per_wingbeat))")                       \
+    "Element step; 0 takes the model's own (1 / (f steps_per_wingbeat)), else at most 1 / (20 f)") \
   X(element_dt_s, 1, "calculatedParameter", "fixed", NAN, "s",                                  \
     "Element step in force; communication steps must be whole multiples of it")                 \
   X(position_world_m_x, 2, "input", "continuous", 0.0, "m", "CoM position, world x")            \
@@ -46,9 +46,9 @@
   X(control_diff_amplitude_v, 25, "input", "continuous", 0.0, "V", "Left-minus-right drive amplitude (actuated vehicles)") \
   X(control_diff_bias_v, 26, "input", "continuous", 0.0, "V", "Left-minus-right drive bias (actuated vehicles)") \
   X(control_diff_second_harmonic, 27, "input", "continuous", 0.0, "", "Left-minus-right second-harmonic fraction (actuated vehicles)") \
-  X(force_body_n_x, 28, "output", "continuous", NAN, "N", "Mean wing force over the last communication step, body x") \
-  X(force_body_n_y, 29, "output", "continuous", NAN, "N", "Mean wing force over the last communication step, body y") \
-  X(force_body_n_z, 30, "output", "continuous", NAN, "N", "Mean wing force over the last communication step, body z") \
+  X(force_body_n_x, 28, "output", "continuous", NAN, "N", "Mean wing force and body drag over the last communication step, body x") \
+  X(force_body_n_y, 29, "output", "continuous", NAN, "N", "Mean wing force and body drag over the last communication step, body y") \
+  X(force_body_n_z, 30, "output", "continuous", NAN, "N", "Mean wing force and body drag over the last communication step, body z") \
   X(moment_body_nm_x, 31, "output", "continuous", NAN, "N.m", "Mean wing moment about the CoM over the last communication step, body x") \
   X(moment_body_nm_y, 32, "output", "continuous", NAN, "N.m", "Mean wing moment about the CoM over the last communication step, body y") \
   X(moment_body_nm_z, 33, "output", "continuous", NAN, "N.m", "Mean wing moment about the CoM over the last communication step, body z") \

@@ -44,7 +44,9 @@ out="$target_dir/release/libflapwing_mujoco.so"
 # Python package); --gc-sections drops what the plugin does not call. libmujoco is linked by
 # its soname (as MuJoCo's own plugins are), found in the package directory (rpath) or, when the
 # host has already loaded it, reused.
-"$cc" -std=c11 -O2 -fPIC -shared -Wall -Wextra -Werror \
+# -fexceptions: a failed `init` raises mju_error, which MuJoCo's compiler turns into a C++
+# exception that unwinds through the plugin's C frames.
+"$cc" -std=c11 -O2 -fPIC -fexceptions -shared -Wall -Wextra -Werror \
     -I"$mj/include" -I"$header_dir" \
     "$root/crates/mujoco/flapwing_mujoco.c" \
     "$staticlib" \

@@ -16,11 +16,18 @@
  * `advance` callback (after MuJoCo's time integration) marks the next evaluation as a new
  * step. mj_resetData restarts the wings from t = 0.
  *
- * Errors through MuJoCo's own channels: a bad attribute or model makes `init` fail after a
- * mju_warning naming what is wrong (the compiler reports it as the load error, the Python
- * bindings raise it); at run time a non-finite body state, a failed or diverged step or a
- * non-finite wrench is a mju_warning (once per run of failures) and the wrench is zero.
- * Nothing here calls mju_error.
+ * Errors through MuJoCo's own channels: a bad attribute or model (or `<option timestep>` not
+ * > 0, or longer than the wing set allows: 1/20 of the wingbeat) makes `init` fail with a
+ * mju_error naming what is wrong, after freeing what it allocated: the error MuJoCo raises
+ * for any failed plugin init anyway ("plugin->init failed"), here with the reason, once (a
+ * mju_warning before a plain failure appears twice in the compiler's message). The compiler
+ * reports it as the load error and the Python bindings raise it. At run time every failure is counted in d->warning as MuJoCo counts its
+ * own (number, lastinfo): a body state the wings refuse (non-finite, or a speed whose loads
+ * overflow) is mjWARN_BADQPOS (position or attitude) or mjWARN_BADQVEL (velocities), info the
+ * body's first DOF; a failed or diverged step or a non-finite wrench mjWARN_BADQACC, same info;
+ * actuator controls the wings refuse mjWARN_BADCTRL, info the actuator. The message saying
+ * what and why goes out once per run of failures (mju_warning). The wrench is then zero.
+ * Nothing at run time calls mju_error.
  *
  * Controls: the model's `[controls]` (or, with the `trim` attribute "U W", the trim at forward
  * speed U and climb rate W, m/s: flapwing_wings_trim), with the control attributes in place
@@ -34,6 +41,7 @@
  */
 
 #include <errno.h>
+#include <stdarg.h>
 #include <stddef.h>
 #include <math.h>
 #include <stdint.h>
@@ -150,6 +158,15 @@ static void free_config(Config *c) {
 static int read_config(const mjModel *m, int instance, Config *c, char *msg, size_t nmsg) {
   memset(c, 0, sizeof(*c));
   c->dt_s = m->opt.timestep;
+  /* The C ABI reads a step of 0 as "the model's own": the wings would advance while MuJoCo's
+   * clock stands still. The upper bound (1/20 of the wingbeat) is the wing set's own. */
+  if (!(c->dt_s > 0.0) || !isfinite(c->dt_s)) {
+    snprintf(msg, nmsg,
+             "<option timestep> = %.17g s; allowed: a finite step > 0 s of at most 1/20 of the "
+             "wingbeat period (the wings advance by it at every mj_step)",
+             c->dt_s);
+    return -1;
+  }
   const char *model = attribute(m, instance, "model");
   if (!model) {
     snprintf(msg, nmsg,
@@ -283,6 +300,20 @@ static void body_state(const mjModel *m, const mjData *d, int b, FlapwingBodySta
   for (int i = 0; i < 4; i++) s->world_from_body_wxyz[i] = q[i];
 }
 
+/* Counts a run-time warning in d->warning as MuJoCo's mj_warning does (without its generic
+ * text: the caller's mju_warning says what happened). */
+static void count_warning(mjData *d, int warning, int info) {
+  d->warning[warning].lastinfo = info;
+  d->warning[warning].number++;
+}
+
+static int all_finite(const double *x, int n) {
+  for (int i = 0; i < n; i++) {
+    if (!isfinite(x[i])) return 0;
+  }
+  return 1;
+}
+
 static int wrench_finite(const FlapwingWrench *w) {
   for (int i = 0; i < 3; i++) {
     if (!isfinite(w->force_body_n[i]) || !isfinite(w->moment_body_nm[i])) return 0;
@@ -293,7 +324,7 @@ static int wrench_finite(const FlapwingWrench *w) {
 /* The controls from the instance's actuators (`<instance>:<field>`, ctrl in SI) on top of
  * the base controls, handed to the wings when they change (they take effect at the next
  * wingbeat); controls the model refuses are warned about once and the previous ones stay. */
-static void actuator_controls(const mjModel *m, const mjData *d, int instance, Instance *in) {
+static void actuator_controls(const mjModel *m, mjData *d, int instance, Instance *in) {
   FlapwingControls c = in->base;
   for (int k = 0; k < in->nactuated; k++) {
     size_t off = kControls[in->actuator_control[k]].offset;
@@ -301,6 +332,14 @@ static void actuator_controls(const mjModel *m, const mjData *d, int instance, I
   }
   if (memcmp(&c, &in->sent, sizeof(c)) == 0) return;
   if (flapwing_wings_set_controls(in->wings, &c) != FLAPWING_OK) {
+    int changed = in->actuator_id[0]; /* info: the first actuator whose control changed */
+    for (int k = in->nactuated - 1; k >= 0; k--) {
+      size_t off = kControls[in->actuator_control[k]].offset;
+      if (memcmp((char *)&c + off, (char *)&in->sent + off, sizeof(double)) != 0) {
+        changed = in->actuator_id[k];
+      }
+    }
+    count_warning(d, mjWARN_BADCTRL, changed);
     if (!in->control_failing) {
       mju_warning("%s (instance %d, body `%s`, t = %.9g s): actuator controls refused: %s; the "
                   "previous controls stay in force",
@@ -363,10 +402,18 @@ static void step_wings(const mjModel *m, mjData *d, int instance, Instance *in) 
   FlapwingStatus st = flapwing_wings_step(in->wings, &s, &w);
   in->steps++;
   const char *why = NULL;
+  int info = m->body_dofadr[in->body_id];
   if (st != FLAPWING_OK) {
     why = flapwing_last_error();
+    int pose_ok = all_finite(s.position_m, 3) && all_finite(s.world_from_body_wxyz, 4);
+    count_warning(d,
+                  st != FLAPWING_INVALID_ARGUMENT ? mjWARN_BADQACC
+                  : pose_ok                       ? mjWARN_BADQVEL
+                                                  : mjWARN_BADQPOS,
+                  info);
   } else if (!wrench_finite(&w)) {
     why = "the wings' wrench is not finite";
+    count_warning(d, mjWARN_BADQACC, info);
   }
   if (why) {
     if (!in->failing) {
@@ -389,7 +436,20 @@ static int plugin_nstate(const mjModel *m, int instance) {
   return NSTATE;
 }
 
-/* Fails (after a mju_warning the compiler appends to its error) on a bad configuration. */
+/* A failed init: mju_error with the reason (see the top of the file), then -1 should a user
+ * error handler return. */
+static int init_failed(const char *fmt, ...) mjPRINTFLIKE(1, 2);
+static int init_failed(const char *fmt, ...) {
+  char msg[2 * MESSAGE_CHARS];
+  va_list args;
+  va_start(args, fmt);
+  vsnprintf(msg, sizeof(msg), fmt, args);
+  va_end(args);
+  mju_error("%s", msg);
+  return -1;
+}
+
+/* Fails (init_failed: the compiler's load error) on a bad configuration. */
 static int plugin_init(const mjModel *m, mjData *d, int instance) {
   char msg[MESSAGE_CHARS];
   int body_id = -1, nbody = 0;
@@ -400,31 +460,27 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
     }
   }
   if (nbody != 1) {
-    mju_warning("%s instance %d is attached to %d bodies; allowed: exactly one "
-                "(<body><plugin instance=\"...\"/></body>)",
-                PLUGIN_NAME, instance, nbody);
-    return -1;
+    return init_failed("%s instance %d is attached to %d bodies; allowed: exactly one "
+                       "(<body><plugin instance=\"...\"/></body>)",
+                       PLUGIN_NAME, instance, nbody);
   }
   if (body_id == 0 || m->body_dofnum[body_id] == 0) {
-    mju_warning("%s instance %d: body `%s` has no degrees of freedom (the world or a body welded "
-                "to it); allowed: a body with joints (e.g. <freejoint/>)",
-                PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, body_id));
-    return -1;
+    return init_failed("%s instance %d: body `%s` has no degrees of freedom (the world or a body "
+                       "welded to it); allowed: a body with joints (e.g. <freejoint/>)",
+                       PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, body_id));
   }
   Instance *in = calloc(1, sizeof(Instance));
   if (!in) {
-    mju_warning("%s instance %d: out of memory", PLUGIN_NAME, instance);
-    return -1;
+    return init_failed("%s instance %d: out of memory", PLUGIN_NAME, instance);
   }
   in->body_id = body_id;
   if (read_config(m, instance, &in->config, msg, sizeof(msg)) != 0 ||
       map_actuators(m, instance, in, msg, sizeof(msg)) != 0 ||
       !(in->wings = create_wings(&in->config, &in->base, msg, sizeof(msg)))) {
-    mju_warning("%s instance %d (body `%s`): %s", PLUGIN_NAME, instance,
-                mj_id2name(m, mjOBJ_BODY, body_id), msg);
     free_config(&in->config);
     free(in);
-    return -1;
+    return init_failed("%s instance %d (body `%s`): %s", PLUGIN_NAME, instance,
+                       mj_id2name(m, mjOBJ_BODY, body_id), msg);
   }
   in->sent = in->base;
   d->plugin_data[instance] = (uintptr_t)in;

@@ -286,8 +286,9 @@ extern "C" {
 
 /**
  * A built-in model's wings: `name` is one of drosophila, bumblebee, robobee_kinematic,
- * robobee, hummingbird. `dt_s > 0` is the host's fixed step; `dt_s == 0` takes the model's
- * own (1 / (f sim.steps_per_wingbeat)). On error `*out` is set to NULL.
+ * robobee, hummingbird. `dt_s > 0` is the host's fixed step, at most 1/20 of the wingbeat
+ * period (1 / (20 f); a longer step is FLAPWING_INVALID_ARGUMENT); `dt_s == 0` takes the
+ * model's own (1 / (f sim.steps_per_wingbeat)). On error `*out` is set to NULL.
  *
  * # Safety
  * `name` is NULL or a NUL-terminated string; `out` is NULL or valid for a write.
@@ -392,10 +393,12 @@ enum FlapwingStatus flapwing_wings_body_properties(const struct FlapwingWings *w
 
 /**
  * One step from the body's state at t_k: writes the total wrench over [t_k, t_k + dt]
- * (aerodynamic and the wings' inertial reaction, about the CoM, body frame) and advances the
- * wings. A body state with a non-finite value or a quaternion off unit norm is
- * FLAPWING_INVALID_ARGUMENT naming the field and changes nothing. On error `*total_out` is
- * set to zeros.
+ * (aerodynamic, the wings' inertial reaction and the body's parasite drag,
+ * `flapwing_wings_body_drag`; about the CoM, body frame) and advances the wings. A body
+ * state with a non-finite value or a quaternion off unit norm is FLAPWING_INVALID_ARGUMENT
+ * naming the field and changes nothing; so is a finite state or wind whose loads overflow
+ * (a speed through the air far beyond flight: the message names the velocities and says
+ * what is allowed). On error `*total_out` is set to zeros.
  *
  * # Safety
  * `wings` is NULL or a live handle; `body` is NULL or valid for a read; `total_out` is NULL
@@ -488,6 +491,19 @@ enum FlapwingStatus flapwing_wings_trim(struct FlapwingWings *wings,
                                         double forward_speed_m_s,
                                         double climb_rate_m_s,
                                         struct FlapwingTrim *out);
+
+/**
+ * After a step: the body's parasite drag, 0.5 rho |V| V C_D S against its velocity V through
+ * the air (the model's `[body] drag_area_m2`; the wind is the air's velocity), body frame, at
+ * the centre of mass (no moment). It is part of the total `flapwing_wings_step` returns: the
+ * trims of `flapwing_wings_trim` balance it, and a host applies the total and nothing else.
+ * Zeros before the first step and for a model without a drag area.
+ *
+ * # Safety
+ * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+ */
+enum FlapwingStatus flapwing_wings_body_drag(const struct FlapwingWings *wings,
+                                             struct FlapwingWrench *out);
 
 #ifdef __cplusplus
 }  // extern "C"

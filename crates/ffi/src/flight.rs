@@ -5,7 +5,10 @@ use flapsim::trim::{trim_at, trimmed_vehicle};
 use flapsim::{FromVehicle, WingSet};
 
 use crate::error::{Failure, FlapwingStatus, guard};
-use crate::types::{FlapwingControls, FlapwingWings, body_properties, wxyz};
+use crate::types::{
+    FlapwingControls, FlapwingWings, FlapwingWrench, body_properties, with_body_drag, wxyz,
+};
+use crate::{handle, put};
 
 /// A trim: what `flapwing_wings_trim` found and set.
 #[repr(C)]
@@ -60,7 +63,9 @@ pub unsafe extern "C" fn flapwing_wings_trim(
         let t = trim_at(vehicle, vehicle.trim_lift, &condition).map_err(|e| Failure::sim(F, e))?;
         let point = trim_point(vehicle, &t).map_err(|e| Failure::sim(F, e))?;
         let trimmed = trimmed_vehicle(vehicle, &t).map_err(|e| Failure::sim(F, e))?;
-        let set = WingSet::from_vehicle(&trimmed, w.set.dt_s()).map_err(|e| Failure::sim(F, e))?;
+        let set = WingSet::from_vehicle(&trimmed, w.set.dt_s())
+            .and_then(|s| with_body_drag(s, &trimmed))
+            .map_err(|e| Failure::sim(F, e))?;
         let result = FlapwingTrim {
             controls: FlapwingControls::from(&t.controls),
             pitch_rad: t.pitch_rad,
@@ -76,5 +81,27 @@ pub unsafe extern "C" fn flapwing_wings_trim(
             unsafe { out.write(result) };
         }
         Ok(())
+    })
+}
+
+/// After a step: the body's parasite drag, 0.5 rho |V| V C_D S against its velocity V through
+/// the air (the model's `[body] drag_area_m2`; the wind is the air's velocity), body frame, at
+/// the centre of mass (no moment). It is part of the total `flapwing_wings_step` returns: the
+/// trims of `flapwing_wings_trim` balance it, and a host applies the total and nothing else.
+/// Zeros before the first step and for a model without a drag area.
+///
+/// # Safety
+/// `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn flapwing_wings_body_drag(
+    wings: *const FlapwingWings,
+    out: *mut FlapwingWrench,
+) -> FlapwingStatus {
+    const F: &str = "flapwing_wings_body_drag";
+    guard(F, || {
+        // SAFETY: forwarded from this function's contract.
+        let w = unsafe { handle(F, wings) }?;
+        // SAFETY: forwarded from this function's contract.
+        unsafe { put(F, out, FlapwingWrench::from(&w.output().body_drag)) }
     })
 }

@@ -38,7 +38,7 @@ use nalgebra::Vector3;
 
 pub use error::FlapwingStatus;
 use error::{Failure, guard};
-pub use flight::{FlapwingTrim, flapwing_wings_trim};
+pub use flight::{FlapwingTrim, flapwing_wings_body_drag, flapwing_wings_trim};
 pub use types::*;
 
 /// A C string argument as UTF-8.
@@ -80,8 +80,9 @@ unsafe fn create(
 }
 
 /// A built-in model's wings: `name` is one of drosophila, bumblebee, robobee_kinematic,
-/// robobee, hummingbird. `dt_s > 0` is the host's fixed step; `dt_s == 0` takes the model's
-/// own (1 / (f sim.steps_per_wingbeat)). On error `*out` is set to NULL.
+/// robobee, hummingbird. `dt_s > 0` is the host's fixed step, at most 1/20 of the wingbeat
+/// period (1 / (20 f); a longer step is FLAPWING_INVALID_ARGUMENT); `dt_s == 0` takes the
+/// model's own (1 / (f sim.steps_per_wingbeat)). On error `*out` is set to NULL.
 ///
 /// # Safety
 /// `name` is NULL or a NUL-terminated string; `out` is NULL or valid for a write.
@@ -367,10 +368,12 @@ pub unsafe extern "C" fn flapwing_wings_body_properties(
 }
 
 /// One step from the body's state at t_k: writes the total wrench over [t_k, t_k + dt]
-/// (aerodynamic and the wings' inertial reaction, about the CoM, body frame) and advances the
-/// wings. A body state with a non-finite value or a quaternion off unit norm is
-/// FLAPWING_INVALID_ARGUMENT naming the field and changes nothing. On error `*total_out` is
-/// set to zeros.
+/// (aerodynamic, the wings' inertial reaction and the body's parasite drag,
+/// `flapwing_wings_body_drag`; about the CoM, body frame) and advances the wings. A body
+/// state with a non-finite value or a quaternion off unit norm is FLAPWING_INVALID_ARGUMENT
+/// naming the field and changes nothing; so is a finite state or wind whose loads overflow
+/// (a speed through the air far beyond flight: the message names the velocities and says
+/// what is allowed). On error `*total_out` is set to zeros.
 ///
 /// # Safety
 /// `wings` is NULL or a live handle; `body` is NULL or valid for a read; `total_out` is NULL
@@ -395,7 +398,11 @@ pub unsafe extern "C" fn flapwing_wings_step(
             w.set
                 .step(&state)
                 .map(|o| FlapwingWrench::from(&o.total))
-                .map_err(|e| Failure::sim(F, e))
+                .map_err(|e| match e.is_load_overflow() {
+                    // The host's state or wind, not a run of ours: a bad argument.
+                    true => Failure::invalid(format!("{F}: wing set: {}", e.reason())),
+                    false => Failure::sim(F, e),
+                })
         });
         // SAFETY: non-null (checked) and valid for a write (this function's contract).
         unsafe { total_out.write(r.as_ref().copied().unwrap_or_default()) };

@@ -241,6 +241,14 @@ pub(crate) fn wxyz(q: &UnitQuaternion<f64>) -> [f64; 4] {
     [q.w, q.i, q.j, q.k]
 }
 
+/// The set with the vehicle's body drag turned on: the C ABI's hosts (MuJoCo, the FMU, a C
+/// program) apply the wrench the set returns and nothing else, and the trims they fly at
+/// balance that drag (docs/plugin.md).
+pub(crate) fn with_body_drag(mut set: WingSet, v: &Vehicle) -> flapsim::Result<WingSet> {
+    set.set_body_drag_area_m2(v.body_drag_area_m2)?;
+    Ok(set)
+}
+
 pub(crate) fn body_properties(v: &Vehicle) -> FlapwingBodyProperties {
     let i = &v.inertia_kg_m2;
     let mut inertia = [0.0; 9];
@@ -259,7 +267,9 @@ pub(crate) fn body_properties(v: &Vehicle) -> FlapwingBodyProperties {
 }
 
 impl FlapwingWings {
-    /// A handle from TOML text: `dt_s > 0` is the host's step, `dt_s == 0` the model's own.
+    /// A handle from TOML text: `dt_s > 0` is the host's step (at most 1/20 of the wingbeat
+    /// period, `wingset::check_dt`), `dt_s == 0` the model's own. The set applies the body's
+    /// parasite drag (`[body] drag_area_m2`): a host applies the whole wrench it returns.
     pub(crate) fn from_toml(
         function: &str,
         text: &str,
@@ -268,7 +278,7 @@ impl FlapwingWings {
     ) -> Result<Self, Failure> {
         if !(dt_s >= 0.0 && dt_s.is_finite()) {
             return Err(Failure::invalid(format!(
-                "{function}: dt_s = {dt_s}; allowed: a finite step > 0 s, or 0 for the model's own step (1 / (f sim.steps_per_wingbeat))"
+                "{function}: dt_s = {dt_s}; allowed: a finite step > 0 s of at most 1/20 of the wingbeat period, or 0 for the model's own step (1 / (f sim.steps_per_wingbeat))"
             )));
         }
         let vehicle = Vehicle::from_toml(text, origin).map_err(|e| Failure::sim(function, e))?;
@@ -277,6 +287,7 @@ impl FlapwingWings {
         } else {
             WingSet::from_vehicle(&vehicle, dt_s)
         }
+        .and_then(|s| with_body_drag(s, &vehicle))
         .map_err(|e| Failure::sim(function, e))?;
         Ok(Self {
             body: body_properties(&vehicle),

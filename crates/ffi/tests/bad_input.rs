@@ -188,6 +188,83 @@ fn a_step_that_is_negative_nan_or_infinite_is_refused() {
 }
 
 #[test]
+fn a_step_longer_than_a_twentieth_of_the_wingbeat_is_refused() {
+    // The fly flaps at 218 Hz: 1 / (20 f) is the longest step; one wingbeat, 1 s (218
+    // wingbeats) and 1e300 s are refused with the bound.
+    let longest = 1.0 / (20.0 * 218.0);
+    drop(builtin("drosophila", longest));
+    for dt in [1.01 * longest, 1.0 / 218.0, 1.0, 1e300] {
+        let mut out = ptr::dangling_mut::<FlapwingWings>();
+        // SAFETY: NUL-terminated name, valid out pointer.
+        let s = unsafe { flapwing_wings_from_builtin(cstr("drosophila").as_ptr(), dt, &mut out) };
+        expect(
+            s,
+            FLAPWING_INVALID_ARGUMENT,
+            &[
+                &format!("dt_s = {dt}"),
+                "at most 1/20 of the wingbeat period",
+            ],
+        );
+        assert!(out.is_null());
+    }
+}
+
+#[test]
+fn a_finite_state_or_wind_whose_loads_overflow_is_refused_and_changes_nothing() {
+    let h = builtin("drosophila", 0.0);
+    let fresh = builtin("drosophila", 0.0);
+    let mut body = at_rest();
+    body.velocity_world_m_s[0] = 1e300;
+    let (s, w) = step(&h, &body);
+    expect(
+        s,
+        FLAPWING_INVALID_ARGUMENT,
+        &[
+            "flapwing_wings_step",
+            "the loads overflow",
+            "1e300",
+            "allowed",
+        ],
+    );
+    assert_eq!(
+        w,
+        FlapwingWrench::default(),
+        "the wrench is zeroed on error"
+    );
+    let mut body = at_rest();
+    body.angular_velocity_body_rad_s[2] = -1e300;
+    expect(
+        step(&h, &body).0,
+        FLAPWING_INVALID_ARGUMENT,
+        &["angular velocity", "-1e300"],
+    );
+    let wind = [0.0, 0.0, 1e300];
+    // SAFETY: a live handle and 3 doubles.
+    assert_eq!(
+        unsafe { flapwing_wings_set_wind(h.0, wind.as_ptr()) },
+        FLAPWING_OK
+    );
+    expect(
+        step(&h, &at_rest()).0,
+        FLAPWING_INVALID_ARGUMENT,
+        &["wind", "1e300"],
+    );
+    assert_eq!(
+        time_s(&h),
+        0.0,
+        "a refused state does not advance the wings"
+    );
+    // SAFETY: a live handle and 3 doubles.
+    assert_eq!(
+        unsafe { flapwing_wings_set_wind(h.0, [0.0; 3].as_ptr()) },
+        FLAPWING_OK
+    );
+    for _ in 0..3 {
+        assert_eq!(step(&h, &at_rest()), step(&fresh, &at_rest()));
+    }
+}
+
+#[test]
 fn a_non_finite_body_state_names_the_field_and_changes_nothing() {
     let h = builtin("drosophila", 0.0);
     let fresh = builtin("drosophila", 0.0);
@@ -311,6 +388,10 @@ fn every_function_reports_a_null_handle_and_null_out_pointers() {
                 "flapwing_wings_inertia",
                 flapwing_wings_inertia(null, &mut w),
             ),
+            (
+                "flapwing_wings_body_drag",
+                flapwing_wings_body_drag(null, &mut w),
+            ),
             ("flapwing_wings_wing", flapwing_wings_wing(null, 0, &mut ws)),
             (
                 "flapwing_wings_set_controls",
@@ -371,6 +452,11 @@ fn every_function_reports_a_null_handle_and_null_out_pointers() {
         );
         expect(
             flapwing_wings_inertia(h.0, ptr::null_mut()),
+            FLAPWING_NULL_POINTER,
+            &["`out`"],
+        );
+        expect(
+            flapwing_wings_body_drag(h.0, ptr::null_mut()),
             FLAPWING_NULL_POINTER,
             &["`out`"],
         );

@@ -28,5 +28,27 @@ pub enum Error {
     Analysis(String),
 }
 
+/// How the reason of a step refused for overflowing loads begins ([`Error::is_load_overflow`]).
+pub(crate) const LOAD_OVERFLOW: &str = "the loads overflow";
+
+impl Error {
+    /// Whether this is a step the set refused because the body state or wind it was given
+    /// makes the loads overflow (a speed through the air far beyond flight, e.g. 1e300 m/s):
+    /// an [`Error::Diverged`] for a host that integrated that state itself, a bad input for a
+    /// host whose states come from its user (the C ABI, Python's `WingSet`).
+    pub fn is_load_overflow(&self) -> bool {
+        matches!(self, Error::Diverged { reason, .. } if reason.starts_with(LOAD_OVERFLOW))
+    }
+
+    /// The reason of a refused step alone (what follows "run diverged at ...: "), or the
+    /// message.
+    pub fn reason(&self) -> String {
+        match self {
+            Error::Diverged { reason, .. } => reason.clone(),
+            e => e.to_string(),
+        }
+    }
+}
+
 /// Result with the wing set's [`Error`].
 pub type Result<T> = std::result::Result<T, Error>;

@@ -31,5 +31,6 @@ pub mod set;
 pub use controls::Controls;
 pub use error::{Error, Result};
 pub use set::{
-    BodyLoad, ControlMap, MeanLoads, State, WingSet, WingSetBuilder, WingSetOutput, zero_forces,
+    BodyLoad, ControlMap, MIN_STEPS_PER_WINGBEAT, MeanLoads, State, WingSet, WingSetBuilder,
+    WingSetOutput, check_dt, max_dt_s, zero_forces,
 };

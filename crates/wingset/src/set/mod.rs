@@ -14,7 +14,9 @@
 //! user's rapier world), the C ABI, the MuJoCo plugin, the FMU and the Python module (crates
 //! `flapwing-ffi`, `flapwing-mujoco`, `flapwing-fmu`, `flapwing-python`).
 //!
-//! The time step is the host's and fixed per set. When it divides the wingbeat into a whole
+//! The time step is the host's and fixed per set, finite, > 0 and at most 1/20 of the
+//! wingbeat period ([`MIN_STEPS_PER_WINGBEAT`]; checked when the set is built and when
+//! kinematics or controls change the frequency). When it divides the wingbeat into a whole
 //! number of steps N (dt = 1/(f N), as flapsim's own host sizes it), the phase advances by
 //! exactly 1/N per step and the kinematic loads repeat bit for bit every wingbeat, so they are
 //! computed once per step of the wingbeat and reused; otherwise the phase advances by f dt.
@@ -24,6 +26,8 @@
 //! (both wings at the left wing's frequency, the right table stretched to it).
 
 mod body;
+mod drag;
+mod limits;
 mod map;
 mod output;
 mod step;
@@ -32,6 +36,7 @@ use nalgebra::Vector3;
 use wingforce::{KinematicLoads, Kinematics, Side, Wing};
 
 pub use body::{BodyLoad, MeanLoads, State};
+pub use limits::{MIN_STEPS_PER_WINGBEAT, check_dt, max_dt_s};
 pub use map::ControlMap;
 pub use output::{WingSetOutput, zero_forces};
 
@@ -84,6 +89,8 @@ pub struct WingSet {
     /// Each wing's motion relative to its air (filled by a prescribed step with per-wing
     /// winds).
     wing_motions: Vec<wingforce::BodyMotion>,
+    /// The body's parasite drag area C_D S the set applies, m^2 (0: none, the default).
+    body_drag_area_m2: f64,
     still: bool,
     out: WingSetOutput,
 }
@@ -110,7 +117,8 @@ impl WingSetBuilder {
     }
 
     /// The set, or an error naming what is wrong (no wings, two wings at one place, wings at
-    /// different frequencies, a step that is not positive and finite).
+    /// different frequencies, a step that is not positive and finite or longer than 1/20 of
+    /// the wingbeat period, [`check_dt`]).
     pub fn build(self) -> Result<WingSet> {
         if !(self.wing_mass_kg >= 0.0 && self.wing_mass_kg.is_finite()) {
             return Err(Error::Input(format!(
@@ -173,11 +181,11 @@ impl WingSet {
                 "wing set: no wings; allowed: one or more wings".into(),
             ));
         }
-        if !(dt_s > 0.0 && dt_s.is_finite()) {
-            return Err(Error::Input(format!(
-                "wing set: time step dt_s = {dt_s}; allowed: a finite step > 0 s"
-            )));
-        }
+        let freq_hz = match &dynamic {
+            Some(d) => d[0].drive().freq_hz,
+            None => wings[0].kinematics().freq_hz,
+        };
+        check_dt(dt_s, freq_hz)?;
         for (i, a) in wings.iter().enumerate() {
             for (j, b) in wings.iter().enumerate().skip(i + 1) {
                 let (ma, mb) = (a.mount(), b.mount());
@@ -194,10 +202,6 @@ impl WingSet {
                 }
             }
         }
-        let freq_hz = match &dynamic {
-            Some(d) => d[0].drive().freq_hz,
-            None => wings[0].kinematics().freq_hz,
-        };
         let centroid_r_m = wings
             .iter()
             .map(|w| {
@@ -229,6 +233,7 @@ impl WingSet {
             wind_world_m_s: Vector3::zeros(),
             wing_winds_world_m_s: None,
             wing_motions: Vec::new(),
+            body_drag_area_m2: 0.0,
             still: false,
             out: WingSetOutput::empty(n),
         };
@@ -386,6 +391,7 @@ impl WingSet {
                 kinematics.freq_hz
             )));
         }
+        check_dt(self.dt_s, kinematics.freq_hz)?;
         let phase = self.phase();
         self.wings[i].set_kinematics(kinematics);
         self.restart_phase(phase);
@@ -468,12 +474,22 @@ impl WingSet {
     }
 
     /// Applies controls now and restarts the wingbeat bookkeeping from the current phase.
+    /// Controls whose wingbeat the step no longer resolves ([`check_dt`]) are an error, and
+    /// those in force stay.
     fn apply_controls(&mut self, c: &Controls) -> Result<()> {
         let phase = self.phase();
         let Some(v) = &mut self.control_map else {
             return Ok(());
         };
         v.apply(c)?;
+        let freq_hz = match v.drives() {
+            Some(d) if self.dynamic.is_some() => d[0].freq_hz,
+            _ => v.wings()[0].kinematics().freq_hz,
+        };
+        if let Err(e) = check_dt(self.dt_s, freq_hz) {
+            v.apply(&self.controls)?;
+            return Err(e);
+        }
         if let (Some(d), Some(drives)) = (&mut self.dynamic, v.drives()) {
             for (w, drive) in d.iter_mut().zip(drives) {
                 w.set_drive(*drive)?;

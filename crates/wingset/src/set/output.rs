@@ -24,7 +24,12 @@ pub struct WingSetOutput {
     pub terms: [BodyLoad; 4],
     /// Inertial reaction of the wings' (and actuators') masses.
     pub wing_inertia: BodyLoad,
-    /// Everything the wings apply to the body.
+    /// The body's parasite drag at its centre of mass (no moment), when the host turned it on
+    /// ([`WingSet::set_body_drag_area_m2`](super::WingSet::set_body_drag_area_m2)); zero
+    /// otherwise.
+    pub body_drag: BodyLoad,
+    /// Everything the set applies to the body: the four terms, the wings' inertia and the body
+    /// drag.
     pub total: BodyLoad,
     /// Controls in force during this step.
     pub controls: Controls,
@@ -55,6 +60,7 @@ impl WingSetOutput {
             actuated: Vec::new(),
             terms: Default::default(),
             wing_inertia: BodyLoad::default(),
+            body_drag: BodyLoad::default(),
             total: BodyLoad::default(),
             controls: Controls::default(),
         }

@@ -43,20 +43,26 @@ impl WingSet {
         air_motion(body, &self.wind_world_m_s)
     }
 
-    fn check_input(&self, body: &State) -> Result<()> {
-        match body.first_non_finite() {
-            Some(field) => Err(Error::Input(format!(
-                "wing set, step {} (t = {:.6} s): the body state's {field} is not finite; allowed: finite numbers",
-                self.step,
-                self.time_s()
-            ))),
-            None => Ok(()),
+    /// [`WingSet::loads`]: adds the body's drag (when the host turned it on) to the output and
+    /// checks that the loads are finite.
+    fn finish(&self, body: &State, out: &mut WingSetOutput) -> Result<()> {
+        let drag = self.body_drag(body);
+        out.body_drag = drag;
+        out.total.add(drag.force_n, drag.moment_nm);
+        if out.total.is_finite() {
+            Ok(())
+        } else {
+            Err(self.overflow_error(body, &self.motion(body)))
         }
     }
 
     /// Advances the wings by one step from the body's state at t_k and returns the loads over
     /// the step (see the module documentation). Pending controls take effect at the first
-    /// step of a wingbeat. A non-finite body state is an error and changes nothing.
+    /// step of a wingbeat. A non-finite body state or wind is an error and changes nothing;
+    /// so is, for prescribed wings, a finite one whose loads overflow (a speed through the
+    /// air far beyond any flight, as wingforce's `Wing::evaluate` callers refuse it; an
+    /// [`Error::Diverged`] that [`Error::is_load_overflow`] recognises): the step is not
+    /// taken (an actuated set's wings are left as that step moved them).
     pub fn step(&mut self, body: &State) -> Result<&WingSetOutput> {
         self.check_input(body)?;
         let cycle = self.phase().floor() as i64;
@@ -74,6 +80,12 @@ impl WingSet {
         } else {
             self.prescribed_step(body);
         }
+        let drag = self.body_drag(body);
+        self.out.body_drag = drag;
+        self.out.total.add(drag.force_n, drag.moment_nm);
+        if !self.out.total.is_finite() {
+            return Err(self.overflow_error(body, &self.motion(body)));
+        }
         self.step += 1;
         Ok(&self.out)
     }
@@ -87,6 +99,7 @@ impl WingSet {
             let mut copy = self.clone();
             // A state the step would reject still gets its loads reported as far as known.
             let _ = copy.actuated_into(body, &mut out);
+            self.finish(body, &mut out)?;
             return Ok(out);
         }
         let (cycles, table_phase, j) = self.phase_parts();
@@ -102,6 +115,7 @@ impl WingSet {
         }
         let sums = self.sums(body, cycles, table_phase, &motions);
         sums.loads_into(&kin, &mut out);
+        self.finish(body, &mut out)?;
         Ok(out)
     }
 
