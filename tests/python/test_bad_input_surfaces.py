@@ -70,6 +70,11 @@ CASES = [
     C("stability-str-climb", "Vehicle().stability(climb_m_s='1')", "TypeError", "climb_m_s"),
     C("stability-nan-speed", "Vehicle().stability(speed_m_s=float('nan'))", "ValueError",
       "speed_m_s"),
+    # --- task settings that end every episode at once ---
+    C("task-max-attitude-1e300", "HoverTask(max_attitude_deg=1e300)", "ValueError",
+      "max_attitude_deg"),
+    C("task-disturbance-beyond-limit", "HoverTask('drosophila', 'recover', disturbance_deg=90)",
+      "ValueError", "disturbance_deg", "max_attitude_deg"),
     # --- sensors: latency bounded (0.1 s) ---
     C("imu-latency-10s", "Vehicle(model_with('latency_s = 5.0e-3', 'latency_s = 10.0'))",
       "ValueError", "sensors.imu.latency_s", "0.1", setup=MODEL),

@@ -45,6 +45,9 @@ use crate::sensors::{Noise, SensorParams, Sensors};
 use crate::sim::{Mode, Simulation};
 use crate::trim::{Trim, trim, trimmed_vehicle};
 
+mod limits;
+use limits::admissible_limit;
+
 /// What a task asks and how it is scored.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct TaskSpec {
@@ -108,59 +111,6 @@ pub fn preroll_s(p: &SensorParams) -> f64 {
         .map_or(p.imu.latency_s, |m| m.latency_s.max(p.imu.latency_s))
 }
 
-/// The action limits: `design` (three times the LQR design excursions) cut to what the
-/// vehicle accepts about its trim `t`, so that every action in the box is controls its
-/// actuators and kinematics take (an actuator's voltage limit, a stroke amplitude of at most
-/// 180 deg, ...: [`Vehicle::apply_controls`]). Each channel is first cut alone (the largest
-/// fraction of its design limit, both signs, found by bisection), then the box as a whole,
-/// until each of its 16 corners is accepted (the limits are peaks and sums of the channels,
-/// so the corners are the worst cases).
-fn admissible_limit(vehicle: &Vehicle, t: &Trim, design: [f64; 4]) -> Result<[f64; 4]> {
-    let drive = vehicle.drive_controlled();
-    let accepts = |u: &[f64; 4]| {
-        let mut v = vehicle.clone();
-        v.apply_controls(&t.controls.with_channels(drive, u))
-            .is_ok()
-    };
-    // The largest s in [0, 1] with ok(s) (ok(0) holds), to 1e-4 of the design limit.
-    let largest = |ok: &dyn Fn(f64) -> bool| {
-        if ok(1.0) {
-            return 1.0;
-        }
-        let (mut lo, mut hi) = (0.0, 1.0);
-        while hi - lo > 1e-4 {
-            let mid = 0.5 * (lo + hi);
-            if ok(mid) { lo = mid } else { hi = mid }
-        }
-        lo
-    };
-    let corners = |lim: &[f64; 4]| {
-        (0..16).all(|k: usize| {
-            let u = std::array::from_fn(|j| if k >> j & 1 == 1 { lim[j] } else { -lim[j] });
-            accepts(&u)
-        })
-    };
-    if !corners(&[0.0; 4]) {
-        return Err(Error::Analysis(format!(
-            "{}: the vehicle refuses its own trim controls",
-            vehicle.name
-        )));
-    }
-    let mut lim = design;
-    for j in 0..4 {
-        let s = largest(&|s| {
-            [1.0, -1.0].iter().all(|sign| {
-                let mut u = [0.0; 4];
-                u[j] = sign * s * design[j];
-                accepts(&u)
-            })
-        });
-        lim[j] = s * design[j];
-    }
-    let s = largest(&|s| corners(&lim.map(|l| s * l)));
-    Ok(lim.map(|l| s * l))
-}
-
 /// The result of one action.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TaskStep {
@@ -216,13 +166,26 @@ impl Task {
                 .invalid("action_wingbeats", 0, "at least 1 wingbeat per action")
                 .into());
         }
-        v.non_negative("disturbance_deg", spec.disturbance_deg)?;
         v.non_negative(
             "disturbance_body_lengths_s",
             spec.disturbance_body_lengths_s,
         )?;
         v.positive("max_position_body_lengths", spec.max_position_body_lengths)?;
-        v.positive("max_attitude_deg", spec.max_attitude_deg)?;
+        // An attitude error is at most 180 deg: a larger limit never terminates.
+        v.within_open_low("max_attitude_deg", spec.max_attitude_deg, 0.0, 180.0)?;
+        // A start beyond the termination limit would end every episode at its first action.
+        if !(spec.disturbance_deg >= 0.0 && spec.disturbance_deg < spec.max_attitude_deg) {
+            return Err(v
+                .invalid(
+                    "disturbance_deg",
+                    spec.disturbance_deg,
+                    &format!(
+                        "at least 0 and below max_attitude_deg ({} deg), where an episode terminates",
+                        spec.max_attitude_deg
+                    ),
+                )
+                .into());
+        }
         let vehicle = VehicleSpec::from_toml(text, origin)?.build(origin)?;
         let steps = vehicle.sim.steps_per_wingbeat;
         if steps.checked_mul(spec.action_wingbeats).is_none() {
@@ -544,5 +507,34 @@ impl Task {
             truncated,
             reason,
         }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fly() -> &'static str {
+        crate::builtin_model("drosophila").unwrap()
+    }
+
+    #[test]
+    fn task_settings_that_end_every_episode_at_once_are_refused() {
+        let bad = [
+            TaskSpec {
+                max_attitude_deg: 1e300,
+                ..TaskSpec::hover()
+            },
+            TaskSpec {
+                disturbance_deg: 60.0,
+                ..TaskSpec::recover()
+            },
+        ];
+        for (spec, field) in bad.iter().zip(["max_attitude_deg", "disturbance_deg"]) {
+            let e = Task::new(fly(), "fly", *spec, None)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(field), "{e}");
+        }
     }
 }
