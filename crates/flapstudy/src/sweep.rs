@@ -15,12 +15,15 @@
 //! `ok` and an empty `error`. What counts as a failed case is [`is_case_failure`]: the
 //! analysis could not find what it looked for ([`flapsim::Error::Analysis`]) or the run
 //! diverged ([`flapsim::Error::Diverged`]). A bad study (an unknown field, a value or a
-//! combination of values the model refuses) is an error before any case runs
-//! ([`Study::check_cases`]), never a row.
+//! combination of values the model refuses) is an error, never a row: a single value is
+//! refused when the study is resolved, a combination before any case of its block of
+//! [`BLOCK`] cases runs.
 
 use std::ops::Range;
 
 use rayon::prelude::*;
+
+use flapsim::model::Vehicle;
 
 use super::error::{StudyError, StudyResult};
 use super::responses::{HoverResponses, Response, hover_responses};
@@ -99,16 +102,42 @@ pub fn csv_cell_text(reason: &str) -> String {
         .collect()
 }
 
+/// Cases run in blocks of this many: the vehicles of a block are built and checked
+/// ([`Study::check_cases`]) before any case of the block runs, then evaluated in parallel.
+/// A study (or shard) of at most this many cases is refused before any case runs; the
+/// vehicles of a block are built once (building one costs about as much as evaluating a
+/// fixed-kinematics case) and held only while their block runs.
+pub const BLOCK: usize = 1024;
+
 impl Study {
     /// Evaluates one case. A failed analysis of the design ([`is_case_failure`]) is a
     /// [`CaseOutcome::Failed`] result; any other error (the case's vehicle cannot be built, the
     /// model does not fit the responses) is the study's and is returned.
     pub fn evaluate(&self, case: usize) -> StudyResult<CaseResult> {
+        let vehicle = self.checked_vehicle(case)?;
+        self.evaluate_vehicle(case, &vehicle)
+    }
+
+    /// The vehicle of `case`, refused (as the study's error) when the model rejects it or the
+    /// responses cannot be evaluated on it (one wing pair only).
+    fn checked_vehicle(&self, case: usize) -> StudyResult<Vehicle> {
         let vehicle = self.vehicle(case)?;
-        let outcome = match hover_responses(&vehicle, self.steps_per_wingbeat) {
+        vehicle
+            .require_one_pair("flapstudy's hover responses")
+            .map_err(|source| StudyError::Case {
+                case,
+                settings: self.settings_text(case),
+                source,
+            })?;
+        Ok(vehicle)
+    }
+
+    /// Evaluates `case` on its (checked) vehicle.
+    fn evaluate_vehicle(&self, case: usize, vehicle: &Vehicle) -> StudyResult<CaseResult> {
+        let outcome = match hover_responses(vehicle, self.steps_per_wingbeat) {
             Ok(mut all) => {
                 if self.responses.contains(&Response::TrimFeasible) {
-                    all.trim_feasible = Some(flapsim::trim::trim(&vehicle).is_ok());
+                    all.trim_feasible = Some(flapsim::trim::trim(vehicle).is_ok());
                 }
                 CaseOutcome::Done(all)
             }
@@ -133,32 +162,23 @@ impl Study {
         })
     }
 
-    /// Checks, before any case runs, that every case of `range` makes a vehicle the model
-    /// accepts and the responses can be evaluated on (one wing pair): a bad study is an error
-    /// naming the first bad case and its settings, never a failed row. Cheap next to the
-    /// cases themselves (no wingbeat is evaluated).
+    /// Checks that every case of `range` makes a vehicle the model accepts and the responses
+    /// can be evaluated on (one wing pair): a bad study is an error naming the first bad case
+    /// and its settings, never a failed row. It builds every vehicle (no wingbeat is
+    /// evaluated); [`Study::run`] does this block by block ([`BLOCK`]).
     pub fn check_cases(&self, range: Range<usize>) -> StudyResult<()> {
-        let first_bad = range
-            .into_par_iter()
-            .map(|i| {
-                self.vehicle(i)?
-                    .require_one_pair("flapstudy's hover responses")
-                    .map_err(|source| StudyError::Case {
-                        case: i,
-                        settings: self.settings_text(i),
-                        source,
-                    })
-            })
-            .find_first(|r| r.is_err());
-        match first_bad {
-            Some(Err(e)) => Err(e),
-            _ => Ok(()),
-        }
+        first_error(
+            range
+                .into_par_iter()
+                .map(|i| self.checked_vehicle(i).map(drop))
+                .collect(),
+        )
+        .map(drop)
     }
 
     /// Evaluates the cases `range` on the current rayon pool, calling `progress` after each
     /// case. Results are in case order, failed cases included (see the module docs); a bad
-    /// study is an error before any case runs ([`Study::check_cases`]).
+    /// study is an error before any case of its block runs ([`BLOCK`]).
     pub fn run(
         &self,
         range: Range<usize>,
@@ -175,21 +195,36 @@ impl Study {
         progress: &(dyn Fn(&CaseResult) + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> StudyResult<Vec<CaseResult>> {
-        self.check_cases(range.clone())?;
-        let results: Vec<Option<StudyResult<CaseResult>>> = range
-            .into_par_iter()
-            .map(|i| {
-                if stop() {
-                    return None;
-                }
-                let r = self.evaluate(i);
-                if let Ok(done) = &r {
-                    progress(done);
-                }
-                Some(r)
-            })
-            .collect();
-        results.into_iter().flatten().collect()
+        let mut out = Vec::with_capacity(range.len());
+        let mut start = range.start;
+        while start < range.end && !stop() {
+            let end = (start + BLOCK).min(range.end);
+            let vehicles = first_error(
+                (start..end)
+                    .into_par_iter()
+                    .map(|i| self.checked_vehicle(i))
+                    .collect(),
+            )?;
+            let results: Vec<Option<StudyResult<CaseResult>>> = vehicles
+                .into_par_iter()
+                .enumerate()
+                .map(|(k, vehicle)| {
+                    if stop() {
+                        return None;
+                    }
+                    let r = self.evaluate_vehicle(start + k, &vehicle);
+                    if let Ok(done) = &r {
+                        progress(done);
+                    }
+                    Some(r)
+                })
+                .collect();
+            for r in results.into_iter().flatten() {
+                out.push(r?);
+            }
+            start = end;
+        }
+        Ok(out)
     }
 
     /// The CSV header line (without newline).
@@ -246,6 +281,11 @@ impl Study {
             })
             .collect()
     }
+}
+
+/// The values, or the error of the lowest index.
+fn first_error<T>(results: Vec<StudyResult<T>>) -> StudyResult<Vec<T>> {
+    results.into_iter().collect()
 }
 
 /// A failed case, as a summary lists it.

@@ -69,10 +69,6 @@ pub fn run(args: SubmitArgs) -> anyhow::Result<()> {
     let study = super::sweep::load_study(&args.study)?;
     let hash = study_hash(&study);
     let cases = study.case_count();
-    // A bad study (a case the model refuses) is refused here, not by every task on the cluster.
-    study
-        .check_cases(0..cases)
-        .map_err(|e| input_error(e.to_string()))?;
     let n = args.shards.map_or(cases.clamp(1, 16), |s| s as usize);
     if n > cases.max(1) {
         return Err(input_error(format!(

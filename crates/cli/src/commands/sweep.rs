@@ -18,8 +18,8 @@
 //! other cases finish, and the summary says how many failed and which. The exit code is 0
 //! when the table is written, failed cases or not (a study explores corners where designs
 //! fail); `--strict` makes it 1 when any case failed, after the table is written. A bad study
-//! (unknown field, a value or combination the model refuses) is bad input (2) before any case
-//! runs.
+//! (unknown field, a value or a combination the model refuses) is bad input (2) and writes no
+//! table (see `flapstudy::sweep::BLOCK` for when a combination is found).
 
 use std::fmt::Write as _;
 use std::io::Write as _;
