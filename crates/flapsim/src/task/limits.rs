@@ -1,6 +1,5 @@
 //! A task's action box: the LQR design range cut to what the vehicle accepts about its trim.
 
-use crate::control::LqrWeights;
 use crate::error::{Error, Result};
 use crate::model::Vehicle;
 use crate::trim::Trim;
@@ -61,6 +60,7 @@ pub(super) fn admissible_limit(vehicle: &Vehicle, t: &Trim, design: [f64; 4]) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::control::LqrWeights;
     use crate::task::{Task, TaskSpec};
 
     fn fly() -> &'static str {
