@@ -221,10 +221,13 @@ pub struct HoverOptimum {
 pub const MAX_START_CANDIDATES: usize = 64;
 
 /// The unit-box points tried, in order, for a start that does not fail: the centre, then the
-/// grid of levels 0.5, 0.25, 0.75, 0 and 1 on every factor, nearest the centre first (ties in
-/// grid order), at most [`MAX_START_CANDIDATES`] in all.
+/// points of the grid of levels 0.5, 0.25, 0.75, 0 and 1 on every factor, nearest the centre
+/// first (ties in a fixed order), at most [`MAX_START_CANDIDATES`] in all.
 pub fn start_candidates(k: usize) -> Vec<DVector<f64>> {
     const LEVELS: [f64; 5] = [0.5, 0.25, 0.75, 0.0, 1.0];
+    let dist = |p: &[f64]| p.iter().map(|x| (x - 0.5) * (x - 0.5)).sum::<f64>();
+    // Factor by factor, keeping the nearest points: the distance adds up over the factors,
+    // so the nearest full points extend the nearest partial ones.
     let mut grid: Vec<Vec<f64>> = vec![Vec::new()];
     for _ in 0..k {
         grid = grid
@@ -236,15 +239,11 @@ pub fn start_candidates(k: usize) -> Vec<DVector<f64>> {
                     q
                 })
             })
-            .take(MAX_START_CANDIDATES * 16)
             .collect();
+        grid.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+        grid.truncate(MAX_START_CANDIDATES);
     }
-    let dist = |p: &[f64]| p.iter().map(|x| (x - 0.5) * (x - 0.5)).sum::<f64>();
-    grid.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
-    grid.into_iter()
-        .take(MAX_START_CANDIDATES)
-        .map(|p| DVector::from_vec(p))
-        .collect()
+    grid.into_iter().map(DVector::from_vec).collect()
 }
 
 /// Maximizes lift per aerodynamic power over the study's factor intervals subject to

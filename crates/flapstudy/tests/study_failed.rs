@@ -201,7 +201,7 @@ fn the_optimizer_starts_where_a_design_works_and_says_when_none_does() {
     assert_eq!(
         c[1].as_slice(),
         [0.5, 0.25],
-        "nearest first, grid order on ties"
+        "nearest first, ties in a fixed order"
     );
     assert!(
         c[24].iter().all(|&x| x == 0.0 || x == 1.0),
