@@ -119,3 +119,32 @@ fn bad_wind_input_exits_2() {
         "unknown key",
     );
 }
+
+/// `replay --check` re-runs the wind the run met: the field the flags made (in the log's
+/// settings), and still air where `--no-wind` switched a model's `[wind]` off. Fails if the
+/// check re-runs the model's wind instead (a false mismatch, exit 1).
+#[test]
+fn replay_check_reruns_the_wind_of_the_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let model = format!(
+        "{}\n[wind]\nsteady_world_m_s = [0.2, 0.0, 0.0]\n",
+        include_str!("../../../models/drosophila.toml")
+    );
+    std::fs::write(d.join("windy.toml"), model).unwrap();
+    let cases: [&[&str]; 3] = [
+        &["--turbulence-intensity-m-s", "0.1"],
+        &["--model", "windy.toml", "--no-wind"],
+        &["--model", "windy.toml", "--wind-world-m-s", "0,0.1,0"],
+    ];
+    for (k, extra) in cases.iter().enumerate() {
+        let log = format!("w{k}.mcap");
+        let mut args = vec!["simulate", "--duration-s", "0.01", "--mcap", &log];
+        args.extend_from_slice(extra);
+        let run = common::flapwing_in(d, &args);
+        assert_eq!(run.code, 0, "{run:?}");
+        let check = common::flapwing_in(d, &["replay", &log, "--check"]);
+        assert_eq!(check.code, 0, "{extra:?}: {check:?}");
+        assert!(check.stdout.starts_with("match: "), "{check:?}");
+    }
+}

@@ -2,8 +2,10 @@
 //!
 //! [`check_log`] rebuilds the vehicle from the embedded model text
 //! (`flapsim::Vehicle::from_toml(model_toml, model_origin)`), runs
-//! `flapsim::Simulation::new(vehicle, mode)` with `set_wind(wind_world_m_s)` and the model's
-//! `[wind]` field, if any (`set_wind_model`), for
+//! `flapsim::Simulation::new(vehicle, mode)` with `set_wind(wind_world_m_s)` and the run's
+//! wind field (`set_wind_model`): the settings' `wind` when the run's wind flags made one
+//! (`flapwing simulate` writes it there; `null` when `--no-wind` switched the model's off),
+//! else the model's `[wind]` field, if any, for
 //! `round(duration_s / dt)` steps with no controller (exactly what `flapwing simulate`
 //! does), picks samples with the same [`crate::Decimator`], and compares every logged
 //! `/vehicle/state` sample: position, velocity, attitude quaternion and body rates, as f64
@@ -211,10 +213,24 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
         }
     }
 
-    // The model's own `[wind]` field, as `flapwing simulate` flies it (wind flags are not
-    // in the log: such runs do not re-run).
-    let wind = vehicle
-        .wind
+    // The run's wind field: the settings' `wind` (the wind flags' field; `null`: still air,
+    // `--no-wind`), else the model's own `[wind]`, as `flapwing simulate` flies it.
+    let raw: serde_json::Value =
+        serde_json::from_str(md.get("settings").map(String::as_str).unwrap_or(""))
+            .unwrap_or(serde_json::Value::Null);
+    let spec = match raw.get("wind") {
+        Some(serde_json::Value::Null) => None,
+        Some(w) => Some(
+            serde_json::from_value::<flapsim::WindSpec>(w.clone()).map_err(|e| {
+                Error::Embedded(format!(
+                    "the settings' `wind` in `{}` does not load: {e}",
+                    path.as_ref().display()
+                ))
+            })?,
+        ),
+        None => vehicle.wind.clone(),
+    };
+    let wind = spec
         .as_ref()
         .map(|w| flapsim::Wind::from_spec(w, origin, vehicle.initial_position_m))
         .transpose()

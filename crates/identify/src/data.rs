@@ -254,6 +254,8 @@ impl FlightData {
         // The run's wind field: the settings' (`hover` writes the one its flags made), else
         // the model's `[wind]`.
         let wind_spec = match settings.get("wind") {
+            // `simulate --no-wind` of a model with a `[wind]`: still air.
+            Some(serde_json::Value::Null) => None,
             Some(w) => Some(
                 serde_json::from_value::<flapsim::WindSpec>(w.clone()).map_err(|e| {
                     log_err(path, format!("the settings' `wind` does not load: {e}"))

@@ -95,13 +95,13 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let settings = flightlog::SimSettings::new(mode, duration_s, rate, [0.0; 3]).to_json();
     // A wind field the flags made (not the embedded model's) goes into the settings, as
     // `hover` does, so that `identify` replays the wind the run met.
-    let settings = match &wind_spec {
-        Some(w) if vehicle.wind.as_ref() != Some(w) => {
-            let mut v: serde_json::Value = serde_json::from_str(&settings)?;
-            v["wind"] = serde_json::to_value(w)?;
-            v.to_string()
-        }
-        _ => settings,
+    // `null` when `--no-wind` switched the model's off (`replay --check` re-runs still air).
+    let settings = if wind_spec.as_ref() != vehicle.wind.as_ref() {
+        let mut v: serde_json::Value = serde_json::from_str(&settings)?;
+        v["wind"] = serde_json::to_value(&wind_spec)?;
+        v.to_string()
+    } else {
+        settings
     };
     let mut sensors = crate::sensing::start(&args.sensors, &vehicle)?;
     // `/wind` in runs with a wind field (the model's `[wind]` or the wind flags).
