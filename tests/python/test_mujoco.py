@@ -204,6 +204,36 @@ def test_trim_attribute_flies_the_flight_condition(native):
         load(model="drosophila", trim="50 0")
 
 
+def test_the_bumblebee_held_at_its_3_m_s_trim_feels_no_net_force(native):
+    """The bumblebee has a body drag area (models/bumblebee.toml, drag_area_m2), which its
+    trim at 3 m/s balances; the plugin applies that drag with the wings' wrench (docs/plugin.md,
+    "Body drag"), so held at the trimmed attitude and velocity with gravity on, the wingbeat
+    mean of the applied force plus gravity is zero to the averaged-versus-stepped difference
+    (1e-3 of the weight, the C ABI's own test); issue #40 asks below 1% (it was 12% forward
+    before the drag was applied). The MuJoCo step is the bumblebee's own, 1/(155 Hz x 100)."""
+    import flapwing
+
+    bee = flapwing.Vehicle("bumblebee")
+    t = bee.trim(speed_m_s=3.0)
+    xml = plugin.fly_xml(trim="3 0").replace('value="drosophila"', 'value="bumblebee"')
+    m = mujoco.MjModel.from_xml_string(xml)
+    m.opt.timestep = 1.0 / (155.0 * N)
+    d = mujoco.MjData(m)  # the plugin's wings are built here, at this step
+    half = -0.5 * t["pitch_rad"]
+    d.qpos[3:7] = [math.cos(half), 0.0, math.sin(half), 0.0]
+    d.qvel[:] = 0
+    d.qvel[0] = 3.0
+    qpos0, qvel0 = d.qpos.copy(), d.qvel.copy()
+    f = np.zeros(3)
+    for _ in range(N):
+        mujoco.mj_step(m, d)
+        f += d.qfrc_passive[:3] / N  # free joint: world force on dofs 0-2
+        d.qpos[:], d.qvel[:] = qpos0, qvel0
+    weight = bee.mass_kg * bee.gravity_m_s2
+    net = f - [0.0, 0.0, weight]
+    assert np.linalg.norm(net) < 1e-3 * weight, (net / weight)
+
+
 def test_bad_model_file_fails_the_load_naming_it(native, tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[body]\nmass_kg = -1\n")

@@ -201,7 +201,7 @@ fn a_step_longer_than_a_twentieth_of_the_wingbeat_is_refused() {
             s,
             FLAPWING_INVALID_ARGUMENT,
             &[
-                &format!("dt_s = {dt}"),
+                &format!("dt_s = {dt:?}"),
                 "at most 1/20 of the wingbeat period",
             ],
         );

@@ -13,7 +13,9 @@ use crate::vehicle::Vehicle;
 
 /// The wings of a vehicle model as a force element: `step(...)` takes the body's state at
 /// t_k and returns the force and moment (about the centre of mass, body frame) to apply over
-/// [t_k, t_k + dt_s]; the host integrates the body with that step.
+/// [t_k, t_k + dt_s]; the host integrates the body with that step. The returned total
+/// includes the body's parasite drag (the model's `[body] drag_area_m2`, also reported on its
+/// own as `body_drag`), as the C ABI's does: the host applies the total and nothing else.
 #[pyclass(module = "flapwing")]
 pub struct WingSet {
     set: flapsim::WingSet,
@@ -29,7 +31,8 @@ fn load_dict<'py>(py: Python<'py>, l: &flapsim::BodyLoad) -> PyResult<Bound<'py,
 #[pymethods]
 impl WingSet {
     /// The wings of `vehicle` (a `Vehicle`, a built-in name or a model path; default the
-    /// fly) stepped by `dt_s` (None: the model's own step, 1 / (f steps_per_wingbeat)).
+    /// fly) stepped by `dt_s` (None: the model's own step, 1 / (f steps_per_wingbeat);
+    /// else finite, > 0 and at most 1/20 of the wingbeat period, or a ValueError).
     #[new]
     #[pyo3(signature = (vehicle = None, dt_s = None))]
     fn new(vehicle: Option<&Bound<'_, PyAny>>, dt_s: Option<f64>) -> PyResult<Self> {
@@ -38,6 +41,10 @@ impl WingSet {
             None => flapsim::WingSet::from_vehicle_sized(&v.vehicle),
             Some(dt) => flapsim::WingSet::from_vehicle(&v.vehicle, dt),
         }
+        .and_then(|mut s| {
+            s.set_body_drag_area_m2(v.vehicle.body_drag_area_m2)?;
+            Ok(s)
+        })
         .map_err(sim_err)?;
         Ok(Self { set })
     }
@@ -93,7 +100,9 @@ impl WingSet {
     /// (a unit quaternion), `velocity_m_s` (the CoM's, world) and
     /// `angular_velocity_body_rad_s`. Returns a dict: `force_body_n`, `moment_body_nm` (the
     /// total about the CoM, body frame), `terms` (each term's load), `wing_inertia`,
-    /// `wing_forces_body_n` (one row per wing), `t_s` and `phase`.
+    /// `body_drag`, `wing_forces_body_n` (one row per wing), `t_s` and `phase`. A state or
+    /// wind whose loads overflow (a speed through the air far beyond flight) is a ValueError
+    /// naming the velocities, and the step is not taken.
     #[pyo3(signature = (position_m, world_from_body_wxyz, velocity_m_s, angular_velocity_body_rad_s))]
     fn step<'py>(
         &mut self,
@@ -125,7 +134,14 @@ impl WingSet {
                 angular_velocity_body_rad_s,
             )?,
         };
-        let out = self.set.step(&state).map_err(sim_err)?;
+        let out = self
+            .set
+            .step(&state)
+            .map_err(|e| match e.is_load_overflow() {
+                // The caller's state or wind, not a run of ours: a bad argument.
+                true => PyValueError::new_err(format!("wing set: {}", e.reason())),
+                false => sim_err(e),
+            })?;
         let d = load_dict(py, &out.total)?;
         let terms = PyDict::new(py);
         for term in wingforce::Term::ALL {
@@ -133,6 +149,7 @@ impl WingSet {
         }
         d.set_item("terms", terms)?;
         d.set_item("wing_inertia", load_dict(py, &out.wing_inertia)?)?;
+        d.set_item("body_drag", load_dict(py, &out.body_drag)?)?;
         let rows: Vec<Vec<f64>> = out
             .wings
             .iter()

@@ -51,7 +51,7 @@ fn the_step_is_at_most_a_twentieth_of_the_wingbeat() {
     for dt in [1.0 / (19.0 * f), 1.0 / f, 218.0 / f, 1e300] {
         let m = input_message(pair(dt).unwrap_err());
         assert!(
-            m.contains(&format!("dt_s = {dt}")) && m.contains("at most 1/20 of the wingbeat"),
+            m.contains(&format!("dt_s = {dt:?}")) && m.contains("at most 1/20 of the wingbeat"),
             "{m}"
         );
     }

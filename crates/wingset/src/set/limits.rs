@@ -34,8 +34,14 @@ pub fn check_dt(dt_s: f64, freq_hz: f64) -> Result<()> {
     }
     let per_beat = 1.0 / (freq_hz * dt_s);
     if per_beat < MIN_STEPS_PER_WINGBEAT * (1.0 - 1e-12) {
+        // Debug: 1e300 as "1e300", not 301 digits.
+        let per = if per_beat >= 1e-3 {
+            format!("{per_beat:.4}")
+        } else {
+            format!("{per_beat:.3e}")
+        };
         return Err(Error::Input(format!(
-            "wing set: time step dt_s = {dt_s} s is {per_beat:.4} steps per wingbeat at {freq_hz} Hz; allowed: a finite step > 0 s of at most 1/{MIN_STEPS_PER_WINGBEAT} of the wingbeat period (dt_s <= {:.6e} s at {freq_hz} Hz)",
+            "wing set: time step dt_s = {dt_s:?} s is {per} steps per wingbeat at {freq_hz} Hz; allowed: a finite step > 0 s of at most 1/{MIN_STEPS_PER_WINGBEAT} of the wingbeat period (dt_s <= {:.6e} s at {freq_hz} Hz)",
             max_dt_s(freq_hz)
         )));
     }
