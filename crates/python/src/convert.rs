@@ -16,7 +16,7 @@ use numpy::{
 };
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString};
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
 /// The largest output one call builds, in bytes (1 GiB): `Simulation.run` with
 /// `record=True`, `Wing.evaluate_many` and `Wing.evaluate_cycle` refuse, before allocating,
@@ -157,6 +157,13 @@ pub fn real_array<'py>(
     })?;
     let dtype = a.dtype();
     let kind = dtype.kind();
+    // numpy turns booleans mixed with numbers ([True, 0, 0]) into numbers: refused too.
+    if matches!(kind, b'f' | b'i' | b'u') && holds_a_bool(obj) {
+        return Err(PyTypeError::new_err(format!(
+            "`{name}` must be real numbers (float or int), got a boolean value among them: {}",
+            describe(obj)
+        )));
+    }
     if !matches!(kind, b'f' | b'i' | b'u') {
         let what = match kind {
             b'c' => "a complex value",
@@ -169,6 +176,21 @@ pub fn real_array<'py>(
         )));
     }
     Ok(a)
+}
+
+/// A Python bool (or numpy bool) in a list or tuple, at any depth (numpy arrays are judged
+/// by their dtype).
+fn holds_a_bool(obj: &Bound<'_, PyAny>) -> bool {
+    let is_bool = |x: &Bound<'_, PyAny>| {
+        x.is_instance_of::<PyBool>() || x.get_type().name().is_ok_and(|n| n == "bool")
+    };
+    if let Ok(l) = obj.cast::<PyList>() {
+        return l.iter().any(|x| is_bool(&x) || holds_a_bool(&x));
+    }
+    if let Ok(t) = obj.cast::<PyTuple>() {
+        return t.iter().any(|x| is_bool(&x) || holds_a_bool(&x));
+    }
+    false
 }
 
 /// [`real_array`] as a C-contiguous float64 numpy array (no copy when it already is one).
