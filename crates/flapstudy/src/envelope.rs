@@ -161,7 +161,7 @@ pub fn envelope(
 }
 
 /// The CSV header of [`to_csv`].
-pub const CSV_HEADER: &str = "forward_speed_m_s,climb_rate_m_s,trimmed,body_pitch_deg,stroke_plane_angle_deg,stroke_amplitude_deg,mean_stroke_offset_deg,aero_power_w,aero_positive_power_w,parasite_power_w,induced_downwash_m_s,limit_quantity,limit_margin_fraction,longitudinal_max_re_per_s,lateral_max_re_per_s,longitudinal_modes,no_trim_reason";
+pub const CSV_HEADER: &str = "forward_speed_m_s,climb_rate_m_s,trimmed,body_pitch_deg,stroke_plane_angle_deg,stroke_amplitude_deg,mean_stroke_offset_deg,aero_power_w,aero_positive_power_w,parasite_power_w,induced_downwash_m_s,limit_quantity,limit_margin_fraction,longitudinal_sigma_max_per_s,lateral_sigma_max_per_s,longitudinal_modes,no_trim_reason";
 
 /// The envelope as CSV (one row per condition; modes as `re+imi` joined by `;`).
 pub fn to_csv(rows: &[EnvelopeRow]) -> String {
@@ -173,7 +173,7 @@ pub fn to_csv(rows: &[EnvelopeRow]) -> String {
             .collect::<Vec<_>>()
             .join(";")
     };
-    let max_re = |m: &[ModeInfo]| {
+    let sigma_max = |m: &[ModeInfo]| {
         m.iter()
             .map(|m| m.re_per_s)
             .fold(f64::NEG_INFINITY, f64::max)
@@ -195,8 +195,8 @@ pub fn to_csv(rows: &[EnvelopeRow]) -> String {
                 p.point.induced_downwash_m_s,
                 p.margin.quantity,
                 p.margin.fraction,
-                max_re(&p.longitudinal_modes),
-                max_re(&p.lateral_modes),
+                sigma_max(&p.longitudinal_modes),
+                sigma_max(&p.lateral_modes),
                 modes(&p.longitudinal_modes),
             )),
             None => out.push_str(&format!(
