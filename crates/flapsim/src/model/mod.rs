@@ -11,7 +11,7 @@ mod spec;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use wingforce::{Kinematics, Wing};
 
-use crate::actuated::Actuation;
+use crate::actuated::spec::Actuation;
 use crate::error::Result;
 
 pub use crate::controls::{Controls, DRIVE_CHANNELS, KINEMATIC_CHANNELS};
@@ -107,7 +107,7 @@ impl Vehicle {
     pub fn apply_controls(&mut self, c: &Controls) -> Result<()> {
         if let Some(act) = &mut self.actuation {
             if !c.kinematic_is_zero() {
-                return Err(crate::Error::Analysis(format!(
+                return Err(crate::error::Error::Analysis(format!(
                     "{} is actuated: its wing motion comes from the drive, so kinematic control offsets (mean stroke {:.2} deg, amplitude {:.2} deg, pitch bias {:.2} deg, ...) do not apply; use the drive controls (bias_v, amplitude_v, diff_amplitude_v, diff_bias_v, diff_second_harmonic)",
                     self.name,
                     c.mean_stroke_rad.to_degrees(),
@@ -120,7 +120,7 @@ impl Vehicle {
             return Ok(());
         }
         if !c.drive_is_zero() {
-            return Err(crate::Error::Analysis(format!(
+            return Err(crate::error::Error::Analysis(format!(
                 "{} has prescribed kinematics: drive control offsets (bias {} V, amplitude {} V, ...) apply to actuated vehicles only",
                 self.name, c.bias_v, c.amplitude_v
             )));
@@ -128,7 +128,7 @@ impl Vehicle {
         for i in 0..self.wings.len() {
             if c.aoa_rad != 0.0 {
                 let Some((down, up)) = self.base_kinematics[i].mid_stroke_aoa_rad() else {
-                    return Err(crate::Error::Analysis(format!(
+                    return Err(crate::error::Error::Analysis(format!(
                         "{}: an angle-of-attack offset ({:.2} deg) needs a kinematics family with a mid-stroke angle of attack (trapezoidal, harmonic, harmonic_flip); measured (tabulated) kinematics have none",
                         self.name,
                         c.aoa_rad.to_degrees()
@@ -137,7 +137,7 @@ impl Vehicle {
                 for (half, aoa) in [("downstroke", down), ("upstroke", up)] {
                     let moved = aoa + c.aoa_rad;
                     if !(moved > 0.0 && moved <= 0.5 * std::f64::consts::PI) {
-                        return Err(crate::Error::Analysis(format!(
+                        return Err(crate::error::Error::Analysis(format!(
                             "controls give wing {i} a {half} angle of attack of {:.2} deg ({:.2} deg + offset {:.2} deg); allowed: (0, 90] deg",
                             moved.to_degrees(),
                             aoa.to_degrees(),
@@ -151,7 +151,7 @@ impl Vehicle {
                 && k.amplitude_rad <= std::f64::consts::PI
                 && k.freq_hz > 0.0)
             {
-                return Err(crate::Error::Analysis(format!(
+                return Err(crate::error::Error::Analysis(format!(
                     "controls give wing {i} an amplitude of {:.2} deg and a frequency of {:.2} Hz; allowed: amplitude in (0, 180] deg, frequency > 0",
                     k.amplitude_rad.to_degrees(),
                     k.freq_hz
@@ -196,7 +196,7 @@ impl Vehicle {
         if self.wings.len() == 2 {
             return Ok(());
         }
-        Err(crate::Error::Input(format!(
+        Err(crate::error::Error::Input(format!(
             "{}: {} wings in {} pairs ([[pairs]] in the model file); {what} supports one left/right pair only (a model without [[pairs]])",
             self.name,
             self.wings.len(),

@@ -19,7 +19,7 @@ use std::collections::VecDeque;
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::wings::State;
+use wingset::set::State;
 
 pub mod params;
 pub use params::{ImuParams, ImuSpec, MocapParams, MocapSpec, SensorParams, SensorSpec};
