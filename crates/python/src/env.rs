@@ -2,7 +2,7 @@
 //! (flapsim::task), one or many stepped in Rust threads per call; the Gymnasium
 //! environments in `python/flapwing/envs.py` wrap them.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
 
 use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -16,7 +16,7 @@ use flapsim::task::{Observation, Task, TaskSpec, TaskStep};
 use crate::convert::{
     arg_int, finite, float_array, int_list, merge_record, model_text, record, shape_str, shaped,
 };
-use crate::interrupt::{Signals, watch};
+use crate::interrupt::{Signals, analysis, watch_token};
 use crate::sim_err;
 
 /// The most tasks a `VecHoverTask` holds (each is a trimmed simulation with sensors, built in
@@ -77,7 +77,10 @@ fn load_randomization(path: Option<&str>) -> PyResult<Option<Randomization>> {
     Ok(Some(Randomization::from_toml(&text, p).map_err(sim_err)?))
 }
 
+/// A task built with the GIL released and Ctrl-C honoured (its trim runs under a
+/// `flapsim::cancel` token: seconds for an actuated vehicle).
 fn new_task(
+    py: Python<'_>,
     model: &str,
     task: &str,
     randomize: Option<&str>,
@@ -86,7 +89,7 @@ fn new_task(
     let (text, origin) = model_text(model, &crate::vehicle::builtin_pairs())?;
     let spec = task_spec(task, overrides)?;
     let r = load_randomization(randomize)?;
-    Task::new(&text, &origin, spec, r).map_err(sim_err)
+    analysis(py, || Task::new(&text, &origin, spec, r))?.map_err(sim_err)
 }
 
 fn draws_dict<'py>(py: Python<'py>, t: &Task) -> PyResult<Bound<'py, PyDict>> {
@@ -113,13 +116,14 @@ impl HoverTask {
     #[new]
     #[pyo3(signature = (model = "drosophila", task = "hover", randomize = None, **spec))]
     fn new(
+        py: Python<'_>,
         model: &str,
         task: &str,
         randomize: Option<&str>,
         spec: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         Ok(Self {
-            task: new_task(model, task, randomize, spec)?,
+            task: new_task(py, model, task, randomize, spec)?,
         })
     }
     /// The task's settings.
@@ -176,7 +180,7 @@ impl HoverTask {
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let seed = arg_int("seed", seed, 0, None)?;
         let task = &mut self.task;
-        let o = py.detach(|| task.reset(seed)).map_err(sim_err)?;
+        let o = analysis(py, || task.reset(seed))?.map_err(sim_err)?;
         Ok(PyArray1::from_vec(py, o))
     }
     /// Applies an action (array-like of shape (4,), finite, within +-action_limit); returns
@@ -273,18 +277,20 @@ impl VecHoverTask {
         spec: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let num = arg_int("num", num, 1, Some(MAX_TASKS))? as usize;
-        let first = new_task(model, task, randomize, spec)?;
+        let first = new_task(py, model, task, randomize, spec)?;
         let (text, origin) = model_text(model, &crate::vehicle::builtin_pairs())?;
         let spec_v = *first.spec();
         let r = load_randomization(randomize)?;
-        let rest = watch(py, |stop: &AtomicBool| {
+        let rest = watch_token(py, |stop| {
             (1..num)
                 .into_par_iter()
                 .map(|_| {
                     if stop.load(Ordering::Relaxed) {
                         return Ok(None);
                     }
-                    Task::new(&text, &origin, spec_v, r.clone()).map(Some)
+                    flapsim::cancel::with_cancel(stop.clone(), || {
+                        Task::new(&text, &origin, spec_v, r.clone()).map(Some)
+                    })
                 })
                 .collect::<flapsim::Result<Vec<Option<Task>>>>()
         })?
@@ -329,11 +335,11 @@ impl VecHoverTask {
             )));
         }
         let tasks = &mut self.tasks;
-        let obs: Vec<Vec<f64>> = watch(py, |_stop: &AtomicBool| {
+        let obs: Vec<Vec<f64>> = watch_token(py, |stop| {
             tasks
                 .par_iter_mut()
                 .zip(seeds.par_iter())
-                .map(|(t, s)| t.reset(*s))
+                .map(|(t, s)| flapsim::cancel::with_cancel(stop.clone(), || t.reset(*s)))
                 .collect::<flapsim::Result<Vec<_>>>()
         })?
         .map_err(sim_err)?;
@@ -373,20 +379,21 @@ impl VecHoverTask {
         let flat = actions_array("actions", actions, n, &self.tasks[0])?;
         let rows: Vec<&[f64]> = flat.chunks(4).collect();
         let tasks = &mut self.tasks;
-        let out: Vec<Option<TaskStep>> = watch(py, |stop: &AtomicBool| {
+        let out: Vec<Option<TaskStep>> = watch_token(py, |stop| {
             tasks
                 .par_iter_mut()
                 .zip(rows.par_iter().zip(resets.par_iter()))
                 .map(|(t, (a, r))| match r {
-                    Some(seed) => t.reset(*seed).map(|observation| {
-                        Some(TaskStep {
-                            observation,
-                            reward: 0.0,
-                            terminated: false,
-                            truncated: false,
-                            reason: None,
-                        })
-                    }),
+                    Some(seed) => flapsim::cancel::with_cancel(stop.clone(), || t.reset(*seed))
+                        .map(|observation| {
+                            Some(TaskStep {
+                                observation,
+                                reward: 0.0,
+                                terminated: false,
+                                truncated: false,
+                                reason: None,
+                            })
+                        }),
                     None => t.step_interruptible(a, &mut || !stop.load(Ordering::Relaxed)),
                 })
                 .collect::<flapsim::Result<Vec<_>>>()
@@ -422,7 +429,7 @@ impl VecHoverTask {
             .tasks
             .get_mut(i)
             .ok_or_else(|| PyValueError::new_err(format!("task index {i} out of 0..{n}")))?;
-        let o = py.detach(|| t.reset(seed)).map_err(sim_err)?;
+        let o = analysis(py, || t.reset(seed))?.map_err(sim_err)?;
         Ok(PyArray1::from_vec(py, o))
     }
     /// Task `i`'s randomised parameters this episode.

@@ -82,6 +82,16 @@ impl Signals {
 /// raises, `stop` is set, `work` is waited for (it should poll `stop` and return early) and
 /// the exception is raised.
 pub fn watch<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<T> {
+    watch_token(py, |stop| work(stop))
+}
+
+/// [`watch`] handing `work` the stop flag as a shareable `flapsim::cancel` token: work that
+/// runs flapsim analyses on rayon's threads installs it in each job
+/// (`flapsim::cancel::with_cancel`), so that Ctrl-C stops an analysis in flight too.
+pub fn watch_token<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&Arc<AtomicBool>) -> T + Send,
+) -> PyResult<T> {
     let stop = Arc::new(AtomicBool::new(false));
     let flag = stop.clone();
     watch_flag(py, stop, move || work(&flag))
