@@ -112,6 +112,9 @@ typedef struct Config {
 typedef struct Instance {
   Config config;
   int body_id;                  /* the body the plugin is attached to */
+  int free_dof;                 /* its free joint's first DOF if it hangs from the world by
+                                 * one free joint (read qvel, write qfrc_passive directly), else
+                                 * -1 (mj_objectVelocity, mj_applyFT) */
   FlapwingWings *wings;         /* NULL if a rebuild on reset failed (warned) */
   int stepped;                  /* the wings have stepped for the current mj_step */
   uint64_t steps;               /* wing steps since creation */
@@ -282,6 +285,41 @@ static FlapwingWings *create_wings(const Config *c, FlapwingControls *base, char
 
 /*---------------------------------- the body ---------------------------------------------*/
 
+/* A body on one free joint (the fly of fly.xml): its state and wrench straight from and into
+ * the joint's DOFs, the cheapest way MuJoCo allows. qvel holds the velocity of the joint's
+ * anchor (world) and the angular velocity in the body frame; the generalised force of a
+ * wrench (F, M about the centre of mass) is F (world) and M + r x F about the anchor, body
+ * frame, r from the anchor to the centre of mass: what mj_applyFT computes through the
+ * body's Jacobian, without it. */
+static void free_body_state(const mjModel *m, const mjData *d, int b, int dof,
+                            FlapwingBodyState *s) {
+  const mjtNum *R = d->xmat + 9 * b; /* body -> world */
+  const mjtNum *w = d->qvel + dof + 3;
+  mjtNum r[3], w_world[3], wxr[3];
+  mju_sub3(r, d->xipos + 3 * b, d->xanchor + 3 * m->body_jntadr[b]);
+  mju_mulMatVec3(w_world, R, w);
+  mju_cross(wxr, w_world, r);
+  for (int i = 0; i < 3; i++) {
+    s->position_m[i] = d->xipos[3 * b + i];
+    s->velocity_world_m_s[i] = d->qvel[dof + i] + wxr[i];
+    s->angular_velocity_body_rad_s[i] = w[i];
+  }
+  for (int i = 0; i < 4; i++) s->world_from_body_wxyz[i] = d->xquat[4 * b + i];
+}
+
+static void free_body_apply(const mjModel *m, mjData *d, int b, int dof, const FlapwingWrench *w) {
+  const mjtNum *R = d->xmat + 9 * b;
+  mjtNum f_world[3], r[3], r_body[3], rxf[3];
+  mju_mulMatVec3(f_world, R, w->force_body_n);
+  mju_sub3(r, d->xipos + 3 * b, d->xanchor + 3 * m->body_jntadr[b]);
+  mju_mulMatTVec3(r_body, R, r);
+  mju_cross(rxf, r_body, w->force_body_n);
+  for (int i = 0; i < 3; i++) {
+    d->qfrc_passive[dof + i] += f_world[i];
+    d->qfrc_passive[dof + 3 + i] += w->moment_body_nm[i] + rxf[i];
+  }
+}
+
 /* The body's state for flapwing: position and velocity of the centre of mass (world),
  * attitude world_from_body (the body frame's xquat), angular velocity in the body frame. */
 static void body_state(const mjModel *m, const mjData *d, int b, FlapwingBodyState *s) {
@@ -397,7 +435,11 @@ static void step_wings(const mjModel *m, mjData *d, int instance, Instance *in) 
   if (!in->wings) return; /* the rebuild on reset failed and was warned */
   if (in->nactuated > 0) actuator_controls(m, d, instance, in);
   FlapwingBodyState s;
-  body_state(m, d, in->body_id, &s);
+  if (in->free_dof >= 0) {
+    free_body_state(m, d, in->body_id, in->free_dof, &s);
+  } else {
+    body_state(m, d, in->body_id, &s);
+  }
   FlapwingWrench w;
   FlapwingStatus st = flapwing_wings_step(in->wings, &s, &w);
   in->steps++;
@@ -474,6 +516,8 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
     return init_failed("%s instance %d: out of memory", PLUGIN_NAME, instance);
   }
   in->body_id = body_id;
+  int j = m->body_jntadr[body_id];
+  in->free_dof = m->body_jntnum[body_id] == 1 && m->jnt_type[j] == mjJNT_FREE ? m->jnt_dofadr[j] : -1;
   if (read_config(m, instance, &in->config, msg, sizeof(msg)) != 0 ||
       map_actuators(m, instance, in, msg, sizeof(msg)) != 0 ||
       !(in->wings = create_wings(&in->config, &in->base, msg, sizeof(msg)))) {
@@ -530,8 +574,12 @@ static void plugin_compute(const mjModel *m, mjData *d, int instance, int capabi
     mju_copy3(state, in->wrench.force_body_n);
     mju_copy3(state + 3, in->wrench.moment_body_nm);
   }
-  /* body frame -> world, applied at the centre of mass */
   const int b = in->body_id;
+  if (in->free_dof >= 0) {
+    free_body_apply(m, d, b, in->free_dof, &in->wrench);
+    return;
+  }
+  /* body frame -> world, applied at the centre of mass */
   const mjtNum *q = d->xquat + 4 * b;
   mjtNum force_world_n[3], moment_world_nm[3];
   mju_rotVecQuat(force_world_n, in->wrench.force_body_n, q);

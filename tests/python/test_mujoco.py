@@ -234,6 +234,36 @@ def test_the_bumblebee_held_at_its_3_m_s_trim_feels_no_net_force(native):
     assert np.linalg.norm(net) < 1e-3 * weight, (net / weight)
 
 
+def test_a_free_body_is_read_and_pushed_through_its_joint_as_mujocos_jacobian_would(native):
+    """A body on one free joint takes the plugin's direct path (its state from qvel, the
+    wrench into qfrc_passive on the joint's DOFs, issue #37); with the centre of mass off the
+    body origin and the inertial frame rotated, and the body moving and spinning, it must give
+    what the general path gives: the wrench of flapwing.WingSet at the state
+    mj_objectVelocity reads (bit for bit: the same body state to round-off), and the
+    generalised force mj_applyFT puts there (to round-off of the force, 1e-12)."""
+    import flapwing
+
+    xml = plugin.FLY_XML.read_text().replace(
+        '<inertial pos="0 0 0"', '<inertial pos="0.0003 0.0001 -0.0002" quat="0.9 0.1 0.3 0.2"')
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    d.qvel[:] = [0.1, -0.05, 0.02, 3.0, -2.0, 1.0]
+    mujoco.mj_forward(m, d)
+    b, wrench = 1, d.plugin_state[:6].copy()
+    r = d.xmat[b].reshape(3, 3)
+    vel = np.zeros(6)
+    mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_BODY, b, vel, 0)
+    out = flapwing.WingSet("drosophila", dt_s=m.opt.timestep).step(
+        d.xipos[b], d.xquat[b], vel[3:], r.T @ vel[:3])
+    want = np.concatenate([out["force_body_n"], out["moment_body_nm"]])
+    assert np.allclose(wrench, want, rtol=0, atol=1e-12 * np.abs(want).max()), (wrench, want)
+    qfrc = np.zeros(m.nv)
+    mujoco.mj_applyFT(m, d, r @ wrench[:3], r @ wrench[3:], d.xipos[b], b, qfrc)
+    assert np.abs(qfrc).max() > 0
+    assert np.allclose(d.qfrc_passive, qfrc, rtol=0, atol=1e-12 * np.abs(qfrc).max()), (
+        d.qfrc_passive, qfrc)
+
+
 def test_bad_model_file_fails_the_load_naming_it(native, tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text("[body]\nmass_kg = -1\n")

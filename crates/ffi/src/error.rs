@@ -81,6 +81,17 @@ fn set_last_error(message: &str) {
     LAST_ERROR.with(|e| *e.borrow_mut() = c);
 }
 
+/// Clears this thread's message after a call that succeeded; already clear (the common case:
+/// a host stepping the wings), it is left alone, saving an allocation and a free per call
+/// (about 300 instructions of a 4000-instruction step, callgrind).
+fn clear_last_error() {
+    LAST_ERROR.with(|e| {
+        if !e.borrow().is_empty() {
+            *e.borrow_mut() = CString::default();
+        }
+    });
+}
+
 /// A pointer to this thread's last message, valid until the next call on this thread.
 pub(crate) fn last_error_ptr() -> *const c_char {
     LAST_ERROR.with(|e| e.borrow().as_ptr())
@@ -102,7 +113,7 @@ pub(crate) fn guard(function: &str, body: impl FnOnce() -> Result<(), Failure>) 
     });
     match result {
         Ok(()) => {
-            set_last_error("");
+            clear_last_error();
             FlapwingStatus::FLAPWING_OK
         }
         Err(f) => {
