@@ -182,6 +182,7 @@ INTERRUPTS = {
     "task-build": ("", "HoverTask('hummingbird')"),
     "gym-make": ("import gymnasium as gym", "gym.make('flapwing/Recover-v0', model='hummingbird')"),
     "vec-task-build": ("", "VecHoverTask(2, 'hummingbird')"),
+    "envelope": ("v = Vehicle('hummingbird')", "envelope(v, [0.0])"),
 }
 FIRST_NUMPY_CALL = {"stability", "stability-linearisation"}
 

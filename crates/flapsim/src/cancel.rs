@@ -45,6 +45,13 @@ pub fn with_cancel<T>(token: Arc<AtomicBool>, work: impl FnOnce() -> T) -> T {
     work()
 }
 
+/// Installs `token` on this thread for the rest of its life: for the threads of a pool
+/// built for one cancellable job (`rayon::ThreadPoolBuilder::start_handler`), whose analyses
+/// fan out over the pool where [`with_cancel`] on the calling thread does not reach.
+pub fn install(token: Arc<AtomicBool>) {
+    TOKEN.with(|t| *t.borrow_mut() = Some(token));
+}
+
 /// `Err` ([`INTERRUPTED`]) once the token of the enclosing [`with_cancel`] is set; `Ok`
 /// without one.
 pub fn check() -> Result<()> {

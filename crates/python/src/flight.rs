@@ -1,5 +1,6 @@
 //! `flapwing.envelope`: the flight envelope of flapstudy::envelope from Python, its points
-//! in parallel with the GIL released, Ctrl-C stopping the points not yet started.
+//! in parallel with the GIL released, Ctrl-C stopping the points within a second (those in
+//! flight at their next `flapsim::cancel` checkpoint).
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -32,8 +33,20 @@ pub fn envelope<'py>(
     let grid = flapstudy::envelope::EnvelopeGrid::new(speeds, climbs, "speeds_m_s / climbs_m_s")
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let v = &vehicle.vehicle;
-    let rows = crate::interrupt::watch(py, |stop| {
-        flapstudy::envelope::envelope(v, &grid, &|_| {}, &|| stop.load(Ordering::Relaxed))
+    let rows = crate::interrupt::watch_token(py, |stop| {
+        let run =
+            || flapstudy::envelope::envelope(v, &grid, &|_| {}, &|| stop.load(Ordering::Relaxed));
+        // The points run on a pool of their own whose threads carry the cancel token, so
+        // that Ctrl-C stops the trims and analyses in flight, not only the points to come.
+        let token = stop.clone();
+        match rayon::ThreadPoolBuilder::new()
+            .num_threads(rayon::current_num_threads())
+            .start_handler(move |_| flapsim::cancel::install(token.clone()))
+            .build()
+        {
+            Ok(pool) => pool.install(run),
+            Err(_) => run(),
+        }
     })?;
     record(py, &rows)
 }
