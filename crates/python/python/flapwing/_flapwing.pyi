@@ -45,7 +45,8 @@ def envelope(vehicle: "Vehicle", speeds_m_s: Sequence[float],
     """Trim, power, limit margin and modes at every forward speed with every climb rate
     (default [0.0]), in parallel: one dict per condition (climb rates outermost) with
     `condition`, `point` (None when it does not trim) and `no_trim_reason`. ValueError for
-    an empty or non-finite grid; Ctrl-C raises KeyboardInterrupt."""
+    an empty or non-finite grid, TypeError for values that are not real numbers (booleans
+    included); Ctrl-C raises KeyboardInterrupt within a second."""
 
 def log_topics(path: str) -> list[str]:
     """The topics of a flapwing MCAP log."""
@@ -165,9 +166,12 @@ class HoverController:
     def weights(self) -> dict[str, float]: ...
     @property
     def trim_channels(self) -> FloatArray: ...
-    def error_state(self, state: dict[str, Any]) -> FloatArray: ...
+    def error_state(self, state: dict[str, Any]) -> FloatArray:
+        """The 12 error states of a state dict (keys it leaves out are at the hover
+        reference; an empty dict is a ValueError)."""
     def update(self, state: dict[str, Any]) -> dict[str, float]:
-        """Controls for the next wingbeat (pass to Simulation.set_controls(**c))."""
+        """Controls for the next wingbeat (pass to Simulation.set_controls(**c)); the state
+        dict as for error_state."""
 
 class Simulation:
     """One vehicle on rapier3d-f64."""
