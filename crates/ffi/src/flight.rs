@@ -4,11 +4,11 @@ use flapsim::flight::{FlightCondition, trim_point};
 use flapsim::trim::{trim_at, trimmed_vehicle};
 use flapsim::{FromVehicle, WingSet};
 
+use crate::args::{handle, put};
 use crate::error::{Failure, FlapwingStatus, guard};
 use crate::types::{
     FlapwingControls, FlapwingWings, FlapwingWrench, body_properties, with_body_drag, wxyz,
 };
-use crate::{handle, put};
 
 /// A trim: what `flapwing_wings_trim` found and set.
 #[repr(C)]

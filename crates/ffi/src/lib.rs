@@ -27,6 +27,7 @@
 //! `flapwing_wings_term`, `flapwing_wings_inertia` and `flapwing_wings_wing` report zeros
 //! (and `FLAPWING_OK`) before the first step, as [`flapsim::WingSet::output`] does.
 
+mod args;
 mod error;
 mod flight;
 mod types;
@@ -36,6 +37,7 @@ use std::ffi::{CStr, c_char};
 use flapsim::{Controls, FromVehicle};
 use nalgebra::Vector3;
 
+use args::{handle, handle_mut, need, put};
 pub use error::FlapwingStatus;
 use error::{Failure, guard};
 pub use flight::{FlapwingTrim, flapwing_wings_body_drag, flapwing_wings_trim};
@@ -191,52 +193,6 @@ pub unsafe extern "C" fn flapwing_wings_free(wings: *mut FlapwingWings) {
         }
         Ok(())
     });
-}
-
-/// A handle argument as a reference.
-///
-/// # Safety
-/// `p` is NULL or a live handle, not used mutably elsewhere for `'a`.
-unsafe fn handle<'a>(
-    function: &str,
-    p: *const FlapwingWings,
-) -> Result<&'a FlapwingWings, Failure> {
-    // SAFETY: NULL or a live handle (the caller's contract).
-    unsafe { p.as_ref() }.ok_or_else(|| Failure::null(function, "wings"))
-}
-
-/// A handle argument as a mutable reference.
-///
-/// # Safety
-/// `p` is NULL or a live handle used by this thread only for `'a`.
-unsafe fn handle_mut<'a>(
-    function: &str,
-    p: *mut FlapwingWings,
-) -> Result<&'a mut FlapwingWings, Failure> {
-    // SAFETY: NULL or a live handle used by one thread at a time (the caller's contract).
-    unsafe { p.as_mut() }.ok_or_else(|| Failure::null(function, "wings"))
-}
-
-/// Writes `value` to an out pointer.
-///
-/// # Safety
-/// `out` is NULL or valid for a write of `T`.
-unsafe fn put<T>(function: &str, out: *mut T, value: T) -> Result<(), Failure> {
-    if out.is_null() {
-        return Err(Failure::null(function, "out"));
-    }
-    // SAFETY: non-null and valid for a write (the caller's contract).
-    unsafe { out.write(value) };
-    Ok(())
-}
-
-/// Checks an out pointer before any work is done.
-fn need<T>(function: &str, argument: &str, out: *const T) -> Result<(), Failure> {
-    if out.is_null() {
-        Err(Failure::null(function, argument))
-    } else {
-        Ok(())
-    }
 }
 
 /// Number of wings.

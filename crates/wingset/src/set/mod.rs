@@ -27,6 +27,7 @@
 
 mod body;
 mod drag;
+mod dt;
 mod limits;
 mod map;
 mod output;
@@ -36,7 +37,7 @@ use nalgebra::Vector3;
 use wingforce::{KinematicLoads, Kinematics, Side, Wing};
 
 pub use body::{BodyLoad, MeanLoads, State};
-pub use limits::{MIN_STEPS_PER_WINGBEAT, check_dt, max_dt_s};
+pub use dt::{MIN_STEPS_PER_WINGBEAT, check_dt, max_dt_s};
 pub use map::ControlMap;
 pub use output::{WingSetOutput, zero_forces};
 

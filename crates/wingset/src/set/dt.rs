@@ -1,0 +1,43 @@
+//! The host's step relative to the wingbeat: at most 1/20 of it ([`check_dt`]), checked where
+//! it enters (building the set, a frequency change), so every host (flapsim, the C ABI and on
+//! it MuJoCo and the FMU, Python) refuses the same steps with the same message.
+
+use crate::error::{Error, Result};
+
+/// Fewest steps per wingbeat a set accepts: its step `dt_s` is at most 1/20 of the wingbeat
+/// period, `dt_s <= 1 / (20 f)`. The set samples each wing's kinematics and forces once per
+/// step, at t_k, and holds them over the step; the force of a flapping wing varies at twice
+/// the wingbeat frequency and faster (two half strokes, the rotational and wake-capture peaks
+/// at each reversal), so fewer samples alias it into a wrong cycle-mean. 20 is the smallest
+/// `sim.steps_per_wingbeat` a vehicle model accepts (flapsim's own host steps the same loads).
+pub const MIN_STEPS_PER_WINGBEAT: f64 = 20.0;
+
+/// The longest step a set accepts at wingbeat frequency `freq_hz`: `1 / (20 f)`, s.
+pub fn max_dt_s(freq_hz: f64) -> f64 {
+    1.0 / (MIN_STEPS_PER_WINGBEAT * freq_hz)
+}
+
+/// Checks a host's step against the wingbeat: finite, > 0 and at most `max_dt_s(freq_hz)`
+/// (within a relative 1e-12, so that `1 / (20 f)` itself passes), or an error naming the step,
+/// the wingbeat and what is allowed.
+pub fn check_dt(dt_s: f64, freq_hz: f64) -> Result<()> {
+    if !(dt_s > 0.0 && dt_s.is_finite()) {
+        return Err(Error::Input(format!(
+            "wing set: time step dt_s = {dt_s}; allowed: a finite step > 0 s of at most 1/{MIN_STEPS_PER_WINGBEAT} of the wingbeat period"
+        )));
+    }
+    let per_beat = 1.0 / (freq_hz * dt_s);
+    if per_beat < MIN_STEPS_PER_WINGBEAT * (1.0 - 1e-12) {
+        // Debug: 1e300 as "1e300", not 301 digits.
+        let per = if per_beat >= 1e-3 {
+            format!("{per_beat:.4}")
+        } else {
+            format!("{per_beat:.3e}")
+        };
+        return Err(Error::Input(format!(
+            "wing set: time step dt_s = {dt_s:?} s is {per} steps per wingbeat at {freq_hz} Hz; allowed: a finite step > 0 s of at most 1/{MIN_STEPS_PER_WINGBEAT} of the wingbeat period (dt_s <= {:.6e} s at {freq_hz} Hz)",
+            max_dt_s(freq_hz)
+        )));
+    }
+    Ok(())
+}
