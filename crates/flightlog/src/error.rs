@@ -46,6 +46,38 @@ pub enum Error {
         /// The topics present, comma separated.
         available: String,
     },
+    /// A channel of a ROS 2 bag cannot be decoded: its schema does not parse, names a type it
+    /// does not define, uses an unsupported type, or is not `ros2msg` with CDR messages.
+    #[error("`{}`: topic `{topic}` ({type_name}) cannot be decoded: {detail}", path.display())]
+    Ros2Schema {
+        /// The file.
+        path: PathBuf,
+        /// The topic.
+        topic: String,
+        /// Its message type.
+        type_name: String,
+        /// Which field is at fault and what is allowed.
+        detail: String,
+    },
+    /// A message of a ROS 2 bag does not decode against its type (e.g. shorter than it).
+    #[error(
+        "`{}`: topic `{topic}` ({type_name}), message {index} (log time {log_time_ns} ns): {detail}",
+        path.display()
+    )]
+    Ros2Message {
+        /// The file.
+        path: PathBuf,
+        /// The topic.
+        topic: String,
+        /// Its message type.
+        type_name: String,
+        /// The message's index on its topic, from 0.
+        index: u64,
+        /// Its log time, ns.
+        log_time_ns: u64,
+        /// Which field could not be read and why.
+        detail: String,
+    },
     /// A recording option is out of range or needs a feature that is not compiled in.
     #[error("{0}")]
     Options(String),
@@ -92,6 +124,8 @@ impl Error {
             Error::NotMcap { .. }
             | Error::NotFlapwing { .. }
             | Error::UnknownTopic { .. }
+            | Error::Ros2Schema { .. }
+            | Error::Ros2Message { .. }
             | Error::Options(_)
             | Error::Embedded(_) => true,
             Error::Model(flapsim::Error::Model(_)) => true,

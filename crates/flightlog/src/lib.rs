@@ -45,6 +45,8 @@
 //! earlier versions, whatever complete chunks a truncated file (a killed run) holds, say
 //! what was lost, and never panic on any input.
 //!
+//! ROS 2 bags (MCAP with `ros2msg` schemas and CDR messages): [`ros2`].
+//!
 //! The channels, schemas and metadata are listed in the crate's README.md.
 
 pub mod check;
@@ -64,6 +66,7 @@ pub mod proto;
 mod read;
 mod recorder;
 pub mod replay;
+pub mod ros2;
 #[cfg(feature = "rerun")]
 mod rerun_sink;
 mod sample;

@@ -1,5 +1,6 @@
 //! `flapwing replay`: summarize, convert, export or re-check an MCAP log written by
-//! `simulate --mcap` (or any flapwing command that records).
+//! `simulate --mcap` (or any flapwing command that records); summarize a ROS 2 bag (MCAP
+//! with `ros2msg` schemas and CDR messages) or export one of its topics to CSV.
 //!
 //! Exit codes: 0 ok (and `--check` matched), 1 `--check` found a difference or a conversion
 //! failed while running, 2 bad input (missing file, not MCAP, not a flapwing log, unknown
@@ -11,6 +12,8 @@ use std::path::PathBuf;
 use anyhow::Result;
 use flightlog::check::{CheckOutcome, check_log};
 use flightlog::replay;
+use flightlog::ros2::bag::{Bag, read_bag};
+use flightlog::ros2::summary::{export_topic_csv, summarize};
 
 use crate::error::input_error;
 use crate::output::{create_output_file, print_json, print_stdout};
@@ -73,10 +76,28 @@ pub fn run(args: ReplayArgs) -> Result<()> {
         outputs.push(Named::new("--rrd", out));
     }
     crate::outputs::check(&[Named::new("FILE", &args.file)], &outputs, args.force)?;
+    // Read once, failing on bad input before any output is touched; a file that is MCAP but
+    // not a flapwing log is read as a ROS 2 bag if it has ROS 2 channels. (`--check` reads
+    // the log itself.)
+    let mut summary = None;
+    if !args.check {
+        match replay::read_summary(&args.file) {
+            Ok(s) => summary = Some(s),
+            Err(e @ flightlog::Error::NotFlapwing { .. }) => {
+                let bag = read_bag(&args.file).map_err(classify)?;
+                if !bag.has_ros2() {
+                    return Err(classify(e));
+                }
+                return run_bag(&args, &bag, csv_out);
+            }
+            Err(e) => return Err(classify(e)),
+        }
+    }
     let mut did_something = false;
     if let Some((channel, out)) = &csv_out {
-        // Fail on bad input before touching the output.
-        replay::read_summary(&args.file).map_err(classify)?;
+        if summary.is_none() {
+            replay::read_summary(&args.file).map_err(classify)?;
+        }
         drop(create_output_file(out, args.force, "CSV file")?);
         let stats = replay::export_csv(&args.file, channel, out).map_err(|e| {
             let _ = std::fs::remove_file(out);
@@ -98,7 +119,9 @@ pub fn run(args: ReplayArgs) -> Result<()> {
         did_something = true;
     }
     if let Some(out) = &args.rrd {
-        replay::read_summary(&args.file).map_err(classify)?;
+        if summary.is_none() {
+            replay::read_summary(&args.file).map_err(classify)?;
+        }
         drop(create_output_file(out, args.force, "Rerun recording")?);
         let stats = replay::to_rrd(&args.file, out).map_err(classify)?;
         if !args.json {
@@ -151,7 +174,10 @@ pub fn run(args: ReplayArgs) -> Result<()> {
         };
     }
     if !did_something || args.json {
-        let summary = replay::read_summary(&args.file).map_err(classify)?;
+        let summary = match summary {
+            Some(s) => s,
+            None => replay::read_summary(&args.file).map_err(classify)?,
+        };
         if args.json {
             print_json(&summary)?;
         } else {
@@ -159,4 +185,41 @@ pub fn run(args: ReplayArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// `replay` of a ROS 2 bag: its summary (a truncated bag warns on stderr and says how much
+/// was recovered), and `--csv TOPIC OUT.csv`. `--rrd` and `--check` need a flapwing log.
+fn run_bag(args: &ReplayArgs, bag: &Bag, csv_out: Option<(&str, PathBuf)>) -> Result<()> {
+    if args.rrd.is_some() {
+        return Err(input_error(format!(
+            "`{}` is a ROS 2 bag: --rrd converts flapwing logs only (Rerun opens ROS 2 bags \
+             itself: `rerun {}`)",
+            args.file.display(),
+            args.file.display()
+        )));
+    }
+    if let Some(d) = &bag.damage {
+        eprintln!("warning: `{}`: {d}", args.file.display());
+    }
+    let summary = summarize(bag);
+    if let Some((topic, out)) = &csv_out {
+        drop(create_output_file(out, args.force, "CSV file")?);
+        let stats = export_topic_csv(bag, topic, out).map_err(|e| {
+            let _ = std::fs::remove_file(out);
+            classify(e)
+        })?;
+        if !args.json {
+            return print_stdout(&format!(
+                "wrote {} rows x {} columns of {topic} to {}\n",
+                stats.rows,
+                stats.columns,
+                out.display()
+            ));
+        }
+    }
+    if args.json {
+        print_json(&summary)
+    } else {
+        print_stdout(&summary.to_string())
+    }
 }

@@ -1,0 +1,254 @@
+"""`flapwing replay` on ROS 2 bags (issue #39): bags written by the `mcap-ros2-support`
+package (its own CDR encoder, from the official message definitions below) are summarised
+(topics, types, counts, rates, spans) and their topics exported to CSV with the values
+written; bad bags (truncated, an undefined type, a message shorter than its type) give
+clear errors or warnings, never a crash."""
+
+import csv
+import json
+
+from mcap.writer import Writer as McapWriter
+from mcap_ros2.writer import Writer
+
+# The official definitions, comments dropped: ros2/common_interfaces at
+# c0c0bc57f958eb54a142446f0c2a475754367eee (std_msgs/msg/Header.msg, geometry_msgs/msg/
+# {PoseStamped,Pose,Point,Quaternion,PoseWithCovariance,TwistWithCovariance,Twist,Vector3,
+# TransformStamped,Transform}.msg, nav_msgs/msg/Odometry.msg, sensor_msgs/msg/Imu.msg),
+# ros2/geometry2 at 1b005c6556cf350d7670812ef30eefed8443a759 (tf2_msgs/msg/TFMessage.msg) and
+# ros2/rcl_interfaces at f6b3741d921ef5414125091b2ccc74b863be3c24 (builtin_interfaces/msg/
+# Time.msg).
+DEFS = {
+    "builtin_interfaces/Time": "int32 sec\nuint32 nanosec\n",
+    "std_msgs/Header": "builtin_interfaces/Time stamp\nstring frame_id\n",
+    "geometry_msgs/Point": "float64 x\nfloat64 y\nfloat64 z\n",
+    "geometry_msgs/Quaternion": "float64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n",
+    "geometry_msgs/Vector3": "float64 x\nfloat64 y\nfloat64 z\n",
+    "geometry_msgs/Pose": "Point position\nQuaternion orientation\n",
+    "geometry_msgs/PoseStamped": "std_msgs/Header header\nPose pose\n",
+    "geometry_msgs/PoseWithCovariance": "Pose pose\nfloat64[36] covariance\n",
+    "geometry_msgs/Twist": "Vector3  linear\nVector3  angular\n",
+    "geometry_msgs/TwistWithCovariance": "Twist twist\nfloat64[36] covariance\n",
+    "geometry_msgs/Transform": "Vector3 translation\nQuaternion rotation\n",
+    "geometry_msgs/TransformStamped": "std_msgs/Header header\nstring child_frame_id\nTransform transform\n",
+    "nav_msgs/Odometry": (
+        "# This represents an estimate of a position and velocity in free space.\n"
+        "std_msgs/Header header\n\nstring child_frame_id\n\n"
+        "geometry_msgs/PoseWithCovariance pose\n\ngeometry_msgs/TwistWithCovariance twist\n"
+    ),
+    "tf2_msgs/TFMessage": "geometry_msgs/TransformStamped[] transforms\n",
+    "sensor_msgs/Imu": (
+        "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\n"
+        "float64[9] orientation_covariance # Row major about x, y, z axes\n"
+        "geometry_msgs/Vector3 angular_velocity\n"
+        "float64[9] angular_velocity_covariance # Row major about x, y, z axes\n"
+        "geometry_msgs/Vector3 linear_acceleration\n"
+        "float64[9] linear_acceleration_covariance # Row major x, y z\n"
+    ),
+}
+DEPS = {
+    "geometry_msgs/PoseStamped": ["std_msgs/Header", "builtin_interfaces/Time", "geometry_msgs/Pose",
+                                  "geometry_msgs/Point", "geometry_msgs/Quaternion"],
+    "nav_msgs/Odometry": ["std_msgs/Header", "builtin_interfaces/Time", "geometry_msgs/PoseWithCovariance",
+                          "geometry_msgs/Pose", "geometry_msgs/Point", "geometry_msgs/Quaternion",
+                          "geometry_msgs/TwistWithCovariance", "geometry_msgs/Twist", "geometry_msgs/Vector3"],
+    "tf2_msgs/TFMessage": ["geometry_msgs/TransformStamped", "std_msgs/Header", "builtin_interfaces/Time",
+                           "geometry_msgs/Transform", "geometry_msgs/Vector3", "geometry_msgs/Quaternion"],
+    "sensor_msgs/Imu": ["std_msgs/Header", "builtin_interfaces/Time", "geometry_msgs/Quaternion",
+                        "geometry_msgs/Vector3"],
+}
+T0_NS = 1_700_000_000_123_456_789
+
+
+def schema_text(name):
+    """rosbag2's layout: the type's text, then each nested type after a `===` line."""
+    parts = [DEFS[name]]
+    for dep in DEPS[name]:
+        parts.append("=" * 80 + f"\nMSG: {dep}\n" + DEFS[dep])
+    return "\n".join(parts)
+
+
+def register(w, short):
+    pkg, typ = short.split("/")
+    return w.register_msgdef(f"{pkg}/msg/{typ}", schema_text(short))
+
+
+def stamp(t_ns):
+    return {"sec": t_ns // 10**9, "nanosec": t_ns % 10**9}
+
+
+def pose_msg(i, t_ns):
+    return {"header": {"stamp": stamp(t_ns), "frame_id": "world"},
+            "pose": {"position": {"x": 0.1 * i, "y": -1.0 / 3.0 + i, "z": 1e-7 * i},
+                     "orientation": {"x": 0.0, "y": 0.0, "z": 0.6, "w": 0.8}}}
+
+
+# (topic, type, rate_hz, count): about 0.5 s each.
+TOPICS = [("/mocap/pose", "geometry_msgs/PoseStamped", 200, 100),
+          ("/odom", "nav_msgs/Odometry", 100, 50),
+          ("/tf", "tf2_msgs/TFMessage", 50, 25),
+          ("/imu", "sensor_msgs/Imu", 400, 200)]
+
+
+def message(short, i, t_ns):
+    header = {"stamp": stamp(t_ns), "frame_id": "world"}
+    if short == "geometry_msgs/PoseStamped":
+        return pose_msg(i, t_ns)
+    if short == "nav_msgs/Odometry":
+        return {"header": header, "child_frame_id": "base_link",
+                "pose": {"pose": pose_msg(i, t_ns)["pose"], "covariance": [0.01 * k for k in range(36)]},
+                "twist": {"twist": {"linear": {"x": 1.5, "y": -0.25 * i, "z": 0.0},
+                                    "angular": {"x": 0.0, "y": 0.0, "z": 2.0 ** -i}},
+                          "covariance": [0.0] * 36}}
+    if short == "tf2_msgs/TFMessage":
+        return {"transforms": [
+            {"header": header, "child_frame_id": f"wing_{side}",
+             "transform": {"translation": {"x": 0.001 * i, "y": sign * 0.002, "z": 0.0},
+                           "rotation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}}
+            for side, sign in (("left", 1.0), ("right", -1.0))]}
+    return {"header": header, "orientation": {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0},
+            "orientation_covariance": [-1.0] + [0.0] * 8,
+            "angular_velocity": {"x": 0.5 * i, "y": 0.0, "z": -0.125},
+            "angular_velocity_covariance": [0.0] * 9,
+            "linear_acceleration": {"x": 0.0, "y": 0.0, "z": 9.80665 + 1e-3 * i},
+            "linear_acceleration_covariance": [0.0] * 9}
+
+
+def write_bag(path, chunk_size=1024 * 1024):
+    with open(path, "wb") as f:
+        w = Writer(f, chunk_size=chunk_size)
+        schemas = {short: register(w, short) for _, short, _, _ in TOPICS}
+        events = []
+        for topic, short, rate, count in TOPICS:
+            period_ns = 10**9 // rate
+            events += [(T0_NS + i * period_ns, topic, short, i) for i in range(count)]
+        for t_ns, topic, short, i in sorted(events):
+            w.write_message(topic, schemas[short], message(short, i, t_ns), log_time=t_ns, publish_time=t_ns)
+        w.finish()
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    return rows
+
+
+def test_summary_of_a_ros2_bag(tmp_path, run_flapwing):
+    bag = tmp_path / "flight.mcap"
+    write_bag(bag)
+    summary = json.loads(run_flapwing("replay", bag, "--json").stdout)
+    assert summary["complete"] and summary["damage"] is None
+    assert "mcap-ros2-support" in summary["library"]
+    by_topic = {t["topic"]: t for t in summary["topics"]}
+    assert set(by_topic) == {t[0] for t in TOPICS}
+    for topic, short, rate, count in TOPICS:
+        t = by_topic[topic]
+        pkg, typ = short.split("/")
+        assert t["message_type"] == f"{pkg}/msg/{typ}"
+        assert t["message_count"] == count
+        assert t["undecodable"] == 0 and t["problem"] is None
+        assert abs(t["span_s"] - (count - 1) / rate) < 1e-12
+        assert abs(t["rate_hz"] - rate) < 1e-9
+        assert abs(t["start_s"] - T0_NS * 1e-9) < 1e-6
+    text = run_flapwing("replay", bag).stdout
+    assert "ROS 2 bag" in text and "complete" in text
+    assert "/mocap/pose  geometry_msgs/msg/PoseStamped       100     200.000    0.495000" in text
+
+
+def test_csv_export_has_the_written_values(tmp_path, run_flapwing):
+    bag = tmp_path / "flight.mcap"
+    write_bag(bag)
+    period = {topic: 10**9 // rate for topic, _, rate, _ in TOPICS}
+    out = tmp_path / "pose.csv"
+    proc = run_flapwing("replay", bag, "--csv", "/mocap/pose", out)
+    assert "wrote 100 rows x 11 columns of /mocap/pose" in proc.stdout
+    rows = read_csv(out)
+    assert list(rows[0]) == ["log_time_ns", "header.stamp.sec", "header.stamp.nanosec", "header.frame_id",
+                             "pose.position.x", "pose.position.y", "pose.position.z", "pose.orientation.x",
+                             "pose.orientation.y", "pose.orientation.z", "pose.orientation.w"]
+    for i, row in enumerate(rows):
+        t_ns = T0_NS + i * period["/mocap/pose"]
+        want = pose_msg(i, t_ns)
+        assert int(row["log_time_ns"]) == t_ns
+        assert int(row["header.stamp.sec"]) == t_ns // 10**9
+        assert int(row["header.stamp.nanosec"]) == t_ns % 10**9
+        assert row["header.frame_id"] == "world"
+        for k in "xyz":
+            assert float(row[f"pose.position.{k}"]) == want["pose"]["position"][k]
+        assert float(row["pose.orientation.w"]) == 0.8
+    run_flapwing("replay", bag, "--csv", "/odom", tmp_path / "odom.csv")
+    odom = read_csv(tmp_path / "odom.csv")
+    assert len(odom) == 50 and odom[3]["child_frame_id"] == "base_link"
+    assert float(odom[3]["pose.covariance.35"]) == 0.01 * 35
+    assert float(odom[3]["twist.twist.angular.z"]) == 2.0 ** -3
+    assert float(odom[3]["twist.twist.linear.y"]) == -0.75
+    run_flapwing("replay", bag, "--csv", "/tf", tmp_path / "tf.csv")
+    tf = read_csv(tmp_path / "tf.csv")
+    assert len(tf) == 25
+    assert tf[7]["transforms.0.child_frame_id"] == "wing_left"
+    assert tf[7]["transforms.1.child_frame_id"] == "wing_right"
+    assert float(tf[7]["transforms.0.transform.translation.x"]) == 0.001 * 7
+    assert float(tf[7]["transforms.1.transform.translation.y"]) == -0.002
+    run_flapwing("replay", bag, "--csv", "/imu", tmp_path / "imu.csv")
+    imu = read_csv(tmp_path / "imu.csv")
+    assert len(imu) == 200
+    assert float(imu[199]["linear_acceleration.z"]) == 9.80665 + 1e-3 * 199
+    assert float(imu[9]["angular_velocity.x"]) == 4.5
+    assert float(imu[0]["orientation_covariance.0"]) == -1.0
+    assert int(imu[1]["header.stamp.nanosec"]) == (T0_NS + period["/imu"]) % 10**9
+
+
+def test_truncated_bag_warns_and_recovers(tmp_path, run_flapwing):
+    bag = tmp_path / "flight.mcap"
+    write_bag(bag, chunk_size=4096)
+    data = bag.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: len(data) // 2])
+    proc = run_flapwing("replay", cut, "--json")
+    summary = json.loads(proc.stdout)
+    recovered = summary["message_count"]
+    assert 0 < recovered < sum(t[3] for t in TOPICS)
+    assert not summary["complete"]
+    assert f"recovered {recovered} messages" in proc.stderr and "warning:" in proc.stderr
+    proc = run_flapwing("replay", cut, "--csv", "/mocap/pose", tmp_path / "p.csv")
+    assert "warning:" in proc.stderr
+
+
+def write_raw(path, schema_name, schema_text, datas):
+    """A bag with one topic `/x` whose messages are the given bytes (no encoder in the way)."""
+    with open(path, "wb") as f:
+        w = McapWriter(f)
+        w.start(profile="ros2", library="test")
+        sid = w.register_schema(schema_name, "ros2msg", schema_text.encode())
+        cid = w.register_channel("/x", "cdr", sid)
+        for i, d in enumerate(datas):
+            w.add_message(cid, log_time=T0_NS + i, publish_time=T0_NS + i, data=d)
+        w.finish()
+
+
+def test_bad_bags_give_clear_errors(tmp_path, run_flapwing):
+    # A type the schema does not define.
+    bag = tmp_path / "undefined.mcap"
+    write_raw(bag, "my_msgs/msg/Wing", "std_msgs/Header header\nmy_msgs/Hinge hinge\n" + "=" * 80
+              + "\nMSG: std_msgs/Header\n" + DEFS["std_msgs/Header"], [b"\x00\x01\x00\x00" + bytes(16)])
+    proc = run_flapwing("replay", bag, "--csv", "/x", tmp_path / "x.csv", check=False)
+    assert proc.returncode == 2, proc.stderr
+    assert "topic `/x` (my_msgs/msg/Wing)" in proc.stderr
+    assert "field `hinge` has type `my_msgs/Hinge`, which the schema does not define" in proc.stderr
+    assert "allowed:" in proc.stderr and not (tmp_path / "x.csv").exists()
+    summary = run_flapwing("replay", bag).stdout
+    assert "note: /x (my_msgs/msg/Wing): cannot decode: field `hinge`" in summary
+    # A message shorter than its type: the PoseStamped of the writer above, cut.
+    full = tmp_path / "flight.mcap"
+    write_bag(full)
+    short = tmp_path / "short.mcap"
+    header_only = b"\x00\x01\x00\x00" + (12).to_bytes(4, "little") + (5).to_bytes(4, "little") \
+        + (6).to_bytes(4, "little") + b"world\x00" + bytes(6) + bytes(8 * 3)
+    write_raw(short, "geometry_msgs/msg/PoseStamped", schema_text("geometry_msgs/PoseStamped"), [header_only])
+    proc = run_flapwing("replay", short, "--csv", "/x", tmp_path / "y.csv", check=False)
+    assert proc.returncode == 2, proc.stderr
+    assert "message 0" in proc.stderr
+    assert "field `pose.orientation.x` (float64) cannot be read: the message ends first" in proc.stderr
+    # Not MCAP at all, and MCAP without ROS 2 channels: the flapwing errors as before.
+    junk = tmp_path / "junk.mcap"
+    junk.write_bytes(b"hello")
+    assert run_flapwing("replay", junk, check=False).returncode == 2
