@@ -237,9 +237,12 @@ def test_bad_bags_give_clear_errors(tmp_path, run_flapwing):
     assert "allowed:" in proc.stderr and not (tmp_path / "x.csv").exists()
     summary = run_flapwing("replay", bag).stdout
     assert "note: /x (my_msgs/msg/Wing): cannot decode: field `hinge`" in summary
-    # A message shorter than its type: the PoseStamped of the writer above, cut.
-    full = tmp_path / "flight.mcap"
-    write_bag(full)
+    # Definition text that does not parse.
+    bag = tmp_path / "unparsable.mcap"
+    write_raw(bag, "my_msgs/msg/Wing", "float64[ angle\n", [b"\x00\x01\x00\x00"])
+    proc = run_flapwing("replay", bag, "--csv", "/x", tmp_path / "x.csv", check=False)
+    assert proc.returncode == 2 and "the message definition does not parse" in proc.stderr, proc.stderr
+    # A message shorter than its type (a PoseStamped cut after position.z).
     short = tmp_path / "short.mcap"
     header_only = b"\x00\x01\x00\x00" + (12).to_bytes(4, "little") + (5).to_bytes(4, "little") \
         + (6).to_bytes(4, "little") + b"world\x00" + bytes(6) + bytes(8 * 3)
