@@ -148,6 +148,11 @@ impl Scan {
 /// [`Bag::damage`] saying how much was recovered.
 pub fn read_bag(path: &Path) -> Result<Bag> {
     let bytes = std::fs::read(path).map_err(|e| Error::io("cannot read", path, e))?;
+    parse_bag(path, &bytes)
+}
+
+/// [`read_bag`] of the file's bytes.
+pub(crate) fn parse_bag(path: &Path, bytes: &[u8]) -> Result<Bag> {
     let len = bytes.len() as u64;
     if !bytes.starts_with(mcap::MAGIC) {
         return Err(Error::NotMcap {
@@ -264,7 +269,7 @@ pub fn read_bag(path: &Path) -> Result<Bag> {
              messages from {chunks} complete chunks before it"
         ))
     } else if data_end {
-        match mcap::Summary::read(&bytes) {
+        match mcap::Summary::read(bytes) {
             Ok(_) if bytes.ends_with(mcap::MAGIC) => {
                 complete = true;
                 None

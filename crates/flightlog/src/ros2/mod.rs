@@ -13,3 +13,5 @@
 pub mod bag;
 pub mod cdr;
 pub mod summary;
+#[cfg(test)]
+mod tests;
