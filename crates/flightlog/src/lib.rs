@@ -66,9 +66,9 @@ pub mod proto;
 mod read;
 mod recorder;
 pub mod replay;
-pub mod ros2;
 #[cfg(feature = "rerun")]
 mod rerun_sink;
+pub mod ros2;
 mod sample;
 mod scene;
 pub mod schema;
