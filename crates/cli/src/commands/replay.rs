@@ -22,7 +22,8 @@ use crate::outputs::Named;
 /// Arguments of `flapwing replay`.
 #[derive(Debug, clap::Args)]
 pub struct ReplayArgs {
-    /// The MCAP log (a truncated log from a killed run is read up to its last complete chunk).
+    /// The MCAP log (a truncated log from a killed run is read up to its last complete chunk),
+    /// or a ROS 2 bag (MCAP with `ros2msg` schemas and CDR messages: summary and --csv).
     #[arg(value_name = "FILE.mcap")]
     pub file: PathBuf,
     /// Print the summary as one JSON document on stdout.
@@ -32,7 +33,7 @@ pub struct ReplayArgs {
     #[arg(long, value_name = "OUT.rrd")]
     pub rrd: Option<PathBuf>,
     /// Export one channel's messages as CSV (one column per field, dotted paths), e.g.
-    /// `--csv /vehicle/state state.csv`.
+    /// `--csv /vehicle/state state.csv` (of a ROS 2 bag: `--csv /mocap/pose pose.csv`).
     #[arg(long, num_args = 2, value_names = ["CHANNEL", "OUT.csv"])]
     pub csv: Option<Vec<String>>,
     /// Re-run the simulation from the embedded model and settings and compare the trajectory
