@@ -254,13 +254,23 @@ fn csv_field(s: &str) -> String {
     }
 }
 
-/// Writes every message of `topic` to the CSV file `out` (replaced if it exists): the first
-/// column `log_time_ns`, then one column per field by dotted path (`header.stamp.sec`,
-/// `pose.position.x`, array elements `transforms.0.child_frame_id`) in definition order, a
-/// column a message lacks left empty. An unknown topic, a type that cannot be decoded or a
-/// message that does not decode is an error naming the topic and the field; nothing is
-/// written then.
-pub fn export_topic_csv(bag: &Bag, topic: &str, out: &Path) -> Result<TopicCsvStats> {
+/// The messages of one topic as a table: `columns` (the first `log_time_ns`, then one per
+/// field by dotted path in definition order, array elements `transforms.0.child_frame_id`)
+/// and one row per message with one cell per column, `None` where a message lacks it (a
+/// shorter sequence). What [`export_topic_csv`] writes, and what a reader of bags into
+/// arrays (the Python bindings' `read_log`) needs.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct TopicTable {
+    /// Column names.
+    pub columns: Vec<String>,
+    /// Rows, each with one cell per column.
+    pub rows: Vec<Vec<Option<String>>>,
+}
+
+/// Decodes every message of `topic` into a [`TopicTable`]. An unknown topic, a type that
+/// cannot be decoded or a message that does not decode is an error naming the topic and the
+/// field.
+pub fn read_topic_table(bag: &Bag, topic: &str) -> Result<TopicTable> {
     let path = bag.path.clone();
     let Some(id) = bag.channel_id(topic) else {
         return Err(Error::UnknownTopic {
@@ -278,13 +288,9 @@ pub fn export_topic_csv(bag: &Bag, topic: &str, out: &Path) -> Result<TopicCsvSt
     })?;
     let mut columns: Vec<String> = vec!["log_time_ns".into()];
     let mut col_of: HashMap<String, usize> = HashMap::new();
-    let mut rows: Vec<Vec<(usize, String)>> = Vec::new();
-    for (i, m) in bag
-        .messages
-        .iter()
-        .filter(|m| m.channel_id == id)
-        .enumerate()
-    {
+    let mut sparse: Vec<Vec<(usize, String)>> = Vec::new();
+    let on_topic = bag.messages.iter().filter(|m| m.channel_id == id);
+    for (i, m) in on_topic.enumerate() {
         let fields = ty.decode(&m.data).map_err(|detail| Error::Ros2Message {
             path: path.clone(),
             topic: topic.to_owned(),
@@ -301,23 +307,41 @@ pub fn export_topic_csv(bag: &Bag, topic: &str, out: &Path) -> Result<TopicCsvSt
             });
             row.push((c, v));
         }
-        rows.push(row);
+        sparse.push(row);
     }
+    let rows = sparse
+        .into_iter()
+        .map(|r| {
+            let mut cells = vec![None; columns.len()];
+            for (c, v) in r {
+                cells[c] = Some(v);
+            }
+            cells
+        })
+        .collect();
+    Ok(TopicTable { columns, rows })
+}
+
+/// Writes every message of `topic` to the CSV file `out` (replaced if it exists): the
+/// [`TopicTable`] of [`read_topic_table`], a cell a message lacks left empty. On an error
+/// nothing is written.
+pub fn export_topic_csv(bag: &Bag, topic: &str, out: &Path) -> Result<TopicCsvStats> {
+    let table = read_topic_table(bag, topic)?;
     let file = std::fs::File::create(out).map_err(|e| Error::io("cannot create", out, e))?;
     let mut w = std::io::BufWriter::new(file);
     let werr = |e| Error::io("cannot write", out, e);
-    let header: Vec<String> = columns.iter().map(|c| csv_field(c)).collect();
+    let header: Vec<String> = table.columns.iter().map(|c| csv_field(c)).collect();
     writeln!(w, "{}", header.join(",")).map_err(werr)?;
-    for row in &rows {
-        let mut cells = vec![String::new(); columns.len()];
-        for (c, v) in row {
-            cells[*c] = csv_field(v);
-        }
+    for row in &table.rows {
+        let cells: Vec<String> = row
+            .iter()
+            .map(|c| c.as_deref().map(csv_field).unwrap_or_default())
+            .collect();
         writeln!(w, "{}", cells.join(",")).map_err(werr)?;
     }
     w.flush().map_err(werr)?;
     Ok(TopicCsvStats {
-        rows: rows.len() as u64,
-        columns: columns.len() as u64,
+        rows: table.rows.len() as u64,
+        columns: table.columns.len() as u64,
     })
 }

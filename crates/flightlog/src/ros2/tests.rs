@@ -7,7 +7,7 @@ use std::io::Cursor;
 use std::path::Path;
 
 use crate::ros2::bag::parse_bag;
-use crate::ros2::summary::summarize;
+use crate::ros2::summary::{read_topic_table, summarize};
 
 const N: u32 = 40;
 
@@ -61,6 +61,19 @@ fn whole_bag_summary() {
     assert_eq!(t.start_ns, Some(1_000_000_000));
     assert!((t.span_s - 0.39).abs() < 1e-12);
     assert!((t.rate_hz.unwrap() - 100.0).abs() < 1e-9);
+    let table = read_topic_table(&b, "/t").unwrap();
+    assert_eq!(table.columns, ["log_time_ns", "a", "b"]);
+    assert_eq!(table.rows.len(), 40);
+    let row: Vec<&str> = table.rows[3]
+        .iter()
+        .map(|c| c.as_deref().unwrap())
+        .collect();
+    assert_eq!(row, ["1030000000", "3", "1.5"]);
+    let e = read_topic_table(&b, "/nope").unwrap_err().to_string();
+    assert!(
+        e.contains("has no channel `/nope`") && e.contains("/t"),
+        "{e}"
+    );
 }
 
 #[test]
