@@ -28,7 +28,7 @@ pub fn load_wing_spec(path: Option<&Path>) -> anyhow::Result<LoadedSpec> {
     let (text, origin) = match path {
         Some(p) => {
             let origin = p.display().to_string();
-            let text = std::fs::read_to_string(p)
+            let text = flapsim::model::read_model_file(p)
                 .input_context(format!("cannot read model file `{origin}`"))?;
             (text, origin)
         }

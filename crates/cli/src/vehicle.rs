@@ -21,7 +21,7 @@ pub fn read_vehicle(model: Option<&str>) -> anyhow::Result<VehicleSource> {
             origin: format!("<built-in {name}>"),
         });
     }
-    let text = std::fs::read_to_string(name).input_context(format!(
+    let text = flapsim::model::read_model_file(std::path::Path::new(name)).input_context(format!(
         "cannot read model file `{name}` (give a TOML path or a built-in model: drosophila, bumblebee, robobee_kinematic, the four-winged dragonfly, and the actuated robobee and hummingbird)"
     ))?;
     Ok(VehicleSource {

@@ -293,3 +293,37 @@ fn identify_says_what_a_truncated_log_held_and_keeps_it() {
     assert_refused(&run, &["--out", "cut.mcap", "is the input FILE"]);
     assert_eq!(fingerprint(&d.join("cut.mcap")), before);
 }
+
+/// `--model` reads a regular file of at most 1 MiB (flapsim::model::read_model_file): a
+/// device (`/dev/zero` read until memory ran out), a FIFO without a writer (blocked for
+/// ever) and an oversized file are refused at once, naming the file and what is allowed.
+#[test]
+fn model_files_are_regular_and_bounded() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    if Path::new("/dev/zero").exists() {
+        let run = flapwing_in(d, &["trim", "--model", "/dev/zero"]);
+        assert_refused(&run, &["/dev/zero", "not a regular file"]);
+    } else {
+        eprintln!("SKIPPED the /dev/zero case: this machine has no /dev/zero");
+    }
+    let fifo = d.join("model.fifo");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success());
+    if made {
+        let run = flapwing_in(d, &["trim", "--model", "model.fifo"]);
+        assert_refused(&run, &["model.fifo", "not a regular file"]);
+    } else {
+        eprintln!("SKIPPED the FIFO case: mkfifo is not available");
+    }
+    let big = d.join("big.toml");
+    std::fs::write(&big, vec![b'#'; (1 << 20) + 1]).unwrap();
+    let run = flapwing_in(d, &["trim", "--model", "big.toml"]);
+    assert_refused(&run, &["big.toml", "1048577 bytes", "1048576"]);
+    let study = d.join("study.toml");
+    std::fs::write(&study, vec![b'#'; (1 << 20) + 1]).unwrap();
+    let run = flapwing_in(d, &["sweep", "study.toml"]);
+    assert_refused(&run, &["study.toml", "1048577 bytes"]);
+}

@@ -153,8 +153,9 @@ pub fn run_steps(
         if !keep_going() {
             return Ok(());
         }
+        // A copy: the log takes every wing's forces from the wing set beside it.
         let out = match sim.step() {
-            Ok(o) => o,
+            Ok(o) => *o,
             Err(e) => {
                 if let Some(rec) = log.as_deref_mut() {
                     let _ = rec.event(sim.time_s(), flightlog::Level::Error, &e.to_string());
@@ -162,12 +163,13 @@ pub fn run_steps(
                 return Err(sim_err(e));
             }
         };
-        summary.observe(out, dt);
+        summary.observe(&out, dt);
         if let Some(t) = trace.as_deref_mut() {
-            t.push(out);
+            t.push(&out);
         }
         if let Some(rec) = log.as_deref_mut() {
-            rec.record(out).map_err(log_err)?;
+            rec.record_wings(&out, sim.wing_set().output())
+                .map_err(log_err)?;
         }
     }
     Ok(())
@@ -393,7 +395,8 @@ impl Simulation {
         };
         self.summary.observe(&out, dt);
         if let Some(rec) = &mut self.log {
-            rec.record(&out).map_err(log_err)?;
+            rec.record_wings(&out, self.sim.wing_set().output())
+                .map_err(log_err)?;
         }
         step_dict(py, &out)
     }

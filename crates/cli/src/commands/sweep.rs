@@ -323,7 +323,7 @@ fn report(
 /// to the study file.
 pub fn load_study(path: &Path) -> anyhow::Result<Study> {
     let origin = path.display().to_string();
-    let text = std::fs::read_to_string(path)
+    let text = flapsim::model::read_bounded_text(path, "study file")
         .input_context(format!("cannot read study file `{origin}`"))?;
     let spec = StudySpec::from_toml(&text, &origin).map_err(|e| input_error(e.to_string()))?;
     let (base_text, base_origin) = match flapsim::builtin_model(&spec.base_model) {
@@ -332,7 +332,7 @@ pub fn load_study(path: &Path) -> anyhow::Result<Study> {
             let dir = path.parent().unwrap_or(Path::new("."));
             let base_path = dir.join(&spec.base_model);
             let shown = base_path.display().to_string();
-            let text = std::fs::read_to_string(&base_path).input_context(format!(
+            let text = flapsim::model::read_model_file(&base_path).input_context(format!(
                 "{origin}: base_model `{}` is not a built-in model (drosophila, bumblebee, robobee_kinematic, dragonfly, robobee, hummingbird) and `{shown}` cannot be read",
                 spec.base_model
             ))?;

@@ -1,5 +1,6 @@
-//! Reading a model file from disk, bounded: the reader of vehicle model files for the Python
-//! bindings, meant for every front end (the CLI too). A model file is a few kB of TOML (the
+//! Reading a model file from disk, bounded: the one reader of vehicle model files (and of
+//! the other small TOML inputs: randomisation and study files) for the CLI and the Python
+//! bindings. A model file is a few kB of TOML (the
 //! built-in ones are 4-10 kB); a path to something else (a FIFO with no writer, `/dev/zero`,
 //! a multi-GB file named by mistake) would block or read until memory runs out, so only
 //! regular files of at most [`MAX_MODEL_FILE_BYTES`] are read.

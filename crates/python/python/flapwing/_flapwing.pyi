@@ -258,8 +258,10 @@ class WingSet:
     def step(self, position_m: Vec3, world_from_body_wxyz: npt.ArrayLike,
              velocity_m_s: Vec3, angular_velocity_body_rad_s: Vec3) -> dict[str, Any]:
         """The loads over [t_k, t_k + dt_s] from the body's state at t_k: force_body_n,
-        moment_body_nm (about the CoM, body frame), terms, wing_inertia,
-        wing_forces_body_n (n_wings x 3), t_s, phase."""
+        moment_body_nm (about the CoM, body frame; the wings' loads plus the body's air
+        drag from the model's drag area, also on its own as body_drag), terms,
+        wing_inertia, wing_forces_body_n (n_wings x 3), t_s, phase. A body state or wind
+        whose loads overflow raises ValueError."""
 
 
 class HoverTask:
