@@ -362,6 +362,9 @@ impl Simulation {
     /// Advances one step; returns what was applied during it.
     pub fn step(&mut self) -> Result<&StepOutput> {
         let state = self.state();
+        // A runaway state names the bound it broke (sim.max_speed_m_s, ...) before the wings
+        // see it (their loads would overflow at such speeds, with no knob to name).
+        self.check_state(&state)?;
         if self.wind.is_some() && state.first_non_finite().is_none() {
             self.update_wing_winds(&state)?;
         }
@@ -413,12 +416,13 @@ impl Simulation {
         self.out.insert(out)
     }
 
-    fn check(&self, out: &StepOutput) -> Result<()> {
-        let s = &out.state;
+    /// The body state at a step's start against the run's bounds (finite, sim.max_speed_m_s,
+    /// sim.max_angular_speed_rad_s): a divergence at the step about to be taken.
+    fn check_state(&self, s: &State) -> Result<()> {
         let fail = |reason: String| {
             Err(Error::Diverged {
-                t_s: out.t_s,
-                step: out.step,
+                t_s: self.wings.time_s(),
+                step: self.wings.steps(),
                 reason,
             })
         };
@@ -443,9 +447,19 @@ impl Simulation {
                 self.vehicle.sim.max_angular_speed_rad_s
             ));
         }
-        // After the speeds: a load that overflowed at a runaway speed names the speed.
+        Ok(())
+    }
+
+    /// A step's loads: finite (after [`Simulation::check_state`], so a load that overflowed
+    /// at a runaway speed has named the speed already).
+    fn check(&self, out: &StepOutput) -> Result<()> {
+        let finite = |v: &Vector3<f64>| v.iter().all(|x| x.is_finite());
         if !finite(&out.total.force_n) || !finite(&out.total.moment_nm) {
-            return fail("the aerodynamic load is not finite".into());
+            return Err(Error::Diverged {
+                t_s: out.t_s,
+                step: out.step,
+                reason: "the aerodynamic load is not finite".into(),
+            });
         }
         Ok(())
     }
