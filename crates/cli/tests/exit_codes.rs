@@ -50,8 +50,14 @@ fn full_device_at(path: &Path) -> Result<std::path::PathBuf, String> {
         .map_err(|e| format!("{}: cannot open for writing: {e}", path.display()))?;
     match f.write_all(b"x").and_then(|()| f.flush()) {
         Err(e) if e.raw_os_error() == Some(28) => Ok(path.to_path_buf()),
-        Err(e) => Err(format!("{}: a write failed with {e}, not ENOSPC", path.display())),
-        Ok(()) => Err(format!("{}: a write succeeded (expected ENOSPC)", path.display())),
+        Err(e) => Err(format!(
+            "{}: a write failed with {e}, not ENOSPC",
+            path.display()
+        )),
+        Ok(()) => Err(format!(
+            "{}: a write succeeded (expected ENOSPC)",
+            path.display()
+        )),
     }
 }
 

@@ -16,9 +16,9 @@
 use nalgebra::Vector3;
 use wingforce::Term;
 
-use crate::model::Vehicle;
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::{Error, Result};
+use crate::model::Vehicle;
 use crate::sun_xiong;
 
 /// One comparison with a published figure.

@@ -16,9 +16,9 @@
 
 use nalgebra::DMatrix;
 
-use crate::model::Vehicle;
 use crate::derivatives::{LONGITUDINAL, Reference, reference};
 use crate::error::{Error, Result};
+use crate::model::Vehicle;
 use crate::stability::{ModeInfo, ModeKind, StabilityReport, modes};
 
 /// Where the derivative table comes from.

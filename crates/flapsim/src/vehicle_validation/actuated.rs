@@ -1,9 +1,9 @@
 //! The actuated vehicles' rows: the RoboBee against its bench data and the hummingbird
 //! robot against its simulator's, each miss with its cause measured on the model.
 
-use crate::model::Vehicle;
 use crate::actuated::{ResponseOptions, Stroke, TetheredRun, run_tethered};
 use crate::error::Result;
+use crate::model::Vehicle;
 use crate::operating_points::builtin;
 
 use super::data::*;

@@ -10,8 +10,8 @@
 use wingforce::{AddedMassForm, AeroOptions};
 
 use super::rows::{Check, RowBuilder};
-use crate::model::Vehicle;
 use crate::error::Result;
+use crate::model::Vehicle;
 use crate::operating_points::{SUN_XIONG_SOURCE, bumblebee_pitch_modes_note};
 use crate::stability::analyze;
 use crate::sun_xiong::{self, Comparison, MODE_TIME_NAMES, MODE_TIMES_S, TABLE_SOURCE};

@@ -34,9 +34,9 @@ mod rows;
 use nalgebra::Vector3;
 use wingforce::Term;
 
-use crate::model::Vehicle;
 use crate::averaged::{FrozenState, mean_loads};
 use crate::error::Result;
+use crate::model::Vehicle;
 use crate::operating_points::{builtin, lift_over_weight};
 
 use actuated::{hummingbird_rows, robobee_rows};
