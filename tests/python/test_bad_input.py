@@ -10,39 +10,23 @@ running, and the rest of its batch goes on in a new child (so every case is stil
 in its own exception, and the corpus costs a few interpreter starts instead of one per case).
 Long calls must stop on Ctrl-C: those cases start the call in a process, send SIGINT once it
 runs and expect KeyboardInterrupt within a generous liveness bound. The batches run in
-parallel (a thread pool of subprocesses).
+parallel (a thread pool of subprocesses). The harness is tests/python/badinput_harness.py.
 """
 
 from __future__ import annotations
 
-import json
-import os
 import signal
 import subprocess
 import sys
-import textwrap
 import time
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
 
 import pytest
 
-TIMEOUT_S = 90  # per case; generous for a loaded 2-core machine (a case takes ~1 s)
+from badinput_harness import (PRELUDE, TIMEOUT_S, WORKERS, C, Case,
+                              assert_raises_a_named_error, run_cases)
+
 INTERRUPT_BOUND_S = 20  # liveness bound after SIGINT, not a timing assertion
-WORKERS = max(2, min(6, 2 * (os.cpu_count() or 2)))
-
-
-@dataclass(frozen=True)
-class Case:
-    id: str
-    call: str  # a Python statement that must raise
-    exc: str  # the expected exception class name (matched against the raised type's MRO)
-    names: tuple  # substrings the message must contain (the argument's name)
-    setup: str = ""
-
-
-def C(id, call, exc, *names, setup=""):
-    return Case(id, call, exc, tuple(names), setup)
 
 
 SIM = "s = Simulation()"
@@ -309,91 +293,9 @@ CASES = [
 NAMED_IN_A_NOTE = {"wing-model-int", "vehicle-model-none-type", "init-state-not-dict",
                    "stability-floquet-str"}
 
-PRELUDE = """\
-import json, sys
-import numpy as np
-import flapwing
-from flapwing import *
-"""
-
-BATCH_RUNNER = """
-for case_id, setup, call in json.loads(sys.stdin.read()):
-    print(json.dumps({"start": case_id}), flush=True)
-    ns = {k: v for k, v in globals().items() if not k.startswith("__")}
-    try:
-        exec(compile(setup, "setup", "exec"), ns)
-    except BaseException as e:
-        print(json.dumps({"id": case_id, "stage": "setup", "type": type(e).__name__,
-                          "msg": str(e)}), flush=True)
-        continue
-    try:
-        exec(compile(call, "call", "exec"), ns)
-    except BaseException as e:
-        # pyo3 names a typed argument it cannot convert in a note ("while processing 'x'"),
-        # which the traceback shows after the message (Python 3.11+).
-        msg = "\\n".join([str(e), *getattr(e, "__notes__", [])])
-        print(json.dumps({"id": case_id, "stage": "call", "type": type(e).__name__,
-                          "mro": [c.__name__ for c in type(e).__mro__], "msg": msg}),
-              flush=True)
-    else:
-        print(json.dumps({"id": case_id, "stage": "call", "type": None}), flush=True)
-"""
-
-
-def _run_batch(cases: list) -> dict:
-    """Runs `cases` in as few children as crashes and hangs allow: {case id: result}."""
-    results: dict = {}
-    pending = list(cases)
-    while pending:
-        payload = json.dumps([[c.id, c.setup, c.call] for c in pending])
-        t0 = time.monotonic()
-        hang = False
-        try:
-            proc = subprocess.run([sys.executable, "-c", PRELUDE + BATCH_RUNNER], input=payload,
-                                  capture_output=True, text=True,
-                                  timeout=TIMEOUT_S * len(pending))
-            stdout, stderr, code = proc.stdout, proc.stderr, proc.returncode
-        except subprocess.TimeoutExpired as e:
-            hang = True
-            stdout = e.stdout.decode() if isinstance(e.stdout, bytes) else (e.stdout or "")
-            stderr = e.stderr.decode() if isinstance(e.stderr, bytes) else (e.stderr or "")
-            code = None
-        running = None
-        for line in stdout.splitlines():
-            if not line.startswith("{"):
-                continue
-            msg = json.loads(line)
-            if "start" in msg:
-                running = msg["start"]
-            else:
-                results[msg["id"]] = {"returncode": 0, "stderr": "", **msg}
-                running = None
-        done = {c.id for c in pending if c.id in results}
-        if running is not None and running not in results:
-            # The child died or hung inside this case.
-            results[running] = ({"hang": True} if hang else
-                                {"returncode": code if code is not None else -1,
-                                 "stderr": stderr[-2000:]})
-            results[running]["elapsed"] = time.monotonic() - t0
-            done.add(running)
-        elif len(done) == 0:
-            # Died before the first case started (the prelude itself): charge them all.
-            for c in pending:
-                results[c.id] = {"returncode": code if code is not None else -1,
-                                 "stderr": stderr[-2000:], "hang": hang}
-            break
-        pending = [c for c in pending if c.id not in done]
-    return results
-
-
 @pytest.fixture(scope="module")
 def results() -> dict:
-    batches = [CASES[i::WORKERS] for i in range(WORKERS)]
-    out: dict = {}
-    with ThreadPoolExecutor(WORKERS) as pool:
-        for r in pool.map(_run_batch, batches):
-            out.update(r)
-    return out
+    return run_cases(CASES)
 
 
 def test_the_corpus_is_large_and_unique():
@@ -403,18 +305,9 @@ def test_the_corpus_is_large_and_unique():
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
 def test_bad_input_raises_a_named_error(case: Case, results: dict):
-    r = results[case.id]
-    assert not r.get("hang"), f"{case.call}: hung (no exit within {TIMEOUT_S} s)"
-    assert r["returncode"] >= 0, (
-        f"{case.call}: the interpreter died (signal {-r['returncode']}): {r['stderr']}")
-    assert r["returncode"] == 0 and "stage" in r, f"{case.call}: exited {r['returncode']}: {r['stderr']}"
-    assert r["stage"] == "call", f"setup `{case.setup}` failed: {r['type']}: {r['msg']}"
-    assert r["type"] is not None, f"{case.call}: accepted silently (expected {case.exc})"
-    assert case.exc in r["mro"], f"{case.call}: raised {r['type']}: {r['msg']} (expected {case.exc})"
-    if case.id in NAMED_IN_A_NOTE and sys.version_info < (3, 11):
-        return  # no exception notes before 3.11
-    for name in case.names:
-        assert name in r["msg"], f"{case.call}: the message does not name {name!r}: {r['msg']}"
+    # No exception notes before 3.11.
+    names_checked = case.id not in NAMED_IN_A_NOTE or sys.version_info >= (3, 11)
+    assert_raises_a_named_error(case, results[case.id], names_checked)
 
 
 # --- Ctrl-C: long calls stop with KeyboardInterrupt ---

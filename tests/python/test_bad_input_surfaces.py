@@ -1,7 +1,7 @@
 """Bad input on the newer Python surfaces never crashes, hangs or is silently accepted, and
 Ctrl-C stops the long analyses within a second (issue 40).
 
-The harness of test_bad_input.py (its `Case`, prelude and batch runner, imported): each case
+The harness of test_bad_input.py (badinput_harness.py: `Case`, prelude and batch runner): each case
 runs in a child Python process with a timeout and fails on a crash, a hang, or a call that
 returns instead of raising the expected exception with a message naming the argument.
 Covered: envelope's and the flight condition's real-number arguments (booleans), the
@@ -31,7 +31,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from test_bad_input import PRELUDE, WORKERS, C, _run_batch
+from badinput_harness import C, assert_raises_a_named_error, run_cases
 
 INTERRUPT_WITHIN_S = 1.0  # the requirement: KeyboardInterrupt within 1 s of SIGINT
 SIGNAL_AFTER_S = 0.4  # into the call (each runs for over 1.3 s)
@@ -141,12 +141,7 @@ CASES = [
 
 @pytest.fixture(scope="module")
 def results() -> dict:
-    batches = [CASES[i::WORKERS] for i in range(WORKERS)]
-    out: dict = {}
-    with ThreadPoolExecutor(WORKERS) as pool:
-        for r in pool.map(_run_batch, batches):
-            out.update(r)
-    return out
+    return run_cases(CASES)
 
 
 def test_the_cases_are_unique():
@@ -155,16 +150,7 @@ def test_the_cases_are_unique():
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
 def test_bad_input_raises_a_named_error(case, results: dict):
-    r = results[case.id]
-    assert not r.get("hang"), f"{case.call}: hung"
-    assert r["returncode"] >= 0, (
-        f"{case.call}: the interpreter died (signal {-r['returncode']}): {r['stderr']}")
-    assert r["returncode"] == 0 and "stage" in r, f"{case.call}: exited {r['returncode']}: {r['stderr']}"
-    assert r["stage"] == "call", f"setup `{case.setup}` failed: {r['type']}: {r['msg']}"
-    assert r["type"] is not None, f"{case.call}: accepted silently (expected {case.exc})"
-    assert case.exc in r["mro"], f"{case.call}: raised {r['type']}: {r['msg']} (expected {case.exc})"
-    for name in case.names:
-        assert name in r["msg"], f"{case.call}: the message does not name {name!r}: {r['msg']}"
+    assert_raises_a_named_error(case, results[case.id])
 
 
 # --- Ctrl-C during the hummingbird's analyses ---

@@ -25,6 +25,12 @@ def crate(tmp_path, files):
     return src
 
 
+def assert_circle_found(tmp_path, files, circle):
+    proc = run(crate(tmp_path, files))
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert circle in proc.stdout, proc.stdout
+
+
 def test_no_crate_has_files_importing_each_other():
     srcs = sorted(ROOT.glob("crates/*/src"))
     assert len(srcs) >= 8, srcs
@@ -33,42 +39,33 @@ def test_no_crate_has_files_importing_each_other():
 
 
 def test_a_circle_through_a_third_file_is_found(tmp_path):
-    src = crate(tmp_path, {
+    assert_circle_found(tmp_path, {
         "lib.rs": "mod a;\nmod b;\nmod c;\n",
         "a.rs": "use crate::b::B;\npub struct A;\n",
         "b.rs": "use crate::c::C;\npub struct B;\n",
         "c.rs": "use crate::a::A;\npub struct C;\n",
-    })
-    proc = run(src)
-    assert proc.returncode == 1, proc.stdout + proc.stderr
-    assert "a.rs, b.rs, c.rs" in proc.stdout, proc.stdout
+    }, "a.rs, b.rs, c.rs")
 
 
 def test_a_circle_hidden_behind_a_re_export_is_found(tmp_path):
     # a imports B from the module root, which re-exports it from b; b imports a.
-    src = crate(tmp_path, {
+    assert_circle_found(tmp_path, {
         "lib.rs": "mod a;\nmod b;\npub use b::B;\n",
         "a.rs": "use crate::B;\npub struct A;\n",
         "b.rs": "use super::a::A;\npub struct B;\n",
-    })
-    proc = run(src)
-    assert proc.returncode == 1, proc.stdout + proc.stderr
-    assert "a.rs, b.rs" in proc.stdout, proc.stdout
+    }, "a.rs, b.rs")
 
 
 def test_a_circle_through_a_re_exporting_file_and_a_written_out_path_is_found(tmp_path):
     # flapsim's last circle (issue #40): a takes D through r, which re-exports it from d;
     # r imports b; b names crate::a::A in a field's type, with no `use` line.
-    src = crate(tmp_path, {
+    assert_circle_found(tmp_path, {
         "lib.rs": "mod a;\nmod b;\nmod d;\nmod r;\n",
         "a.rs": "use crate::r::D;\npub struct A(D);\n",
         "r.rs": "use crate::b::B;\npub use crate::d::D;\npub struct R(B);\n",
         "b.rs": "pub struct B(crate::a::A);\n",
         "d.rs": "pub struct D;\n",
-    })
-    proc = run(src)
-    assert proc.returncode == 1, proc.stdout + proc.stderr
-    assert "a.rs, b.rs, r.rs" in proc.stdout, proc.stdout
+    }, "a.rs, b.rs, r.rs")
 
 
 def test_a_ladder_and_a_test_module_pass(tmp_path):

@@ -173,6 +173,23 @@ def test_bad_attribute_fails_the_load_naming_it(native, config, names):
         assert n in str(e.value), str(e.value)
 
 
+def held_wingbeat_mean_force(m, pitch_rad, speed_m_s):
+    """The wingbeat mean of the force the plugin applies to the free body of `m` held at
+    `pitch_rad` and moving forward at `speed_m_s` (the state put back after every step)."""
+    d = mujoco.MjData(m)  # the plugin's wings are built here, at m's step
+    half = -0.5 * pitch_rad
+    d.qpos[3:7] = [math.cos(half), 0.0, math.sin(half), 0.0]
+    d.qvel[:] = 0
+    d.qvel[0] = speed_m_s
+    qpos0, qvel0 = d.qpos.copy(), d.qvel.copy()
+    f = np.zeros(3)
+    for _ in range(N):
+        mujoco.mj_step(m, d)
+        f += d.qfrc_passive[:3] / N  # free joint: world force on dofs 0-2
+        d.qpos[:], d.qvel[:] = qpos0, qvel0
+    return f
+
+
 def test_trim_attribute_flies_the_flight_condition(native):
     """`trim="U W"` trims at load (flapwing_wings_trim): held at the trimmed attitude and
     velocity, the wings' cycle-mean force carries the weight (no body drag in the fly's
@@ -184,17 +201,7 @@ def test_trim_attribute_flies_the_flight_condition(native):
     t = fly.trim(speed_m_s=0.5)
     m = mujoco.MjModel.from_xml_string(plugin.fly_xml(trim="0.5 0"))
     m.opt.gravity[:] = 0
-    d = mujoco.MjData(m)
-    half = -0.5 * t["pitch_rad"]
-    d.qpos[3:7] = [math.cos(half), 0.0, math.sin(half), 0.0]
-    d.qvel[:] = 0
-    d.qvel[0] = 0.5
-    qpos0, qvel0 = d.qpos.copy(), d.qvel.copy()
-    f = np.zeros(3)
-    for _ in range(N):
-        mujoco.mj_step(m, d)
-        f += d.qfrc_passive[:3] / N  # free joint: world force on dofs 0-2
-        d.qpos[:], d.qvel[:] = qpos0, qvel0
+    f = held_wingbeat_mean_force(m, t["pitch_rad"], 0.5)
     weight = 1e-6 * 9.81
     assert abs(f[2] - weight) < 1e-3 * weight, (f, weight)
     assert abs(f[0]) < 1e-3 * weight, f
@@ -218,17 +225,7 @@ def test_the_bumblebee_held_at_its_3_m_s_trim_feels_no_net_force(native):
     xml = plugin.fly_xml(trim="3 0").replace('value="drosophila"', 'value="bumblebee"')
     m = mujoco.MjModel.from_xml_string(xml)
     m.opt.timestep = 1.0 / (155.0 * N)
-    d = mujoco.MjData(m)  # the plugin's wings are built here, at this step
-    half = -0.5 * t["pitch_rad"]
-    d.qpos[3:7] = [math.cos(half), 0.0, math.sin(half), 0.0]
-    d.qvel[:] = 0
-    d.qvel[0] = 3.0
-    qpos0, qvel0 = d.qpos.copy(), d.qvel.copy()
-    f = np.zeros(3)
-    for _ in range(N):
-        mujoco.mj_step(m, d)
-        f += d.qfrc_passive[:3] / N  # free joint: world force on dofs 0-2
-        d.qpos[:], d.qvel[:] = qpos0, qvel0
+    f = held_wingbeat_mean_force(m, t["pitch_rad"], 3.0)  # the wings built at m's step
     weight = bee.mass_kg * bee.gravity_m_s2
     net = f - [0.0, 0.0, weight]
     assert np.linalg.norm(net) < 1e-3 * weight, (net / weight)
