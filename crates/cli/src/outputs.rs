@@ -136,6 +136,42 @@ pub fn check(inputs: &[Named<'_>], outputs: &[Named<'_>], force: bool) -> anyhow
     Ok(())
 }
 
+/// Checks a command's `--csv` and `--plot` outputs before any work: the plot's format
+/// (`.svg` or `.png`), then both together against `inputs` and each other ([`check`]).
+pub fn check_csv_and_plot(
+    inputs: &[Named<'_>],
+    csv: Option<&Path>,
+    plot: Option<&Path>,
+    force: bool,
+) -> anyhow::Result<()> {
+    if let Some(p) = plot {
+        crate::plot::check_path("--plot", p)?;
+    }
+    let mut outputs = Vec::new();
+    if let Some(p) = csv {
+        outputs.push(Named::new("--csv", p));
+    }
+    if let Some(p) = plot {
+        outputs.push(Named::new("--plot", p));
+    }
+    check(inputs, &outputs, force)
+}
+
+/// A command's one output, `--plot`, beside the model it read from `origin` (a file or a
+/// built-in name): checked ([`check_csv_and_plot`]) and created before any work; `None`
+/// without a plot.
+pub fn create_plot(
+    origin: &str,
+    plot: Option<&Path>,
+    force: bool,
+) -> anyhow::Result<Option<std::fs::File>> {
+    let Some(p) = plot else {
+        return Ok(None);
+    };
+    check_csv_and_plot(&model_input(origin), None, Some(p), force)?;
+    Ok(Some(crate::output::create_output_file(p, force, "plot")?))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,7 +9,7 @@ mod common;
 use std::hash::{DefaultHasher, Hasher};
 use std::path::Path;
 
-use common::{Run, flapwing_in};
+use common::{Run, argv, flapwing_in};
 
 /// The file's length and a hash of its bytes (`None` when it does not exist).
 fn fingerprint(path: &Path) -> Option<(usize, u64)> {
@@ -27,12 +27,18 @@ fn assert_refused(run: &Run, needles: &[&str]) {
     }
 }
 
+/// Runs the command line `line` (split at white space) in `d`: bad input whose message
+/// names every needle, and the file `kept` in `d` unchanged by hash.
+fn assert_refused_keeping(d: &Path, line: &str, needles: &[&str], kept: &str) {
+    let before = fingerprint(&d.join(kept));
+    let run = flapwing_in(d, &argv(line));
+    assert_refused(&run, needles);
+    assert_eq!(fingerprint(&d.join(kept)), before, "{line}");
+}
+
 /// A short simulate log `run.mcap` in `dir` (20 ms of the fruit fly: 44 samples).
 fn small_log(dir: &Path) {
-    let run = flapwing_in(
-        dir,
-        &["simulate", "--duration-s", "0.02", "--mcap", "run.mcap"],
-    );
+    let run = flapwing_in(dir, &argv("simulate --duration-s 0.02 --mcap run.mcap"));
     assert_eq!(run.code, 0, "{run:?}");
 }
 
@@ -44,49 +50,31 @@ fn replay_never_writes_over_the_log_it_reads() {
     std::fs::create_dir(d.join("sub")).unwrap();
     std::fs::hard_link(d.join("run.mcap"), d.join("linked.mcap")).unwrap();
     let before = fingerprint(&d.join("run.mcap"));
-    let cases: [&[&str]; 5] = [
-        &["replay", "run.mcap", "--rrd", "run.mcap", "--force"],
-        &[
-            "replay",
-            "run.mcap",
-            "--csv",
-            "/vehicle/state",
-            "run.mcap",
-            "--force",
-        ],
-        &["replay", "run.mcap", "--rrd", "sub/../run.mcap", "--force"],
-        &["replay", "run.mcap", "--rrd", "linked.mcap", "--force"],
-        &[
-            "replay",
-            "run.mcap",
-            "--csv",
-            "/vehicle/state",
-            "./run.mcap",
-            "--check",
-        ],
+    let cases = [
+        "replay run.mcap --rrd run.mcap --force",
+        "replay run.mcap --csv /vehicle/state run.mcap --force",
+        "replay run.mcap --rrd sub/../run.mcap --force",
+        "replay run.mcap --rrd linked.mcap --force",
+        "replay run.mcap --csv /vehicle/state ./run.mcap --check",
     ];
-    for args in cases {
-        let flag = if args.contains(&"--rrd") {
+    for line in cases {
+        let flag = if line.contains("--rrd") {
             "--rrd"
         } else {
             "--csv"
         };
-        let run = flapwing_in(d, args);
-        assert_refused(&run, &[flag, "run.mcap", "is the input FILE"]);
-        assert_eq!(fingerprint(&d.join("run.mcap")), before, "{args:?}");
+        assert_refused_keeping(
+            d,
+            line,
+            &[flag, "run.mcap", "is the input FILE"],
+            "run.mcap",
+        );
+        assert_eq!(fingerprint(&d.join("run.mcap")), before, "{line}");
     }
     // --csv and --rrd at one path: refused before either is written.
     let run = flapwing_in(
         d,
-        &[
-            "replay",
-            "run.mcap",
-            "--csv",
-            "/vehicle/state",
-            "out",
-            "--rrd",
-            "out",
-        ],
+        &argv("replay run.mcap --csv /vehicle/state out --rrd out"),
     );
     assert_refused(&run, &["--csv and --rrd", "same file", "out"]);
     assert!(!d.join("out").exists());
@@ -99,56 +87,25 @@ fn replay_never_writes_over_the_log_it_reads() {
 fn simulate_refuses_one_path_for_two_logs_and_the_model_as_a_log() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let run = flapwing_in(
-        d,
-        &[
-            "simulate",
-            "--duration-s",
-            "0.01",
-            "--mcap",
-            "x",
-            "--rrd",
-            "./x",
-        ],
-    );
+    let run = flapwing_in(d, &argv("simulate --duration-s 0.01 --mcap x --rrd ./x"));
     assert_refused(&run, &["--mcap and --rrd", "same file", "x"]);
     assert!(!d.join("x").exists(), "nothing written");
     // With --force over an existing file: refused, and the file is as it was.
     std::fs::write(d.join("x"), b"keep me").unwrap();
-    let before = fingerprint(&d.join("x"));
-    let run = flapwing_in(
+    assert_refused_keeping(
         d,
-        &[
-            "simulate",
-            "--duration-s",
-            "0.01",
-            "--mcap",
-            "x",
-            "--rrd",
-            "x",
-            "--force",
-        ],
+        "simulate --duration-s 0.01 --mcap x --rrd x --force",
+        &["--mcap and --rrd", "x"],
+        "x",
     );
-    assert_refused(&run, &["--mcap and --rrd", "x"]);
-    assert_eq!(fingerprint(&d.join("x")), before);
     // The model file as the log.
     std::fs::write(d.join("m.toml"), flapsim_model()).unwrap();
-    let before = fingerprint(&d.join("m.toml"));
-    let run = flapwing_in(
+    assert_refused_keeping(
         d,
-        &[
-            "simulate",
-            "--model",
-            "m.toml",
-            "--duration-s",
-            "0.01",
-            "--mcap",
-            "m.toml",
-            "--force",
-        ],
+        "simulate --model m.toml --duration-s 0.01 --mcap m.toml --force",
+        &["--mcap", "m.toml", "is the input --model"],
+        "m.toml",
     );
-    assert_refused(&run, &["--mcap", "m.toml", "is the input --model"]);
-    assert_eq!(fingerprint(&d.join("m.toml")), before);
 }
 
 /// The fruit fly's model file as shipped.
@@ -160,31 +117,32 @@ fn flapsim_model() -> &'static str {
 fn plots_are_svg_or_png_and_every_output_is_checked_first() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let speeds = ["--speeds-m-s", "0"];
-    let with = |extra: &[&str]| {
-        let mut a = vec!["envelope", "--model", "bumblebee"];
-        a.extend_from_slice(&speeds);
-        a.extend_from_slice(extra);
-        flapwing_in(d, &a)
-    };
+    let envelope = |extra: &str| format!("envelope --model bumblebee --speeds-m-s 0 {extra}");
     for bad in ["out.bmp", "out.pdf", "out"] {
-        let run = with(&["--plot", bad]);
+        let run = flapwing_in(d, &argv(&envelope(&format!("--plot {bad}"))));
         assert_refused(&run, &["--plot", bad, ".svg", ".png"]);
         assert!(!d.join(bad).exists(), "{bad} written");
     }
     // The same file for --csv and --plot, existing, with --force: refused, unchanged.
     std::fs::write(d.join("p.svg"), b"<svg/>").unwrap();
     let before = fingerprint(&d.join("p.svg"));
-    let run = with(&["--csv", "p.svg", "--plot", "p.svg", "--force"]);
-    assert_refused(&run, &["--csv and --plot", "same file", "p.svg"]);
-    assert_eq!(fingerprint(&d.join("p.svg")), before);
+    assert_refused_keeping(
+        d,
+        &envelope("--csv p.svg --plot p.svg --force"),
+        &["--csv and --plot", "same file", "p.svg"],
+        "p.svg",
+    );
     // An existing --plot without --force: refused before the CSV is created.
-    let run = with(&["--csv", "new.csv", "--plot", "p.svg"]);
-    assert_refused(&run, &["--plot", "p.svg", "--force"]);
+    assert_refused_keeping(
+        d,
+        &envelope("--csv new.csv --plot p.svg"),
+        &["--plot", "p.svg", "--force"],
+        "p.svg",
+    );
     assert!(!d.join("new.csv").exists(), "CSV created before the check");
     assert_eq!(fingerprint(&d.join("p.svg")), before);
     // Upper-case extensions are the same formats; the plot is written.
-    let run = with(&["--plot", "ok.SVG"]);
+    let run = flapwing_in(d, &argv(&envelope("--plot ok.SVG")));
     assert_eq!(run.code, 0, "{run:?}");
     let svg = std::fs::read_to_string(d.join("ok.SVG")).unwrap();
     assert!(svg.starts_with("<svg"), "{}", &svg[..40.min(svg.len())]);
@@ -201,15 +159,12 @@ fn a_model_is_never_written_over_its_input() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     std::fs::write(d.join("m.toml"), flapsim_model()).unwrap();
-    let before = fingerprint(&d.join("m.toml"));
-    let run = flapwing_in(
+    assert_refused_keeping(
         d,
-        &[
-            "trim", "--model", "m.toml", "--write", "./m.toml", "--force",
-        ],
+        "trim --model m.toml --write ./m.toml --force",
+        &["--write", "m.toml", "is the input --model"],
+        "m.toml",
     );
-    assert_refused(&run, &["--write", "m.toml", "is the input --model"]);
-    assert_eq!(fingerprint(&d.join("m.toml")), before);
 }
 
 #[test]
@@ -226,14 +181,7 @@ fn realtime_factors_that_would_run_for_ever_are_refused() {
     // A slow pace within the bound runs (1 ms of flight over 50 ms).
     let run = flapwing_in(
         dir.path(),
-        &[
-            "simulate",
-            "--no-log",
-            "--duration-s",
-            "0.001",
-            "--realtime",
-            "0.02",
-        ],
+        &argv("simulate --no-log --duration-s 0.001 --realtime 0.02"),
     );
     assert_eq!(run.code, 0, "{run:?}");
     assert!(!dir.path().join("logs").exists());
@@ -245,30 +193,13 @@ fn identify_says_what_a_truncated_log_held_and_keeps_it() {
     let d = dir.path();
     let run = flapwing_in(
         d,
-        &[
-            "hover",
-            "--duration-s",
-            "0.15",
-            "--mcap",
-            "h.mcap",
-            "--rrd",
-            "h.rrd",
-        ],
+        &argv("hover --duration-s 0.15 --mcap h.mcap --rrd h.rrd"),
     );
     assert_eq!(run.code, 0, "{run:?}");
     let whole = std::fs::read(d.join("h.mcap")).unwrap();
     std::fs::write(d.join("cut.mcap"), &whole[..whole.len() * 2 / 3]).unwrap();
     let before = fingerprint(&d.join("cut.mcap"));
-    let fit = [
-        "identify",
-        "cut.mcap",
-        "--params",
-        "inertia_yy_kg_m2",
-        "--patience",
-        "1",
-        "--duration-s",
-        "0.05",
-    ];
+    let fit = argv("identify cut.mcap --params inertia_yy_kg_m2 --patience 1 --duration-s 0.05");
     let run = flapwing_in(d, &fit);
     // The short fit stops at its patience (exit 1); the warning comes before it.
     assert!(run.code == 0 || run.code == 1, "{run:?}");
@@ -282,7 +213,7 @@ fn identify_says_what_a_truncated_log_held_and_keeps_it() {
         assert!(run.stderr.contains(n), "`{n}` missing from: {}", run.stderr);
     }
     // The whole log gives no such warning.
-    let mut whole_fit = fit;
+    let mut whole_fit = fit.clone();
     whole_fit[1] = "h.mcap";
     let run = flapwing_in(d, &whole_fit);
     assert!(!run.stderr.contains("incomplete"), "{run:?}");

@@ -16,7 +16,7 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use common::flapwing;
+use common::{argv, flapwing};
 
 const BIN: &str = env!("CARGO_BIN_EXE_flapwing");
 /// Nothing here may take longer (the test fails and kills the binary instead).
@@ -99,8 +99,8 @@ fn ws_url(line: &str) -> String {
         .to_owned()
 }
 
-/// Connects a `foxglove.sdk.v1` client to `url`; the advertised channels (topic -> (id,
-/// schema name)).
+/// Connects a `foxglove.sdk.v1` client to `url` (the server must accept that subprotocol);
+/// the advertised channels (topic -> (id, schema name)).
 fn connect(
     url: &str,
 ) -> (
@@ -117,7 +117,15 @@ fn connect(
         "sec-websocket-protocol",
         tungstenite::http::HeaderValue::from_static("foxglove.sdk.v1"),
     );
-    let (mut ws, _) = tungstenite::client(request, stream).unwrap();
+    let (mut ws, response) = tungstenite::client(request, stream).unwrap();
+    assert_eq!(
+        response
+            .headers()
+            .get("sec-websocket-protocol")
+            .and_then(|v| v.to_str().ok()),
+        Some("foxglove.sdk.v1")
+    );
+    // serverInfo, then the advertisement of the run's channels.
     let channels = loop {
         match ws.read().unwrap() {
             tungstenite::Message::Text(text) => {
@@ -145,29 +153,67 @@ fn connect(
     (ws, channels)
 }
 
+/// A run started by [`spawn_waiting`], waiting for a Foxglove client.
+struct Waiting {
+    guard: Guard,
+    /// Its stderr lines.
+    rx: mpsc::Receiver<String>,
+    /// The stderr lines so far (for messages).
+    seen: Vec<String>,
+    /// Where the live view is served.
+    url: String,
+    _dir: tempfile::TempDir,
+}
+
+/// Starts `flapwing COMMAND --foxglove 127.0.0.1:0 --wait-for-client EXTRA... --no-log`
+/// (`extra` split at white space) and waits for the line saying it waits for a client.
+fn spawn_waiting(command: &str, extra: &str) -> Waiting {
+    let mut args = vec![command, "--foxglove", "127.0.0.1:0", "--wait-for-client"];
+    args.extend(argv(extra));
+    args.push("--no-log");
+    let (guard, rx, dir) = spawn(&args);
+    let mut seen = Vec::new();
+    let url = ws_url(&line_with(&rx, "waiting for a Foxglove client", &mut seen));
+    Waiting {
+        guard,
+        rx,
+        seen,
+        url,
+        _dir: dir,
+    }
+}
+
+/// Sends a `subscribe` operation with `subscriptions` (a JSON array of `{id, channelId}`).
+fn subscribe(ws: &mut tungstenite::WebSocket<TcpStream>, subscriptions: serde_json::Value) {
+    ws.send(tungstenite::Message::Text(
+        serde_json::json!({"op": "subscribe", "subscriptions": subscriptions})
+            .to_string()
+            .into(),
+    ))
+    .unwrap();
+}
+
+/// The subscription id and the log time (ns) of a binary message-data frame.
+fn message_data(b: &[u8]) -> (u32, u64) {
+    assert!(b.len() >= 13 && b[0] == 1, "not message data: {b:?}");
+    (
+        u32::from_le_bytes(b[1..5].try_into().unwrap()),
+        u64::from_le_bytes(b[5..13].try_into().unwrap()),
+    )
+}
+
 #[test]
 fn the_live_view_serves_the_estimate_the_wind_and_the_sensors() {
     let (duration_s, gust_start_s, gust_end_s) = (0.06, 0.02, 0.04);
-    let (mut guard, rx, _dir) = spawn(&[
+    // Paced (0.6 s of wall time): unpaced, the run outruns the socket and the server drops
+    // what its client's queue cannot hold.
+    let mut run = spawn_waiting(
         "hover",
-        "--foxglove",
-        "127.0.0.1:0",
-        "--wait-for-client",
-        "--feedback",
-        "estimated",
-        "--disturbance",
-        "gust_x_m_s=0.2,gust_start_s=0.02,gust_duration_s=0.02",
-        "--duration-s",
-        "0.06",
-        // Paced (0.6 s of wall time): unpaced, the run outruns the socket and the server
-        // drops what its client's queue cannot hold.
-        "--realtime",
-        "0.1",
-        "--no-log",
-    ]);
-    let mut seen = Vec::new();
-    let url = ws_url(&line_with(&rx, "waiting for a Foxglove client", &mut seen));
-    let (mut ws, channels) = connect(&url);
+        "--feedback estimated \
+         --disturbance gust_x_m_s=0.2,gust_start_s=0.02,gust_duration_s=0.02 \
+         --duration-s 0.06 --realtime 0.1",
+    );
+    let (mut ws, channels) = connect(&run.url);
     let topics = [
         ("/estimate", "flapwing.Estimate"),
         ("/wind", "flapwing.Wind"),
@@ -182,12 +228,7 @@ fn the_live_view_serves_the_estimate_the_wind_and_the_sensors() {
         assert_eq!(name, schema, "{topic}");
         subscriptions.push(serde_json::json!({"id": k, "channelId": id}));
     }
-    ws.send(tungstenite::Message::Text(
-        serde_json::json!({"op": "subscribe", "subscriptions": subscriptions})
-            .to_string()
-            .into(),
-    ))
-    .unwrap();
+    subscribe(&mut ws, subscriptions.into());
     // Each subscription's messages: (log time, payload length).
     let mut got: Vec<Vec<(f64, usize)>> = vec![Vec::new(); topics.len()];
     let start = Instant::now();
@@ -195,16 +236,14 @@ fn the_live_view_serves_the_estimate_the_wind_and_the_sensors() {
         assert!(start.elapsed() < LIMIT, "the run did not end");
         match ws.read() {
             Ok(tungstenite::Message::Binary(b)) => {
-                assert!(b.len() >= 13 && b[0] == 1, "not message data: {b:?}");
-                let k = u32::from_le_bytes(b[1..5].try_into().unwrap()) as usize;
-                let t_s = u64::from_le_bytes(b[5..13].try_into().unwrap()) as f64 * 1e-9;
-                got[k].push((t_s, b.len() - 13));
+                let (k, t_ns) = message_data(&b);
+                got[k as usize].push((t_ns as f64 * 1e-9, b.len() - 13));
             }
             Ok(tungstenite::Message::Close(_)) | Err(_) => break,
             Ok(_) => {}
         }
     }
-    assert_eq!(wait_exit(&mut guard), 0, "{seen:#?}");
+    assert_eq!(wait_exit(&mut run.guard), 0, "{:#?}", run.seen);
     for ((topic, _), msgs) in topics.iter().zip(&got) {
         assert!(!msgs.is_empty(), "nothing on {topic}");
         assert!(
@@ -244,56 +283,30 @@ fn the_live_view_serves_the_estimate_the_wind_and_the_sensors() {
 
 #[test]
 fn a_run_without_an_estimator_advertises_no_estimate() {
-    let (mut guard, rx, _dir) = spawn(&[
-        "hover",
-        "--foxglove",
-        "127.0.0.1:0",
-        "--wait-for-client",
-        "--duration-s",
-        "0.01",
-        "--no-log",
-    ]);
-    let mut seen = Vec::new();
-    let url = ws_url(&line_with(&rx, "waiting for a Foxglove client", &mut seen));
-    let (mut ws, channels) = connect(&url);
+    let mut run = spawn_waiting("hover", "--duration-s 0.01");
+    let (mut ws, channels) = connect(&run.url);
     assert!(!channels.contains_key("/estimate"), "{channels:?}");
     assert!(!channels.contains_key("/wind"), "{channels:?}");
     // Subscribing releases the run.
     let (id, _) = channels
         .get("/vehicle/pose")
         .expect("/vehicle/pose advertised");
-    ws.send(tungstenite::Message::Text(
-        serde_json::json!({"op": "subscribe", "subscriptions": [{"id": 1, "channelId": id}]})
-            .to_string()
-            .into(),
-    ))
-    .unwrap();
+    subscribe(&mut ws, serde_json::json!([{"id": 1, "channelId": id}]));
     while let Ok(m) = ws.read() {
         if matches!(m, tungstenite::Message::Close(_)) {
             break;
         }
     }
-    assert_eq!(wait_exit(&mut guard), 0, "{seen:#?}");
+    assert_eq!(wait_exit(&mut run.guard), 0, "{:#?}", run.seen);
 }
 
 #[test]
 fn the_live_view_serves_every_wing_of_the_dragonfly() {
-    let (mut guard, rx, _dir) = spawn(&[
+    let mut run = spawn_waiting(
         "simulate",
-        "--model",
-        "dragonfly",
-        "--foxglove",
-        "127.0.0.1:0",
-        "--wait-for-client",
-        "--duration-s",
-        "0.01",
-        "--realtime",
-        "0.1",
-        "--no-log",
-    ]);
-    let mut seen = Vec::new();
-    let url = ws_url(&line_with(&rx, "waiting for a Foxglove client", &mut seen));
-    let (mut ws, channels) = connect(&url);
+        "--model dragonfly --duration-s 0.01 --realtime 0.1",
+    );
+    let (mut ws, channels) = connect(&run.url);
     assert_eq!(channels.len(), 19, "7 + 3 per wing: {channels:?}");
     let watched = ["/tf/wing_pairs0_left", "/wing/pairs0_right/forces"];
     let mut subscriptions = Vec::new();
@@ -303,23 +316,18 @@ fn the_live_view_serves_every_wing_of_the_dragonfly() {
             .unwrap_or_else(|| panic!("{topic} not advertised: {channels:?}"));
         subscriptions.push(serde_json::json!({"id": k, "channelId": id}));
     }
-    ws.send(tungstenite::Message::Text(
-        serde_json::json!({"op": "subscribe", "subscriptions": subscriptions})
-            .to_string()
-            .into(),
-    ))
-    .unwrap();
+    subscribe(&mut ws, subscriptions.into());
     let mut got = [0usize; 2];
     while let Ok(m) = ws.read() {
         match m {
             tungstenite::Message::Binary(b) if b.len() >= 13 && b[0] == 1 => {
-                got[u32::from_le_bytes(b[1..5].try_into().unwrap()) as usize] += 1;
+                got[message_data(&b).0 as usize] += 1;
             }
             tungstenite::Message::Close(_) => break,
             _ => {}
         }
     }
-    assert_eq!(wait_exit(&mut guard), 0, "{seen:#?}");
+    assert_eq!(wait_exit(&mut run.guard), 0, "{:#?}", run.seen);
     assert!(got.iter().all(|&n| n > 0), "messages per channel: {got:?}");
 }
 
@@ -328,19 +336,8 @@ fn paced_hover_is_watched_from_its_first_message() {
     // 0.3 simulated seconds at 0.1 simulated seconds per wall second: 3 s of wall time.
     let (duration_s, factor) = (0.3, 0.1);
     let expected_wall_s = duration_s / factor;
-    let (mut guard, rx, _dir) = spawn(&[
-        "hover",
-        "--foxglove",
-        "127.0.0.1:0",
-        "--wait-for-client",
-        "--realtime",
-        "0.1",
-        "--duration-s",
-        "0.3",
-        "--no-log",
-    ]);
-    let mut seen = Vec::new();
-    let url = ws_url(&line_with(&rx, "waiting for a Foxglove client", &mut seen));
+    let mut run = spawn_waiting("hover", "--realtime 0.1 --duration-s 0.3");
+    let url = &run.url;
     assert!(url.starts_with("ws://127.0.0.1:"), "{url}");
     assert!(
         !url.ends_with(":0"),
@@ -350,56 +347,21 @@ fn paced_hover_is_watched_from_its_first_message() {
     // It waits: a second later nothing has run.
     std::thread::sleep(Duration::from_secs(1));
     assert!(
-        guard.0.try_wait().unwrap().is_none(),
+        run.guard.0.try_wait().unwrap().is_none(),
         "the run did not wait for a client"
     );
 
-    let addr: SocketAddr = url.trim_start_matches("ws://").parse().unwrap();
-    let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(10)).unwrap();
-    stream
-        .set_read_timeout(Some(Duration::from_secs(10)))
-        .unwrap();
-    let mut request =
-        tungstenite::client::IntoClientRequest::into_client_request(url.as_str()).unwrap();
-    request.headers_mut().insert(
-        "sec-websocket-protocol",
-        tungstenite::http::HeaderValue::from_static("foxglove.sdk.v1"),
-    );
-    let (mut ws, response) = tungstenite::client(request, stream).unwrap();
-    assert_eq!(
-        response
-            .headers()
-            .get("sec-websocket-protocol")
-            .and_then(|v| v.to_str().ok()),
-        Some("foxglove.sdk.v1")
-    );
-
-    // serverInfo, then the advertisement of the run's channels.
+    let (mut ws, channels) = connect(url);
     let topic = "/vehicle/pose";
-    let channel_id = loop {
-        match ws.read().unwrap() {
-            tungstenite::Message::Text(text) => {
-                let v: serde_json::Value = serde_json::from_str(text.as_str()).unwrap();
-                if v["op"] == "advertise" {
-                    let channels = v["channels"].as_array().unwrap();
-                    let c = channels
-                        .iter()
-                        .find(|c| c["topic"] == topic)
-                        .unwrap_or_else(|| panic!("{topic} not advertised: {v}"));
-                    break c["id"].as_u64().unwrap();
-                }
-            }
-            other => panic!("before the advertisement: {other:?}"),
-        }
-    };
+    let (channel_id, _) = channels
+        .get(topic)
+        .unwrap_or_else(|| panic!("{topic} not advertised: {channels:?}"));
     let subscribed_at = Instant::now();
-    ws.send(tungstenite::Message::Text(
-        serde_json::json!({"op": "subscribe", "subscriptions": [{"id": 7, "channelId": channel_id}]})
-            .to_string()
-            .into(),
-    ))
-    .unwrap();
-    line_with(&rx, "a Foxglove client subscribed", &mut seen);
+    subscribe(
+        &mut ws,
+        serde_json::json!([{"id": 7, "channelId": channel_id}]),
+    );
+    line_with(&run.rx, "a Foxglove client subscribed", &mut run.seen);
 
     // Every message on the channel: its wall time since the subscription and its log time.
     let mut arrivals: Vec<(f64, u64)> = Vec::new();
@@ -407,9 +369,8 @@ fn paced_hover_is_watched_from_its_first_message() {
         assert!(subscribed_at.elapsed() < LIMIT, "the run did not end");
         match ws.read() {
             Ok(tungstenite::Message::Binary(b)) => {
-                assert!(b.len() >= 13 && b[0] == 1, "not message data: {b:?}");
-                assert_eq!(u32::from_le_bytes(b[1..5].try_into().unwrap()), 7);
-                let log_time_ns = u64::from_le_bytes(b[5..13].try_into().unwrap());
+                let (id, log_time_ns) = message_data(&b);
+                assert_eq!(id, 7);
                 arrivals.push((subscribed_at.elapsed().as_secs_f64(), log_time_ns));
             }
             Ok(tungstenite::Message::Close(_)) => break,
@@ -418,9 +379,9 @@ fn paced_hover_is_watched_from_its_first_message() {
             Err(_) => break,
         }
     }
-    let code = wait_exit(&mut guard);
+    let code = wait_exit(&mut run.guard);
     let run_wall_s = subscribed_at.elapsed().as_secs_f64();
-    assert_eq!(code, 0, "{seen:#?}");
+    assert_eq!(code, 0, "{:#?}", run.seen);
 
     // 2000 samples per simulated second on /vehicle/pose, the first one at the start.
     let n = arrivals.len();
@@ -479,26 +440,18 @@ fn paces_without_a_live_view() {
 
 #[test]
 fn ctrl_c_stops_the_wait() {
-    let (mut guard, rx, _dir) = spawn(&[
-        "hover",
-        "--foxglove",
-        "127.0.0.1:0",
-        "--wait-for-client",
-        "--no-log",
-    ]);
-    let mut seen = Vec::new();
-    line_with(&rx, "waiting for a Foxglove client", &mut seen);
+    let mut run = spawn_waiting("hover", "");
     let status = Command::new("kill")
-        .args(["-INT", &guard.0.id().to_string()])
+        .args(["-INT", &run.guard.0.id().to_string()])
         .status()
         .unwrap();
     assert!(status.success());
-    let code = wait_exit(&mut guard);
-    while let Ok(line) = rx.recv_timeout(Duration::from_secs(10)) {
-        seen.push(line);
+    let code = wait_exit(&mut run.guard);
+    while let Ok(line) = run.rx.recv_timeout(Duration::from_secs(10)) {
+        run.seen.push(line);
     }
-    assert_eq!(code, 1, "{seen:#?}");
-    let text = seen.join("\n");
+    assert_eq!(code, 1, "{:#?}", run.seen);
+    let text = run.seen.join("\n");
     assert!(
         text.contains("interrupted by Ctrl-C") && !text.contains("panicked"),
         "{text}"

@@ -2,22 +2,13 @@
 //! bound relative to the wingbeat, body states and winds whose loads overflow, and the drag
 //! 0.5 rho |V| V C_D S (flapsim::flight's formula) checked against its closed form.
 
+mod common;
+
 use nalgebra::Vector3;
-use wingforce::{Mount, Side, Wing, WingModelSpec};
+use wingforce::Side;
 use wingset::{Error, MIN_STEPS_PER_WINGBEAT, State, WingSet, max_dt_s};
 
-fn wing(side: Side) -> Wing {
-    let text = include_str!("../../../models/robofly.toml");
-    let w = WingModelSpec::from_toml(text, "robofly.toml")
-        .unwrap()
-        .build("robofly.toml")
-        .unwrap();
-    Wing::builder(w.geometry().clone(), w.kinematics().clone())
-        .mount(Mount::fixed(side))
-        .fluid(*w.fluid())
-        .options(w.options().clone())
-        .build()
-}
+use common::wing;
 
 fn pair(dt_s: f64) -> wingset::Result<WingSet> {
     WingSet::builder(dt_s)

@@ -1,22 +1,13 @@
 //! The wing set on its own, without flapsim: a pair of robofly wings built one by one, and
 //! controls mapped onto them by a control map of the test's own.
 
+mod common;
+
 use nalgebra::Vector3;
-use wingforce::{Mount, Side, Wing, WingModelSpec};
+use wingforce::{Side, Wing};
 use wingset::{ControlMap, Controls, Error, State, WingSet};
 
-fn wing(side: Side) -> Wing {
-    let text = include_str!("../../../models/robofly.toml");
-    let w = WingModelSpec::from_toml(text, "robofly.toml")
-        .unwrap()
-        .build("robofly.toml")
-        .unwrap();
-    Wing::builder(w.geometry().clone(), w.kinematics().clone())
-        .mount(Mount::fixed(side))
-        .fluid(*w.fluid())
-        .options(w.options().clone())
-        .build()
-}
+use common::wing;
 
 /// Maps `amplitude_rad` onto both wings' amplitude; refuses a frequency offset.
 #[derive(Debug, Clone)]

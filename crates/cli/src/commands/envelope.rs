@@ -67,19 +67,10 @@ pub fn run(args: EnvelopeArgs) -> Result<()> {
         .input_context("envelope grid")?;
     // Fail before the work if an output cannot be written: the plot's format, then both
     // outputs together (distinct, not the model file, existing ones only with --force).
-    if let Some(p) = &args.plot {
-        crate::plot::check_path("--plot", p)?;
-    }
-    let mut outputs = Vec::new();
-    if let Some(p) = &args.csv {
-        outputs.push(crate::outputs::Named::new("--csv", p));
-    }
-    if let Some(p) = &args.plot {
-        outputs.push(crate::outputs::Named::new("--plot", p));
-    }
-    crate::outputs::check(
+    crate::outputs::check_csv_and_plot(
         &crate::outputs::model_input(&src.origin),
-        &outputs,
+        args.csv.as_deref(),
+        args.plot.as_deref(),
         args.force,
     )?;
     let csv_file = match &args.csv {

@@ -132,22 +132,17 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
 
     // Fail before any work if an output cannot be written: both outputs checked together
     // (distinct, not the model file, existing ones only with --force).
-    if let Some(p) = &args.plot {
-        crate::plot::check_path("--plot", p)?;
-    }
-    let mut outputs = Vec::new();
-    if let Some(p) = &args.csv {
-        outputs.push(crate::outputs::Named::new("--csv", p));
-    }
-    if let Some(p) = &args.plot {
-        outputs.push(crate::outputs::Named::new("--plot", p));
-    }
     let model: Vec<crate::outputs::Named<'_>> = args
         .model
         .iter()
         .map(|m| crate::outputs::Named::new("--model", m))
         .collect();
-    crate::outputs::check(&model, &outputs, args.force)?;
+    crate::outputs::check_csv_and_plot(
+        &model,
+        args.csv.as_deref(),
+        args.plot.as_deref(),
+        args.force,
+    )?;
     if let Some(p) = &args.plot {
         drop(crate::output::create_output_file(p, args.force, "plot")?);
     }

@@ -102,18 +102,7 @@ pub fn run(args: FrequencyResponseArgs) -> Result<()> {
             )));
         }
     }
-    let plot_file = match &args.plot {
-        Some(p) => {
-            crate::plot::check_path("--plot", p)?;
-            crate::outputs::check(
-                &crate::outputs::model_input(&src.origin),
-                &[crate::outputs::Named::new("--plot", p)],
-                args.force,
-            )?;
-            Some(crate::output::create_output_file(p, args.force, "plot")?)
-        }
-        None => None,
-    };
+    let plot_file = crate::outputs::create_plot(&src.origin, args.plot.as_deref(), args.force)?;
     let freqs: Vec<f64> = (0..args.points)
         .map(|i| {
             if args.points == 1 {

@@ -53,16 +53,12 @@ pub fn run(args: StabilityArgs) -> Result<()> {
         vehicle.sim.steps_per_wingbeat = n;
     }
     let condition = args.condition.check(&vehicle)?;
-    if let Some(p) = &args.plot {
-        // Fail before the analysis if the plot cannot be written.
-        crate::plot::check_path("--plot", p)?;
-        crate::outputs::check(
-            &crate::outputs::model_input(&src.origin),
-            &[crate::outputs::Named::new("--plot", p)],
-            args.force,
-        )?;
-        drop(crate::output::create_output_file(p, args.force, "plot")?);
-    }
+    // Fail before the analysis if the plot cannot be written.
+    drop(crate::outputs::create_plot(
+        &src.origin,
+        args.plot.as_deref(),
+        args.force,
+    )?);
     let report = flapsim::stability::analyze_at(&vehicle, &condition, !args.no_floquet)
         .map_err(sim_error)?;
     if let Some(p) = &args.plot {
