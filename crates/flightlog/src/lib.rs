@@ -73,6 +73,7 @@ mod sample;
 mod scene;
 pub mod schema;
 mod sensor_msg;
+mod tabulate;
 mod writer;
 
 pub use error::{Error, Result};

@@ -140,16 +140,8 @@ impl Scan {
                     .insert(header.id, (header.name, header.encoding, data.into_owned()));
             }
             Record::Channel(c) => {
-                let (schema_name, schema_encoding, schema_data) = if c.schema_id == 0 {
-                    (String::new(), String::new(), Vec::new())
-                } else {
-                    self.schemas.get(&c.schema_id).cloned().ok_or_else(|| {
-                        format!(
-                            "channel `{}` at byte {at} uses unknown schema {}",
-                            c.topic, c.schema_id
-                        )
-                    })?
-                };
+                let (schema_name, schema_encoding, schema_data) =
+                    channel_schema(&self.schemas, &c, at)?;
                 self.decoders.insert(
                     c.id,
                     Decoder::new(
@@ -187,6 +179,234 @@ impl Scan {
             _ => {}
         }
         Ok(())
+    }
+}
+
+/// The schema (name, encoding, data) of channel `c`, read at byte `at`, from the schemas
+/// read so far by id: empty for schema id 0, an error for an unknown one.
+pub(crate) fn channel_schema(
+    schemas: &HashMap<u16, (String, String, Vec<u8>)>,
+    c: &mcap::records::Channel,
+    at: u64,
+) -> std::result::Result<(String, String, Vec<u8>), String> {
+    if c.schema_id == 0 {
+        return Ok((String::new(), String::new(), Vec::new()));
+    }
+    schemas.get(&c.schema_id).cloned().ok_or_else(|| {
+        format!(
+            "channel `{}` at byte {at} uses unknown schema {}",
+            c.topic, c.schema_id
+        )
+    })
+}
+
+impl ScanState for Scan {
+    fn apply(&mut self, rec: Record<'_>, at: u64) -> std::result::Result<(), String> {
+        Scan::apply(self, rec, at)
+    }
+
+    fn clone_meta(&self) -> Self {
+        Scan {
+            schemas: self.schemas.clone(),
+            decoders: self.decoders.clone(),
+            channels: self.channels.clone(),
+            messages: Vec::new(),
+        }
+    }
+
+    fn keep(&mut self, mut trial: Self) {
+        self.schemas = trial.schemas;
+        self.decoders = trial.decoders;
+        self.channels = trial.channels;
+        self.messages.append(&mut trial.messages);
+    }
+}
+
+/// What a scan of an MCAP file's records builds: the schemas, channels and messages of
+/// [`walk_records`].
+pub(crate) trait ScanState: Sized {
+    /// Applies a schema, channel or message record found at byte `at`; an error says what
+    /// is inconsistent.
+    fn apply(&mut self, rec: Record<'_>, at: u64) -> std::result::Result<(), String>;
+    /// The schemas and channels without the messages: what a chunk is applied to, so that it
+    /// is kept whole or not at all.
+    fn clone_meta(&self) -> Self;
+    /// Keeps a [`ScanState::clone_meta`] copy a whole chunk was applied to.
+    fn keep(&mut self, trial: Self);
+}
+
+/// How far [`walk_records`] got.
+pub(crate) struct Walk {
+    /// The writer named in the MCAP header.
+    pub library: String,
+    /// Chunks kept.
+    pub chunks: u64,
+    /// The byte after the data-end record, or where the walk stopped.
+    pub pos: usize,
+    /// True if the data-end record was read.
+    pub data_end: bool,
+    /// Where and what is wrong, if the walk stopped before the data-end record.
+    pub problem: Option<(u64, String)>,
+}
+
+/// Walks the records of an MCAP file (`bytes`, starting with the magic) up to the data-end
+/// record or the first incomplete or damaged record: schema, channel and message records
+/// (also inside chunks, each chunk whole or not at all) go to `scan`, any other record but
+/// the header, chunks, data end and footer to `other`. With `header_first` the first record
+/// must be the MCAP header, and only that one names the library.
+pub(crate) fn walk_records<S: ScanState>(
+    bytes: &[u8],
+    scan: &mut S,
+    header_first: bool,
+    mut other: impl FnMut(Record<'_>),
+) -> Walk {
+    let mut library = String::new();
+    let mut chunks = 0u64;
+    let mut pos = mcap::MAGIC.len();
+    let mut data_end = false;
+    // (byte offset, what is wrong)
+    let mut problem: Option<(u64, String)> = None;
+    let mut first = true;
+    while problem.is_none() {
+        let at = pos as u64;
+        let rest = &bytes[pos..];
+        if rest.is_empty() {
+            problem = Some((at, "the file ends before the data-end record".into()));
+            break;
+        }
+        if rest.len() < 9 {
+            problem = Some((at, "the file ends inside a record header".into()));
+            break;
+        }
+        let op = rest[0];
+        let rec_len = u64_le(&rest[1..9]);
+        if rec_len > (rest.len() - 9) as u64 {
+            problem = Some((
+                at,
+                format!(
+                    "the record there (opcode 0x{op:02x}) needs {} bytes but only {} remain",
+                    rec_len.saturating_add(9),
+                    rest.len()
+                ),
+            ));
+            break;
+        }
+        let body = &rest[9..9 + rec_len as usize];
+        let next = pos + 9 + rec_len as usize;
+        let rec = match mcap::parse_record(op, body) {
+            Ok(r) => r,
+            Err(e) => {
+                problem = Some((at, format!("the record there is corrupt: {e}")));
+                break;
+            }
+        };
+        if first {
+            first = false;
+            match &rec {
+                Record::Header(h) => library = h.library.clone(),
+                _ if header_first => {
+                    problem = Some((at, "the first record is not an MCAP header".into()));
+                    break;
+                }
+                _ => {}
+            }
+        }
+        match rec {
+            Record::Header(h) if !header_first => library = h.library,
+            Record::Chunk { header, .. } => {
+                if header.uncompressed_size > MAX_CHUNK_BYTES {
+                    problem = Some((
+                        at,
+                        format!(
+                            "the chunk there claims {} bytes uncompressed (limit {MAX_CHUNK_BYTES})",
+                            header.uncompressed_size
+                        ),
+                    ));
+                    break;
+                }
+                let records = match read_chunk(&bytes[pos..next]) {
+                    Ok(r) => r,
+                    Err(e) => {
+                        problem = Some((at, format!("the chunk there is damaged: {e}")));
+                        break;
+                    }
+                };
+                // All or nothing: apply to a copy, keep it only if every record is valid.
+                let mut trial = scan.clone_meta();
+                for r in records {
+                    if let Err(e) = trial.apply(r, at) {
+                        problem = Some((at, format!("the chunk there is inconsistent: {e}")));
+                        break;
+                    }
+                }
+                if problem.is_some() {
+                    break;
+                }
+                scan.keep(trial);
+                chunks += 1;
+            }
+            Record::DataEnd(_) => {
+                data_end = true;
+                pos = next;
+                break;
+            }
+            Record::Footer(_) => {
+                problem = Some((at, "a footer before the data-end record".into()));
+                break;
+            }
+            r @ (Record::Schema { .. } | Record::Channel(_) | Record::Message { .. }) => {
+                if let Err(e) = scan.apply(r, at) {
+                    problem = Some((at, e));
+                    break;
+                }
+            }
+            r => other(r),
+        }
+        pos = next;
+    }
+    Walk {
+        library,
+        chunks,
+        pos,
+        data_end,
+        problem,
+    }
+}
+
+impl Walk {
+    /// Whether the file is complete, and what was lost if not: `truncated(at, why)` for a
+    /// walk stopped at byte `at`; else, after the data end, what is wrong with the summary
+    /// section or the closing magic (`recovered` messages having been read).
+    pub(crate) fn damage(
+        self,
+        bytes: &[u8],
+        recovered: usize,
+        truncated: impl FnOnce(u64, String) -> String,
+    ) -> (bool, Option<String>) {
+        let (pos, len) = (self.pos, bytes.len());
+        if let Some((at, why)) = self.problem {
+            (false, Some(truncated(at, why)))
+        } else if self.data_end {
+            match mcap::Summary::read(bytes) {
+                Ok(_) if bytes.ends_with(mcap::MAGIC) => (true, None),
+                Ok(_) => (
+                    false,
+                    Some(format!(
+                        "the data section is whole but the file does not end with the MCAP \
+                         magic (byte {pos} of {len}); all {recovered} messages recovered"
+                    )),
+                ),
+                Err(e) => (
+                    false,
+                    Some(format!(
+                        "the data section is whole but the summary section after byte {pos} \
+                         is damaged ({e}); all {recovered} messages recovered"
+                    )),
+                ),
+            }
+        } else {
+            (false, None)
+        }
     }
 }
 
@@ -263,151 +483,24 @@ fn parse_log(path: &Path, bytes: &[u8]) -> Result<LogFile> {
     let mut scan = Scan::default();
     let mut metadata = Vec::new();
     let mut attachments = Vec::new();
-    let mut library = String::new();
-    let mut chunks = 0u64;
-    let mut pos = mcap::MAGIC.len();
-    let mut data_end = false;
-    // (byte offset, what is wrong)
-    let mut problem: Option<(u64, String)> = None;
-    let mut first = true;
-    while problem.is_none() {
-        let at = pos as u64;
-        let rest = &bytes[pos..];
-        if rest.is_empty() {
-            problem = Some((at, "the file ends before the data-end record".into()));
-            break;
-        }
-        if rest.len() < 9 {
-            problem = Some((at, "the file ends inside a record header".into()));
-            break;
-        }
-        let op = rest[0];
-        let rec_len = u64_le(&rest[1..9]);
-        if rec_len > (rest.len() - 9) as u64 {
-            problem = Some((
-                at,
-                format!(
-                    "the record there (opcode 0x{op:02x}) needs {} bytes but only {} remain",
-                    rec_len.saturating_add(9),
-                    rest.len()
-                ),
-            ));
-            break;
-        }
-        let body = &rest[9..9 + rec_len as usize];
-        let next = pos + 9 + rec_len as usize;
-        let rec = match mcap::parse_record(op, body) {
-            Ok(r) => r,
-            Err(e) => {
-                problem = Some((at, format!("the record there is corrupt: {e}")));
-                break;
-            }
-        };
-        if first {
-            first = false;
-            match &rec {
-                Record::Header(h) => library = h.library.clone(),
-                _ => {
-                    problem = Some((at, "the first record is not an MCAP header".into()));
-                    break;
-                }
-            }
-        }
-        match rec {
-            Record::Chunk { header, .. } => {
-                if header.uncompressed_size > MAX_CHUNK_BYTES {
-                    problem = Some((
-                        at,
-                        format!(
-                            "the chunk there claims {} bytes uncompressed (limit {MAX_CHUNK_BYTES})",
-                            header.uncompressed_size
-                        ),
-                    ));
-                    break;
-                }
-                let whole = &bytes[pos..next];
-                let records = match read_chunk(whole) {
-                    Ok(r) => r,
-                    Err(e) => {
-                        problem = Some((at, format!("the chunk there is damaged: {e}")));
-                        break;
-                    }
-                };
-                if problem.is_some() {
-                    break;
-                }
-                // All or nothing: apply to a copy, keep it only if every record is valid.
-                let mut trial = Scan {
-                    schemas: scan.schemas.clone(),
-                    decoders: scan.decoders.clone(),
-                    channels: scan.channels.clone(),
-                    messages: Vec::new(),
-                };
-                for r in records {
-                    if let Err(e) = trial.apply(r, at) {
-                        problem = Some((at, format!("the chunk there is inconsistent: {e}")));
-                        break;
-                    }
-                }
-                if problem.is_some() {
-                    break;
-                }
-                scan.schemas = trial.schemas;
-                scan.decoders = trial.decoders;
-                scan.channels = trial.channels;
-                scan.messages.append(&mut trial.messages);
-                chunks += 1;
-            }
-            Record::Metadata(m) => metadata.push(m),
-            Record::Attachment { header, data, .. } => attachments.push(AttachmentSummary {
-                name: header.name,
-                media_type: header.media_type,
-                bytes: data.len() as u64,
-            }),
-            Record::DataEnd(_) => {
-                data_end = true;
-                pos = next;
-                break;
-            }
-            Record::Footer(_) => {
-                problem = Some((at, "a footer before the data-end record".into()));
-                break;
-            }
-            r @ (Record::Schema { .. } | Record::Channel(_) | Record::Message { .. }) => {
-                if let Err(e) = scan.apply(r, at) {
-                    problem = Some((at, e));
-                    break;
-                }
-            }
-            _ => {}
-        }
-        pos = next;
-    }
+    let walk = walk_records(bytes, &mut scan, true, |rec| match rec {
+        Record::Metadata(m) => metadata.push(m),
+        Record::Attachment { header, data, .. } => attachments.push(AttachmentSummary {
+            name: header.name,
+            media_type: header.media_type,
+            bytes: data.len() as u64,
+        }),
+        _ => {}
+    });
     let recovered = scan.messages.len();
-    let mut complete = false;
-    let damage = if let Some((at, why)) = problem {
-        Some(format!(
+    let chunks = walk.chunks;
+    let library = walk.library.clone();
+    let (complete, damage) = walk.damage(bytes, recovered, |at, why| {
+        format!(
             "file truncated or damaged at byte {at} of {len}: {why}; summary section missing; \
              recovered {recovered} messages from {chunks} complete chunks"
-        ))
-    } else if data_end {
-        match mcap::Summary::read(bytes) {
-            Ok(_) if bytes.ends_with(mcap::MAGIC) => {
-                complete = true;
-                None
-            }
-            Ok(_) => Some(format!(
-                "the data section is whole but the file does not end with the MCAP magic \
-                 (byte {pos} of {len}); all {recovered} messages recovered"
-            )),
-            Err(e) => Some(format!(
-                "the data section is whole but the summary section after byte {pos} is damaged \
-                 ({e}); all {recovered} messages recovered"
-            )),
-        }
-    } else {
-        None
-    };
+        )
+    });
     if !metadata.iter().any(|m| m.name == schema::METADATA_RUN) {
         let who = if library.is_empty() {
             String::new()

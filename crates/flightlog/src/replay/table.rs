@@ -1,14 +1,13 @@
 //! A channel's messages as a table: read into memory ([`read_table`]) or written to a CSV
 //! file ([`export_csv`]), one row per message and one column per JSON field.
 
-use std::collections::HashMap;
-use std::io::Write;
 use std::path::Path;
 
 use serde::Serialize;
 
 use crate::error::{Error, Result};
 use crate::read::read_log;
+use crate::tabulate::{TableBuilder, write_csv};
 
 /// What [`export_csv`] wrote.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -19,14 +18,6 @@ pub struct CsvStats {
     pub columns: u64,
     /// Messages that were not valid JSON and were left out.
     pub skipped: u64,
-}
-
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_owned()
-    }
 }
 
 /// The messages of one topic as a table (what [`export_csv`] writes and the Python
@@ -61,9 +52,7 @@ pub fn read_table(path: impl AsRef<Path>, topic: &str) -> Result<Table> {
             path.display()
         )));
     }
-    let mut columns: Vec<String> = vec!["log_time_ns".into()];
-    let mut index: HashMap<String, usize> = HashMap::new();
-    let mut sparse: Vec<Vec<(usize, String)>> = Vec::new();
+    let mut table = TableBuilder::new();
     let mut skipped = 0u64;
     for m in log.on(topic) {
         let Some(v) = log.parse(m) else {
@@ -72,27 +61,13 @@ pub fn read_table(path: impl AsRef<Path>, topic: &str) -> Result<Table> {
         };
         let mut flat = Vec::new();
         v.flatten("", &mut flat);
-        let mut row = vec![(0, m.log_time.to_string())];
-        for (k, val) in flat {
+        let fields = flat.into_iter().map(|(k, val)| {
             let k = if k.is_empty() { "value".to_owned() } else { k };
-            let i = *index.entry(k.clone()).or_insert_with(|| {
-                columns.push(k);
-                columns.len() - 1
-            });
-            row.push((i, val));
-        }
-        sparse.push(row);
+            (k, val)
+        });
+        table.push_row(m.log_time, fields);
     }
-    let rows = sparse
-        .into_iter()
-        .map(|r| {
-            let mut cells = vec![None; columns.len()];
-            for (i, v) in r {
-                cells[i] = Some(v);
-            }
-            cells
-        })
-        .collect();
+    let (columns, rows) = table.finish();
     Ok(Table {
         columns,
         rows,
@@ -106,19 +81,7 @@ pub fn read_table(path: impl AsRef<Path>, topic: &str) -> Result<Table> {
 pub fn export_csv(path: impl AsRef<Path>, topic: &str, out: impl AsRef<Path>) -> Result<CsvStats> {
     let out = out.as_ref();
     let table = read_table(path, topic)?;
-    let file = std::fs::File::create(out).map_err(|e| Error::io("cannot create", out, e))?;
-    let mut w = std::io::BufWriter::new(file);
-    let werr = |e| Error::io("cannot write", out, e);
-    let header: Vec<String> = table.columns.iter().map(|c| csv_field(c)).collect();
-    writeln!(w, "{}", header.join(",")).map_err(werr)?;
-    for row in &table.rows {
-        let cells: Vec<String> = row
-            .iter()
-            .map(|c| c.as_deref().map(csv_field).unwrap_or_default())
-            .collect();
-        writeln!(w, "{}", cells.join(",")).map_err(werr)?;
-    }
-    w.flush().map_err(werr)?;
+    write_csv(&table.columns, &table.rows, out)?;
     Ok(CsvStats {
         rows: table.rows.len() as u64,
         columns: table.columns.len() as u64,

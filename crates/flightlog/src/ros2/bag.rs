@@ -5,10 +5,9 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 use mcap::records::Record;
-use mcap::sans_io::{LinearReader, LinearReaderOptions};
 
 use crate::error::{Error, Result};
-use crate::read::{MAX_CHUNK_BYTES, linear_records};
+use crate::read::{ScanState, channel_schema, walk_records};
 
 /// Schema encoding of ROS 2 `.msg` definitions.
 pub const SCHEMA_ROS2MSG: &str = "ros2msg";
@@ -103,16 +102,8 @@ impl Scan {
                     .insert(header.id, (header.name, header.encoding, data.into_owned()));
             }
             Record::Channel(c) => {
-                let (schema_name, schema_encoding, schema_data) = if c.schema_id == 0 {
-                    Default::default()
-                } else {
-                    self.schemas.get(&c.schema_id).cloned().ok_or_else(|| {
-                        format!(
-                            "channel `{}` at byte {at} uses unknown schema {}",
-                            c.topic, c.schema_id
-                        )
-                    })?
-                };
+                let (schema_name, schema_encoding, schema_data) =
+                    channel_schema(&self.schemas, &c, at)?;
                 self.channels.insert(
                     c.id,
                     BagChannel {
@@ -161,131 +152,16 @@ pub(crate) fn parse_bag(path: &Path, bytes: &[u8]) -> Result<Bag> {
         });
     }
     let mut scan = Scan::default();
-    let mut library = String::new();
-    let mut chunks = 0u64;
-    let mut pos = mcap::MAGIC.len();
-    let mut data_end = false;
-    let mut problem: Option<(u64, String)> = None;
-    while problem.is_none() {
-        let at = pos as u64;
-        let rest = &bytes[pos..];
-        if rest.len() < 9 {
-            let why = if rest.is_empty() {
-                "the file ends before the data-end record"
-            } else {
-                "the file ends inside a record header"
-            };
-            problem = Some((at, why.into()));
-            break;
-        }
-        let op = rest[0];
-        let mut n = [0u8; 8];
-        n.copy_from_slice(&rest[1..9]);
-        let rec_len = u64::from_le_bytes(n);
-        if rec_len > (rest.len() - 9) as u64 {
-            let need = rec_len.saturating_add(9);
-            let why = format!(
-                "the record there (opcode 0x{op:02x}) needs {need} bytes but only {} remain",
-                rest.len()
-            );
-            problem = Some((at, why));
-            break;
-        }
-        let next = pos + 9 + rec_len as usize;
-        let rec = match mcap::parse_record(op, &rest[9..9 + rec_len as usize]) {
-            Ok(r) => r,
-            Err(e) => {
-                problem = Some((at, format!("the record there is corrupt: {e}")));
-                break;
-            }
-        };
-        match rec {
-            Record::Header(h) => library = h.library,
-            Record::Chunk { header, .. } => {
-                if header.uncompressed_size > MAX_CHUNK_BYTES {
-                    let why = format!(
-                        "the chunk there claims {} bytes uncompressed (limit {MAX_CHUNK_BYTES})",
-                        header.uncompressed_size
-                    );
-                    problem = Some((at, why));
-                    break;
-                }
-                let whole = &bytes[pos..next];
-                let limit = (MAX_CHUNK_BYTES as usize).max(whole.len());
-                let reader = LinearReader::new_with_options(
-                    LinearReaderOptions::default()
-                        .with_skip_start_magic(true)
-                        .with_skip_end_magic(true)
-                        .with_prevalidate_chunk_crcs(true)
-                        .with_record_length_limit(limit),
-                );
-                let records = match linear_records(reader, whole) {
-                    Ok(r) => r,
-                    Err(e) => {
-                        problem = Some((at, format!("the chunk there is damaged: {e}")));
-                        break;
-                    }
-                };
-                // All or nothing: a chunk is kept only if every record in it is valid.
-                let mut trial = scan.clone_meta();
-                for r in records {
-                    if let Err(e) = trial.apply(r, at) {
-                        problem = Some((at, format!("the chunk there is inconsistent: {e}")));
-                        break;
-                    }
-                }
-                if problem.is_some() {
-                    break;
-                }
-                scan.schemas = trial.schemas;
-                scan.channels = trial.channels;
-                scan.messages.append(&mut trial.messages);
-                chunks += 1;
-            }
-            Record::DataEnd(_) => {
-                data_end = true;
-                pos = next;
-                break;
-            }
-            Record::Footer(_) => {
-                problem = Some((at, "a footer before the data-end record".into()));
-                break;
-            }
-            r @ (Record::Schema { .. } | Record::Channel(_) | Record::Message { .. }) => {
-                if let Err(e) = scan.apply(r, at) {
-                    problem = Some((at, e));
-                    break;
-                }
-            }
-            _ => {}
-        }
-        pos = next;
-    }
+    let walk = walk_records(bytes, &mut scan, false, |_| {});
     let recovered = scan.messages.len();
-    let mut complete = false;
-    let damage = if let Some((at, why)) = problem {
-        Some(format!(
+    let chunks = walk.chunks;
+    let library = walk.library.clone();
+    let (complete, damage) = walk.damage(bytes, recovered, |at, why| {
+        format!(
             "file truncated or damaged at byte {at} of {len}: {why}; recovered {recovered} \
              messages from {chunks} complete chunks before it"
-        ))
-    } else if data_end {
-        match mcap::Summary::read(bytes) {
-            Ok(_) if bytes.ends_with(mcap::MAGIC) => {
-                complete = true;
-                None
-            }
-            Ok(_) => Some(format!(
-                "the data section is whole but the file does not end with the MCAP magic \
-                 (byte {pos} of {len}); all {recovered} messages recovered"
-            )),
-            Err(e) => Some(format!(
-                "the data section is whole but the summary section after byte {pos} is \
-                 damaged ({e}); all {recovered} messages recovered"
-            )),
-        }
-    } else {
-        None
-    };
+        )
+    });
     Ok(Bag {
         path: path.to_owned(),
         file_bytes: len,
@@ -297,13 +173,22 @@ pub(crate) fn parse_bag(path: &Path, bytes: &[u8]) -> Result<Bag> {
     })
 }
 
-impl Scan {
-    /// The schemas and channels, without the messages.
+impl ScanState for Scan {
+    fn apply(&mut self, rec: Record<'_>, at: u64) -> std::result::Result<(), String> {
+        Scan::apply(self, rec, at)
+    }
+
     fn clone_meta(&self) -> Scan {
         Scan {
             schemas: self.schemas.clone(),
             channels: self.channels.clone(),
             messages: Vec::new(),
         }
+    }
+
+    fn keep(&mut self, mut trial: Scan) {
+        self.schemas = trial.schemas;
+        self.channels = trial.channels;
+        self.messages.append(&mut trial.messages);
     }
 }

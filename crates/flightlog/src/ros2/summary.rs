@@ -2,7 +2,6 @@
 
 use std::collections::HashMap;
 use std::fmt;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
@@ -10,6 +9,7 @@ use serde::Serialize;
 use crate::error::{Error, Result};
 use crate::ros2::bag::{Bag, BagChannel};
 use crate::ros2::cdr::MessageType;
+use crate::tabulate::{TableBuilder, write_csv};
 
 /// One topic of a bag.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -246,14 +246,6 @@ pub struct TopicCsvStats {
     pub columns: u64,
 }
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_owned()
-    }
-}
-
 /// The messages of one topic as a table: `columns` (the first `log_time_ns`, then one per
 /// field by dotted path in definition order, array elements `transforms.0.child_frame_id`)
 /// and one row per message with one cell per column, `None` where a message lacks it (a
@@ -286,9 +278,7 @@ pub fn read_topic_table(bag: &Bag, topic: &str) -> Result<TopicTable> {
         type_name: channel.schema_name.clone(),
         detail,
     })?;
-    let mut columns: Vec<String> = vec!["log_time_ns".into()];
-    let mut col_of: HashMap<String, usize> = HashMap::new();
-    let mut sparse: Vec<Vec<(usize, String)>> = Vec::new();
+    let mut table = TableBuilder::new();
     let on_topic = bag.messages.iter().filter(|m| m.channel_id == id);
     for (i, m) in on_topic.enumerate() {
         let fields = ty.decode(&m.data).map_err(|detail| Error::Ros2Message {
@@ -299,26 +289,9 @@ pub fn read_topic_table(bag: &Bag, topic: &str) -> Result<TopicTable> {
             log_time_ns: m.log_time_ns,
             detail,
         })?;
-        let mut row = vec![(0, m.log_time_ns.to_string())];
-        for (k, v) in fields {
-            let c = *col_of.entry(k.clone()).or_insert_with(|| {
-                columns.push(k);
-                columns.len() - 1
-            });
-            row.push((c, v));
-        }
-        sparse.push(row);
+        table.push_row(m.log_time_ns, fields);
     }
-    let rows = sparse
-        .into_iter()
-        .map(|r| {
-            let mut cells = vec![None; columns.len()];
-            for (c, v) in r {
-                cells[c] = Some(v);
-            }
-            cells
-        })
-        .collect();
+    let (columns, rows) = table.finish();
     Ok(TopicTable { columns, rows })
 }
 
@@ -327,19 +300,7 @@ pub fn read_topic_table(bag: &Bag, topic: &str) -> Result<TopicTable> {
 /// nothing is written.
 pub fn export_topic_csv(bag: &Bag, topic: &str, out: &Path) -> Result<TopicCsvStats> {
     let table = read_topic_table(bag, topic)?;
-    let file = std::fs::File::create(out).map_err(|e| Error::io("cannot create", out, e))?;
-    let mut w = std::io::BufWriter::new(file);
-    let werr = |e| Error::io("cannot write", out, e);
-    let header: Vec<String> = table.columns.iter().map(|c| csv_field(c)).collect();
-    writeln!(w, "{}", header.join(",")).map_err(werr)?;
-    for row in &table.rows {
-        let cells: Vec<String> = row
-            .iter()
-            .map(|c| c.as_deref().map(csv_field).unwrap_or_default())
-            .collect();
-        writeln!(w, "{}", cells.join(",")).map_err(werr)?;
-    }
-    w.flush().map_err(werr)?;
+    write_csv(&table.columns, &table.rows, out)?;
     Ok(TopicCsvStats {
         rows: table.rows.len() as u64,
         columns: table.columns.len() as u64,
