@@ -3,10 +3,28 @@
 import os
 import pathlib
 import subprocess
+import tempfile
 
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _temporary_files_stay_in_the_session_folder(tmp_path_factory):
+    """Every temporary file of the tests and of the processes they start (tempfile.mkstemp,
+    mkdtemp, the Rust side's tempdir) goes into pytest's own temporary folder for the
+    session, which pytest cleans, never loose into /tmp: TMPDIR is pointed there."""
+    folder = tmp_path_factory.mktemp("tmp")
+    old = os.environ.get("TMPDIR")
+    os.environ["TMPDIR"] = str(folder)
+    tempfile.tempdir = None  # re-read TMPDIR
+    yield folder
+    if old is None:
+        os.environ.pop("TMPDIR", None)
+    else:
+        os.environ["TMPDIR"] = old
+    tempfile.tempdir = None
 
 
 @pytest.fixture(scope="session")
