@@ -255,3 +255,101 @@ def test_bad_bags_give_clear_errors(tmp_path, run_flapwing):
     junk = tmp_path / "junk.mcap"
     junk.write_bytes(b"hello")
     assert run_flapwing("replay", junk, check=False).returncode == 2
+
+
+def test_read_log_gives_the_written_values_and_the_csv_columns(tmp_path, run_flapwing):
+    import numpy as np
+
+    import flapwing
+
+    bag = tmp_path / "flight.mcap"
+    write_bag(bag)
+    tables = flapwing.read_log(str(bag), pandas=False)
+    summary = json.loads(run_flapwing("replay", bag, "--json").stdout)
+    assert list(tables) == [t["topic"] for t in summary["topics"]]
+    for topic, short, rate, count in TOPICS:
+        table = tables[topic]
+        out = tmp_path / f"{topic.strip('/').replace('/', '_')}.csv"
+        run_flapwing("replay", bag, "--csv", topic, out)
+        rows = read_csv(out)
+        assert list(table) == list(rows[0]), topic
+        assert table["log_time_ns"].dtype == np.int64
+        times = [T0_NS + i * (10**9 // rate) for i in range(count)]
+        assert table["log_time_ns"].tolist() == times
+        for name, col in table.items():
+            assert len(col) == count
+            if name == "log_time_ns":
+                continue
+            if isinstance(col, list):
+                assert col == [r[name] for r in rows], (topic, name)
+            else:
+                assert col.dtype == np.float64
+                assert col.tolist() == [float(r[name]) for r in rows], (topic, name)
+        want = [message(short, i, t) for i, t in enumerate(times)]
+        assert table["header.stamp.sec" if "header.stamp.sec" in table
+                     else "transforms.0.header.stamp.sec"].tolist() == [t // 10**9 for t in times]
+        if short == "geometry_msgs/PoseStamped":
+            assert table["header.frame_id"] == ["world"] * count
+            for k in "xyz":
+                assert table[f"pose.position.{k}"].tolist() == [m["pose"]["position"][k] for m in want]
+            assert table["header.stamp.nanosec"].tolist() == [t % 10**9 for t in times]
+        elif short == "nav_msgs/Odometry":
+            assert table["child_frame_id"] == ["base_link"] * count
+            assert table["pose.covariance.35"].tolist() == [0.01 * 35] * count
+            assert table["twist.twist.angular.z"].tolist() == [2.0 ** -i for i in range(count)]
+        elif short == "tf2_msgs/TFMessage":
+            assert table["transforms.1.child_frame_id"] == ["wing_right"] * count
+            assert table["transforms.0.transform.translation.x"].tolist() == [0.001 * i for i in range(count)]
+            assert table["transforms.1.transform.translation.y"].tolist() == [-0.002] * count
+        else:
+            assert table["linear_acceleration.z"].tolist() == [9.80665 + 1e-3 * i for i in range(count)]
+            assert table["orientation_covariance.0"].tolist() == [-1.0] * count
+    assert flapwing.read_log(str(bag), topics=["/imu"], pandas=False).keys() == {"/imu"}
+
+
+def test_read_log_of_bad_bags(tmp_path, run_flapwing):
+    import pytest
+
+    import flapwing
+
+    # A topic that cannot be decoded: ValueError with the CLI's error.
+    bag = tmp_path / "undefined.mcap"
+    write_raw(bag, "my_msgs/msg/Wing", "std_msgs/Header header\nmy_msgs/Hinge hinge\n" + "=" * 80
+              + "\nMSG: std_msgs/Header\n" + DEFS["std_msgs/Header"], [b"\x00\x01\x00\x00" + bytes(16)])
+    short = tmp_path / "short.mcap"
+    header_only = b"\x00\x01\x00\x00" + (12).to_bytes(4, "little") + (5).to_bytes(4, "little") \
+        + (6).to_bytes(4, "little") + b"world\x00" + bytes(6) + bytes(8 * 3)
+    write_raw(short, "geometry_msgs/msg/PoseStamped", schema_text("geometry_msgs/PoseStamped"), [header_only])
+    for path, part in ((bag, "which the schema does not define"), (short, "the message ends first")):
+        cli = run_flapwing("replay", path, "--csv", "/x", tmp_path / "x.csv", check=False).stderr
+        with pytest.raises(ValueError) as err:
+            flapwing.read_log(str(path), pandas=False)
+        assert part in str(err.value) and str(err.value) in cli, (str(err.value), cli)
+    # An unknown topic, and MCAP that is neither a flapwing log nor a ROS 2 bag.
+    good = tmp_path / "flight.mcap"
+    write_bag(good)
+    with pytest.raises(ValueError, match="/nope"):
+        flapwing.read_log(str(good), topics=["/nope"], pandas=False)
+    plain = tmp_path / "plain.mcap"
+    with open(plain, "wb") as f:
+        w = McapWriter(f)
+        w.start(profile="", library="test")
+        sid = w.register_schema("x", "jsonschema", b"{}")
+        cid = w.register_channel("/j", "json", sid)
+        w.add_message(cid, log_time=1, publish_time=1, data=b"{}")
+        w.finish()
+    with pytest.raises(ValueError, match="not a flapwing log"):
+        flapwing.read_log(str(plain), pandas=False)
+    # A truncated bag: what was recovered, with the warning the CLI gives.
+    write_bag(good, chunk_size=4096)
+    data = good.read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: len(data) // 2])
+    with pytest.warns(flapwing.logs.TruncatedLogWarning) as rec:
+        tables = flapwing.read_log(str(cut), pandas=False)
+    recovered = sum(len(t["log_time_ns"]) for t in tables.values())
+    assert 0 < recovered < sum(t[3] for t in TOPICS)
+    assert f"recovered {recovered} messages" in str(rec[0].message)
+    cli = run_flapwing("replay", cut, "--csv", "/mocap/pose", tmp_path / "p.csv")
+    assert str(rec[0].message).split(": ", 1)[1] in cli.stderr
+    assert tables["/mocap/pose"]["log_time_ns"].tolist() == [int(r["log_time_ns"]) for r in read_csv(tmp_path / "p.csv")]

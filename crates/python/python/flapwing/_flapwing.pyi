@@ -49,14 +49,16 @@ def envelope(vehicle: "Vehicle", speeds_m_s: Sequence[float],
     included); Ctrl-C raises KeyboardInterrupt within a second."""
 
 def log_topics(path: str) -> list[str]:
-    """The topics of a flapwing MCAP log."""
+    """The topics of a flapwing MCAP log or a ROS 2 bag, in file order."""
 
 def log_damage(path: str) -> str | None:
     """None for a complete log; else where it is truncated or damaged and what was recovered."""
 
 def read_channel(path: str, topic: str) -> dict[str, Any]:
     """One channel as {column: array}: `log_time_ns` (int64), numeric fields as float64
-    arrays (NaN where missing), others as lists of str."""
+    arrays (NaN where missing), others as lists of str. Of a ROS 2 bag: one topic with the
+    columns of `flapwing replay BAG --csv TOPIC`; a topic that cannot be decoded raises
+    ValueError."""
 
 class Wing:
     """One wing with its kinematics, fluid and aerodynamic options."""
