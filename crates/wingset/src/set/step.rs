@@ -43,7 +43,7 @@ impl WingSet {
         air_motion(body, &self.wind_world_m_s)
     }
 
-    /// [`WingSet::loads`]: adds the body's drag (when the host turned it on) to the output and
+    /// [`WingSet::step`] and [`WingSet::loads`]: adds the body's drag (when the host turned it on) to the output and
     /// checks that the loads are finite.
     fn finish(&self, body: &State, out: &mut WingSetOutput) -> Result<()> {
         let drag = self.body_drag(body);
@@ -72,20 +72,19 @@ impl WingSet {
             self.apply_controls(&c)?;
         }
         self.last_cycle = cycle;
-        if self.dynamic.is_some() {
-            let mut out = std::mem::take(&mut self.out);
-            let r = self.actuated_into(body, &mut out);
-            self.out = out;
-            r?;
-        } else {
+        if self.dynamic.is_none() {
             self.prescribed_step(body);
         }
-        let drag = self.body_drag(body);
-        self.out.body_drag = drag;
-        self.out.total.add(drag.force_n, drag.moment_nm);
-        if !self.out.total.is_finite() {
-            return Err(self.overflow_error(body, &self.motion(body)));
+        // The output is taken out while the set fills it (an empty one in its place
+        // allocates nothing) and put back whatever the outcome.
+        let mut out = std::mem::take(&mut self.out);
+        let r = match self.dynamic {
+            Some(_) => self.actuated_into(body, &mut out),
+            None => Ok(()),
         }
+        .and_then(|()| self.finish(body, &mut out));
+        self.out = out;
+        r?;
         self.step += 1;
         Ok(&self.out)
     }
