@@ -12,6 +12,7 @@ use rapier3d_f64::na::Unit;
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
 use wingforce::WingForces;
+use wingset::LoadSampling;
 
 use crate::actuated::ActuatedWingOutput;
 use crate::error::{Error, Result};
@@ -333,6 +334,9 @@ impl Simulation {
 
     /// Overwrites the body's state (for disturbances and Floquet perturbations).
     pub fn set_state(&mut self, s: &State) {
+        // Not a state the loads moved the body to: the next step starts the midpoint
+        // prediction afresh (wingset::sampling).
+        self.wings.restart_motion();
         let rb = &mut self.world.bodies[self.body];
         rb.set_position(
             Pose::from_parts(to_glam(&s.position_m), quat_to_glam(&s.world_from_body)),
@@ -372,6 +376,8 @@ impl Simulation {
             .out
             .take()
             .unwrap_or_else(|| Box::new(StepOutput::empty()));
+        // The body drag is taken where the wings take their loads (wingset::sampling).
+        let drag_velocity_m_s = self.wings.sample_state(&state).velocity_m_s;
         let r = match self.wings.step(&state) {
             Ok(o) => {
                 out.fill(o, &state);
@@ -391,11 +397,15 @@ impl Simulation {
             self.out = Some(out);
             return Err(e);
         }
-        Ok(self.apply_and_advance(out))
+        Ok(self.apply_and_advance(out, &drag_velocity_m_s))
     }
 
     /// Applies a step's loads to the body and advances the world by one step.
-    fn apply_and_advance(&mut self, out: Box<StepOutput>) -> &StepOutput {
+    fn apply_and_advance(
+        &mut self,
+        out: Box<StepOutput>,
+        drag_velocity_m_s: &Vector3<f64>,
+    ) -> &StepOutput {
         let rb = &mut self.world.bodies[self.body];
         let q = out.state.world_from_body;
         rb.reset_forces(false);
@@ -409,11 +419,37 @@ impl Simulation {
         };
         let drag_n = self
             .vehicle
-            .body_drag_world_n(&(out.state.velocity_m_s - air_m_s));
+            .body_drag_world_n(&(drag_velocity_m_s - air_m_s));
         rb.add_force(to_glam(&(q * out.total.force_n + drag_n)), false);
         rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
         self.world.step();
+        if self.wings.load_sampling() == LoadSampling::Midpoint {
+            self.trapezoid_pose(&out.state);
+        }
         self.out.insert(out)
+    }
+
+    /// Moves the pose rapier integrated from the step's start `before` to the trapezoidal
+    /// rule's (second-order stepping, wingset::sampling). rapier's semi-implicit Euler
+    /// moves the body by dt v_{k+1}; with the wings' loads the step's means, v_{k+1} is
+    /// second-order accurate, and the pose x_k + dt (v_k + v_{k+1})/2 then is too, where
+    /// dt v_{k+1} leaves a bias of dt/2 (v(t) - v(0)) in position and attitude (first order,
+    /// measured: the fly's hover excursion error fell only 3.9x from 100 to 400 steps per
+    /// wingbeat without this, 0.09% at 100). Likewise the attitude is turned back by
+    /// dt/2 (omega_{k+1} - omega_k), world frame.
+    fn trapezoid_pose(&mut self, before: &State) {
+        let rb = &mut self.world.bodies[self.body];
+        let after = crate::host::body_state(rb);
+        let half = 0.5 * self.wings.dt_s();
+        let w0 = before.world_from_body * before.angular_velocity_body_rad_s;
+        let w1 = after.world_from_body * after.angular_velocity_body_rad_s;
+        let position_m = after.position_m - half * (after.velocity_m_s - before.velocity_m_s);
+        let world_from_body =
+            UnitQuaternion::from_scaled_axis(-half * (w1 - w0)) * after.world_from_body;
+        rb.set_position(
+            Pose::from_parts(to_glam(&position_m), quat_to_glam(&world_from_body)),
+            false,
+        );
     }
 
     /// The body state at a step's start against the run's bounds (finite, sim.max_speed_m_s,

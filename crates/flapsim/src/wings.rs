@@ -56,13 +56,15 @@ impl FromVehicle for WingSet {
             ),
             None => None,
         };
-        Ok(WingSet::with_control_map(
+        let mut set = WingSet::with_control_map(
             Box::new(vehicle.clone()),
             dynamic,
             vehicle.sim.wing_mass_kg,
             dt_s,
             vehicle.controls,
-        )?)
+        )?;
+        set.set_load_sampling(vehicle.sim.load_sampling);
+        Ok(set)
     }
 
     fn from_vehicle_sized(vehicle: &Vehicle) -> Result<Self> {

@@ -21,15 +21,18 @@
 //!
 //! - [`set`]: the set, its step and what the step reports;
 //! - [`actuated`]: the actuated wings' dynamics (actuator, drive, hinge, stops);
-//! - [`controls`]: the control inputs.
+//! - [`controls`]: the control inputs;
+//! - [`sampling`]: where in a step the loads are taken (second-order stepping).
 
 pub mod actuated;
 pub mod controls;
 mod error;
+pub mod sampling;
 pub mod set;
 
 pub use controls::Controls;
 pub use error::{Error, Result};
+pub use sampling::LoadSampling;
 pub use set::{
     BodyLoad, ControlMap, MIN_STEPS_PER_WINGBEAT, MeanLoads, State, WingSet, WingSetBuilder,
     WingSetOutput, check_dt, max_dt_s, zero_forces,

@@ -108,8 +108,12 @@ pub struct ControlSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SimSpec {
-    /// Physics steps per wingbeat (>= 100 recommended; at least 20 accepted).
+    /// Physics steps per wingbeat (at least 20 accepted).
     pub steps_per_wingbeat: usize,
+    /// Where in a step the wings' loads are taken: `"midpoint"` (second order, the
+    /// default) or `"step_start"` (first order, the only one before issue 37; logs written
+    /// before it replay with it). See [`wingset::sampling`].
+    pub load_sampling: wingset::LoadSampling,
     /// rapier solver iterations (substeps) per step.
     pub solver_iterations: usize,
     /// Add a ground plane at z = 0 and a contact sphere on the body (take-off and landing).
@@ -127,6 +131,7 @@ impl Default for SimSpec {
     fn default() -> Self {
         Self {
             steps_per_wingbeat: 100,
+            load_sampling: wingset::LoadSampling::Midpoint,
             solver_iterations: 1,
             ground: false,
             wing_mass_kg: 0.0,

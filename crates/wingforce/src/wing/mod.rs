@@ -23,6 +23,8 @@ pub use crate::mount::{BodyMotion, Fluid, Mount, Side};
 pub use crate::terms::{Term, TermForce};
 
 mod evaluate;
+mod step_mean;
+pub use step_mean::StepKinematicLoads;
 
 /// Which terms to compute and how.
 #[derive(Debug, Clone, PartialEq)]

@@ -7,6 +7,7 @@ use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root, illinois_root};
 
 /// Most segments (touches and releases) of one sub-step on an inelastic stop.
 const MAX_STOP_EVENTS: usize = 64;
+use crate::sampling::LoadSampling;
 use crate::error::{Error, Result};
 
 impl DynamicWing {
@@ -30,7 +31,9 @@ impl DynamicWing {
         reheld: Reheld,
     ) -> Result<[f64; 4]> {
         let Some(stop) = self.model().hinge.contact else {
-            let y = self.rk4(t0, y0, h, held, Some(k1a), None).0;
+            // Second order (LoadSampling::Midpoint): the loads taken afresh at every stage.
+            let stage = (self.load_sampling() == LoadSampling::Midpoint).then_some(reheld);
+            let y = self.rk4(t0, y0, h, held, Some(k1a), stage).0;
             nodes.push((t0 + h, y, false));
             return Ok(y);
         };

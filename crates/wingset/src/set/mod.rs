@@ -32,9 +32,10 @@ mod limits;
 mod map;
 mod output;
 mod step;
+mod step_kinematics;
 
 use nalgebra::Vector3;
-use wingforce::{KinematicLoads, Kinematics, Side, Wing};
+use wingforce::{Kinematics, Side, Wing};
 
 pub use body::{BodyLoad, MeanLoads, State};
 pub use dt::{MIN_STEPS_PER_WINGBEAT, check_dt, max_dt_s};
@@ -42,6 +43,7 @@ pub use map::ControlMap;
 pub use output::{WingSetOutput, zero_forces};
 
 use crate::actuated::{Drive, DynamicWing};
+use crate::sampling::LoadSampling;
 use crate::controls::Controls;
 use crate::error::{Error, Result};
 
@@ -76,7 +78,7 @@ pub struct WingSet {
     /// Each wing's kinematic loads at each step of the wingbeat, `len()` per step (periodic
     /// runs only), valid where `table_gen` holds the current generation: computed the first
     /// time the step comes round and reused every wingbeat until the kinematics change.
-    table: Vec<KinematicLoads>,
+    table: Vec<step_kinematics::StepKinematics>,
     table_gen: Vec<u64>,
     generation: u64,
     pending: Option<Controls>,
@@ -92,6 +94,11 @@ pub struct WingSet {
     wing_motions: Vec<wingforce::BodyMotion>,
     /// The body's parasite drag area C_D S the set applies, m^2 (0: none, the default).
     body_drag_area_m2: f64,
+    /// Where in a step the loads are taken ([`LoadSampling`]).
+    sampling: LoadSampling,
+    /// The step index, world velocity and body rates of the body state the last step was
+    /// given (the midpoint prediction's previous state; `None` after a restart).
+    prev_body: Option<(u64, Vector3<f64>, Vector3<f64>)>,
     still: bool,
     out: WingSetOutput,
 }
@@ -235,6 +242,8 @@ impl WingSet {
             wing_winds_world_m_s: None,
             wing_motions: Vec::new(),
             body_drag_area_m2: 0.0,
+            sampling: LoadSampling::default(),
+            prev_body: None,
             still: false,
             out: WingSetOutput::empty(n),
         };
@@ -309,21 +318,62 @@ impl WingSet {
         table_phase + cycles as f64
     }
 
-    /// Whole wingbeats since the last control change, the phase at which the kinematics are
-    /// evaluated, and the index of the step in the wingbeat (periodic runs only).
+    /// Whole wingbeats since the last control change, the phase at t_k (within the first
+    /// wingbeat after it) and the index of the step in the wingbeat (periodic runs only).
     fn phase_parts(&self) -> (u64, f64, Option<usize>) {
+        self.phase_parts_at(0.0)
+    }
+
+    /// [`Self::phase_parts`] at the point of the step where the loads are sampled
+    /// ([`LoadSampling`]): the phase at which the kinematics are evaluated.
+    fn sample_phase_parts(&self) -> (u64, f64, Option<usize>) {
+        self.phase_parts_at(self.sampling.step_fraction())
+    }
+
+    fn phase_parts_at(&self, fraction: f64) -> (u64, f64, Option<usize>) {
         let n = self.step - self.base_step;
         match self.steps_per_wingbeat {
             Some(per) if self.periodic => {
                 let (m, j) = (n / per, n % per);
                 (
                     m,
-                    self.base_phase + j as f64 * self.phase_per_step,
+                    self.base_phase + (j as f64 + fraction) * self.phase_per_step,
                     Some(j as usize),
                 )
             }
-            _ => (0, self.base_phase + n as f64 * self.phase_per_step, None),
+            _ => (
+                0,
+                self.base_phase + (n as f64 + fraction) * self.phase_per_step,
+                None,
+            ),
         }
+    }
+
+    /// Where in a step the loads are taken.
+    pub fn load_sampling(&self) -> LoadSampling {
+        self.sampling
+    }
+
+    /// Takes the loads at another point of the step from the next step on (the kinematic
+    /// loads' table is recomputed, the actuated wings report accordingly).
+    pub fn set_load_sampling(&mut self, sampling: LoadSampling) {
+        if sampling != self.sampling {
+            self.sampling = sampling;
+            self.generation += 1;
+            if let Some(d) = &mut self.dynamic {
+                for w in d {
+                    w.set_load_sampling(sampling);
+                }
+            }
+        }
+    }
+
+    /// Forgets the body states of earlier steps: the host moved the body other than by
+    /// integrating the set's loads (a reset, a disturbance set by hand), so the next step
+    /// takes the body's state at its start ([`LoadSampling::Midpoint`] predicts the
+    /// midpoint from the last two states otherwise).
+    pub fn restart_motion(&mut self) {
+        self.prev_body = None;
     }
 
     /// Controls to apply at the start of the next wingbeat (immediately if none has begun).
@@ -459,6 +509,9 @@ impl WingSet {
     pub fn start_dynamic_from(&mut self, dynamic: &[DynamicWing], wings: &[Wing]) {
         if let Some(d) = &mut self.dynamic {
             d.clone_from_slice(dynamic);
+            for w in d.iter_mut() {
+                w.set_load_sampling(self.sampling);
+            }
             for (w, settled) in self.wings.iter_mut().zip(wings) {
                 w.set_stroke_reference(settled.stroke_reference().cloned());
             }
@@ -472,6 +525,7 @@ impl WingSet {
                 w.set_state(*s);
             }
         }
+        self.restart_motion();
     }
 
     /// Applies controls now and restarts the wingbeat bookkeeping from the current phase.
@@ -526,8 +580,11 @@ impl WingSet {
             self.table_gen.clear();
             self.table_gen.resize(per, 0);
             self.table.clear();
-            self.table
-                .resize(per * self.wings.len(), self.wings[0].kinematic_loads(0.0));
+            let blank = step_kinematics::StepKinematics {
+                kin: self.wings[0].kinematic_loads(0.0),
+                inertia: BodyLoad::default(),
+            };
+            self.table.resize(per * self.wings.len(), blank);
         }
     }
 

@@ -14,7 +14,8 @@ pub struct WingSetOutput {
     pub step: u64,
     /// t_k, s.
     pub t_s: f64,
-    /// Wingbeat phase at t_k (cycles).
+    /// Wingbeat phase at which the loads were taken (cycles): at t_k, or at t_k + dt/2 with
+    /// [`LoadSampling::Midpoint`](crate::LoadSampling::Midpoint).
     pub phase: f64,
     /// Each wing's forces, in the set's order.
     pub wings: Vec<WingForces>,

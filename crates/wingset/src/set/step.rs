@@ -12,15 +12,17 @@
 //! a fixed order (aerodynamic terms wing by wing, then the wings' inertia; actuated: wing by
 //! wing), so a run is bit for bit reproducible.
 
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 use wingforce::{BodyMotion, KinematicLoads, Term, Wing};
 
 use super::WingSet;
 use super::body::{BodyLoad, State};
 use super::output::{WingSetOutput, zero_forces};
+use super::step_kinematics::StepKinematics;
 use crate::actuated::ActuatedWingOutput;
 use crate::controls::Controls;
 use crate::error::{Error, Result};
+use crate::sampling::LoadSampling;
 
 /// The body's motion relative to air moving at `wind_world_m_s`, body frame.
 fn air_motion(body: &State, wind_world_m_s: &Vector3<f64>) -> BodyMotion {
@@ -72,41 +74,75 @@ impl WingSet {
             self.apply_controls(&c)?;
         }
         self.last_cycle = cycle;
+        let sampled = self.sample_state(body);
         if self.dynamic.is_none() {
-            self.prescribed_step(body);
+            self.prescribed_step(&sampled);
         }
         // The output is taken out while the set fills it (an empty one in its place
         // allocates nothing) and put back whatever the outcome.
         let mut out = std::mem::take(&mut self.out);
         let r = match self.dynamic {
-            Some(_) => self.actuated_into(body, &mut out),
+            Some(_) => self.actuated_into(&sampled, &mut out),
             None => Ok(()),
         }
-        .and_then(|()| self.finish(body, &mut out));
+        .and_then(|()| self.finish(&sampled, &mut out));
+        in_step_frame(&mut out, body, &sampled);
         self.out = out;
         r?;
+        self.prev_body = Some((
+            self.step,
+            body.velocity_m_s,
+            body.angular_velocity_body_rad_s,
+        ));
         self.step += 1;
         Ok(&self.out)
+    }
+
+    /// The body's state at which the next step takes its loads ([`LoadSampling`]): `body`
+    /// (the state at t_k) for [`LoadSampling::StepStart`] and for the first step after a
+    /// restart; for [`LoadSampling::Midpoint`] the state at t_k + dt/2 predicted from the
+    /// last step's: the velocity and body rates extrapolated by half their change over the
+    /// last step, the attitude turned by the body rates over dt/2, the position moved by
+    /// the velocity over dt/2.
+    pub fn sample_state(&self, body: &State) -> State {
+        let prev = match (self.sampling, self.prev_body) {
+            (LoadSampling::Midpoint, Some(p)) if p.0 + 1 == self.step => p,
+            _ => return *body,
+        };
+        let half = 0.5 * self.dt_s;
+        let velocity_m_s = body.velocity_m_s + 0.5 * (body.velocity_m_s - prev.1);
+        let rates = body.angular_velocity_body_rad_s
+            + 0.5 * (body.angular_velocity_body_rad_s - prev.2);
+        State {
+            position_m: body.position_m + half * body.velocity_m_s,
+            world_from_body: body.world_from_body
+                * UnitQuaternion::from_scaled_axis(half * body.angular_velocity_body_rad_s),
+            velocity_m_s,
+            angular_velocity_body_rad_s: rates,
+        }
     }
 
     /// The loads at a body state without advancing (an actuated set steps a copy of its
     /// wings: their accelerations come out of a step).
     pub fn loads(&self, body: &State) -> Result<WingSetOutput> {
         self.check_input(body)?;
+        let given = body;
+        let body = &self.sample_state(body);
         let mut out = WingSetOutput::empty(self.wings.len());
         if self.dynamic.is_some() {
             let mut copy = self.clone();
             // A state the step would reject still gets its loads reported as far as known.
             let _ = copy.actuated_into(body, &mut out);
             self.finish(body, &mut out)?;
+            in_step_frame(&mut out, given, body);
             return Ok(out);
         }
-        let (cycles, table_phase, j) = self.phase_parts();
+        let (cycles, table_phase, j) = self.sample_phase_parts();
         let n = self.wings.len();
         let cached = j.filter(|&j| self.table_gen.get(j) == Some(&self.generation));
-        let kin: Vec<KinematicLoads> = match cached {
+        let kin: Vec<StepKinematics> = match cached {
             Some(j) => self.table[j * n..(j + 1) * n].to_vec(),
-            None => self.kinematic_loads(table_phase),
+            None => self.step_kinematics(table_phase),
         };
         let mut motions = Vec::new();
         if let Some(w) = &self.wing_winds_world_m_s {
@@ -115,6 +151,7 @@ impl WingSet {
         let sums = self.sums(body, cycles, table_phase, &motions);
         sums.loads_into(&kin, &mut out);
         self.finish(body, &mut out)?;
+        in_step_frame(&mut out, given, body);
         Ok(out)
     }
 
@@ -128,7 +165,6 @@ impl WingSet {
     ) -> PrescribedLoads<'a> {
         PrescribedLoads {
             wings: &self.wings,
-            centroid_r_m: &self.centroid_r_m,
             wing_mass_kg: self.wing_mass_kg,
             still: self.still,
             motion: self.motion(body),
@@ -141,14 +177,9 @@ impl WingSet {
         }
     }
 
-    /// Every wing's kinematic loads at a phase (mirror-symmetric pairs together).
-    fn kinematic_loads(&self, phase: f64) -> Vec<KinematicLoads> {
-        let mut kin = Vec::with_capacity(self.wings.len());
-        self.kinematic_loads_extend(phase, &mut kin);
-        kin
-    }
-
-    fn kinematic_loads_extend(&self, phase: f64, kin: &mut Vec<KinematicLoads>) {
+    /// Every wing's kinematic loads at a phase (mirror-symmetric pairs together), appended
+    /// to `kin`.
+    pub(super) fn kinematic_loads_extend(&self, phase: f64, kin: &mut Vec<KinematicLoads>) {
         let n = self.wings.len();
         let mut i = 0;
         while i < n {
@@ -170,18 +201,18 @@ impl WingSet {
     /// time a step of the wingbeat comes round) or computed, then the sums, written straight
     /// into the set's output.
     fn prescribed_step(&mut self, body: &State) {
-        let (cycles, table_phase, j) = self.phase_parts();
+        let (cycles, table_phase, j) = self.sample_phase_parts();
         let n = self.wings.len();
         let fresh = match j {
             Some(j) if j < self.table_gen.len() => {
                 if self.table_gen[j] != self.generation {
-                    let kin = self.kinematic_loads(table_phase);
+                    let kin = self.step_kinematics(table_phase);
                     self.table[j * n..(j + 1) * n].copy_from_slice(&kin);
                     self.table_gen[j] = self.generation;
                 }
                 None
             }
-            _ => Some(self.kinematic_loads(table_phase)),
+            _ => Some(self.step_kinematics(table_phase)),
         };
         match &self.wing_winds_world_m_s {
             Some(w) => wing_motions_into(body, w, &mut self.wing_motions),
@@ -189,7 +220,6 @@ impl WingSet {
         }
         let sums = PrescribedLoads {
             wings: &self.wings,
-            centroid_r_m: &self.centroid_r_m,
             wing_mass_kg: self.wing_mass_kg,
             still: self.still,
             motion: self.motion(body),
@@ -209,11 +239,30 @@ impl WingSet {
     }
 }
 
+/// Expresses the body loads of `out`, taken at the `sampled` state, in the body frame of the
+/// state `body` the host gave (the frame in which it applies them): the body turns by
+/// dt/2 of its rates between the two ([`WingSet::sample_state`]), and a load held in the
+/// wrong one would point dt/2 omega off, a first-order error. Each wing's own forces stay
+/// as computed.
+fn in_step_frame(out: &mut WingSetOutput, body: &State, sampled: &State) {
+    if sampled.world_from_body == body.world_from_body {
+        return;
+    }
+    let rel = body.world_from_body.inverse() * sampled.world_from_body;
+    let turn = |l: &mut BodyLoad| {
+        l.force_n = rel * l.force_n;
+        l.moment_nm = rel * l.moment_nm;
+    };
+    out.terms.iter_mut().for_each(turn);
+    turn(&mut out.wing_inertia);
+    turn(&mut out.body_drag);
+    turn(&mut out.total);
+}
+
 /// The prescribed wings' loads at one body state (borrowing the set's wings while the
 /// output is written).
 struct PrescribedLoads<'a> {
     wings: &'a [Wing],
-    centroid_r_m: &'a [f64],
     wing_mass_kg: f64,
     still: bool,
     /// The body's motion relative to the uniform wind's air.
@@ -233,8 +282,8 @@ impl PrescribedLoads<'_> {
         self.wing_motions.get(i).unwrap_or(&self.motion)
     }
 
-    /// The loads of prescribed wings at a body state from their kinematic loads.
-    fn loads_into(&self, kin: &[KinematicLoads], out: &mut WingSetOutput) {
+    /// The loads of prescribed wings at a body state from their step kinematics.
+    fn loads_into(&self, steps: &[StepKinematics], out: &mut WingSetOutput) {
         let (cycles, table_phase) = (self.cycles, self.table_phase);
         let n = self.wings.len();
         if out.wings.len() != n {
@@ -243,21 +292,21 @@ impl PrescribedLoads<'_> {
         let mut i = 0;
         while i < n {
             match (
-                kin[i..].first_chunk::<2>(),
+                steps[i..].first_chunk::<2>(),
                 self.wings[i..].first_chunk::<2>(),
             ) {
-                (Some(pair), Some([l, r])) => {
+                (Some([a, b]), Some([l, r])) => {
                     let f = Wing::evaluate_pair_each(
                         l,
                         r,
-                        pair,
+                        &[a.kin, b.kin],
                         [self.motion_of(i), self.motion_of(i + 1)],
                     );
                     out.wings[i..i + 2].copy_from_slice(&f);
                     i += 2;
                 }
                 _ => {
-                    out.wings[i] = self.wings[i].evaluate_with(&kin[i], self.motion_of(i));
+                    out.wings[i] = self.wings[i].evaluate_with(&steps[i].kin, self.motion_of(i));
                     i += 1;
                 }
             }
@@ -281,20 +330,12 @@ impl PrescribedLoads<'_> {
             }
         }
         let mut wing_inertia = BodyLoad::default();
-        let m_w = self.wing_mass_kg;
-        if m_w > 0.0 && !self.still {
-            for ((w, k), r_c) in self.wings.iter().zip(kin).zip(self.centroid_r_m) {
-                // Reaction of the wing's centre of mass (on the pitch axis at its centroid
-                // radius) accelerating with the kinematics: -m a, applied at the hinge.
-                let fr = &k.frame;
-                let p: Vector3<f64> = *r_c * fr.e_span;
-                let a = fr.alpha.cross(&p) + fr.omega.cross(&fr.omega.cross(&p));
-                let f_s = -m_w * a;
-                let r = w.body_from_stroke();
-                let f_b = r * f_s;
-                let m_b = r * p.cross(&f_s) + w.mount().hinge_in_body_m.cross(&f_b);
-                wing_inertia.add(f_b, m_b);
-                total.add(f_b, m_b);
+        if self.wing_mass_kg > 0.0 && !self.still {
+            for st in steps {
+                // Reaction of the wing's centre of mass accelerating with the kinematics
+                // (step_kinematics).
+                wing_inertia.add(st.inertia.force_n, st.inertia.moment_nm);
+                total.add(st.inertia.force_n, st.inertia.moment_nm);
             }
         }
         out.step = self.step;
@@ -356,7 +397,7 @@ impl WingSet {
         }
         out.step = step;
         out.t_s = t_s;
-        out.phase = t_s * freq_hz;
+        out.phase = (t_s + self.sampling.step_fraction() * dt_s) * freq_hz;
         out.terms = terms;
         out.wing_inertia = wing_inertia;
         out.total = total;

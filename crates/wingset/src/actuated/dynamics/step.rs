@@ -14,6 +14,7 @@ use super::equations::Held;
 use super::model::Stroke;
 use super::wing::{DynamicWing, WingState, WingStep};
 use crate::error::{Error, Result};
+use crate::sampling::LoadSampling;
 
 /// Deepest penetration into a contact stop before a run stops with an error, rad (10 deg):
 /// a stop is meant to be stiff, so a wing this deep in it says the contact is too soft for
@@ -98,7 +99,9 @@ impl DynamicWing {
             t_s: self.t_s,
             phase: self.stroke_phase(),
         };
-        let stops = self.model.hinge.contact.is_some();
+        // With stops, or sampled at the midpoint (second order), a step reports its mean
+        // loads over the step (below).
+        let stops = self.model.hinge.contact.is_some() || self.sampling == LoadSampling::Midpoint;
         let mut out = None;
         let mut frame_start = None;
         let mut nodes = Vec::new();

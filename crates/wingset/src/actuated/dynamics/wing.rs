@@ -10,6 +10,7 @@ use super::super::actuator::ActuatorState;
 use super::super::drive::Drive;
 use super::model::{Stroke, WingDynamics};
 use crate::error::{Error, Result};
+use crate::sampling::LoadSampling;
 
 /// The dynamic state of a wing.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
@@ -137,9 +138,23 @@ pub struct DynamicWing {
     /// (t, phi_dot) over the current drive period, to measure the stroke reference.
     pub(super) samples: Vec<(f64, f64)>,
     pub(super) period_index: i64,
+    /// What a step reports ([`LoadSampling`]): with `Midpoint` (or hinge stops) the
+    /// aerodynamic loads are taken afresh at every Runge-Kutta stage and the step reports
+    /// its mean loads; with `StepStart` (no stops) they are held and reported at its start.
+    pub(super) sampling: LoadSampling,
 }
 
 impl DynamicWing {
+    /// What a step reports from now on ([`LoadSampling`]; the wing set sets its own).
+    pub fn set_load_sampling(&mut self, sampling: LoadSampling) {
+        self.sampling = sampling;
+    }
+
+    /// What a step reports.
+    pub fn load_sampling(&self) -> LoadSampling {
+        self.sampling
+    }
+
     /// A wing at rest at the springs' rest angles (or on its prescribed stroke at t = 0).
     pub fn new(model: WingDynamics, drive: Drive) -> Result<Self> {
         let phi0 = match &model.stroke {
@@ -162,6 +177,7 @@ impl DynamicWing {
             downstroke: true,
             samples: Vec::new(),
             period_index: 0,
+            sampling: LoadSampling::default(),
         };
         w.set_drive(drive)?;
         Ok(w)

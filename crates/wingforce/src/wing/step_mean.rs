@@ -1,0 +1,122 @@
+//! The kinematic loads that represent a time step (issue 37): what a host that holds a load
+//! over [t_k, t_k + dt] needs for a second-order trajectory.
+//!
+//! Of a prescribed wing's four terms only the translational one depends on the body's
+//! motion; the rotational, added-mass and wake-capture terms are functions of the wingbeat
+//! phase alone ([`KinematicLoads`]). Sampled once per step they alias: they are pulses
+//! inside the pitch flip (the fly's flip lasts 0.12 of the wingbeat, three steps at 25 steps
+//! per wingbeat), and one sample per step turns a pulse's integral into an error that
+//! depends on where the flip falls on the step grid and repeats every wingbeat. Measured on
+//! the fly held tethered at 25 steps per wingbeat: a cycle-mean added-mass force of
+//! +-1.3e-7 N and rotational force of +-3.2e-8 N (2% and 0.5% of the lift, their sign set by
+//! the sampling point), against 1e-22 N at 50 steps and above.
+//!
+//! So the step's kinematic terms are their means over the step:
+//! - the impulse-form added mass exactly: its force is -dP/dt of the fluid's impulse, so its
+//!   mean is -(P(t_k + dt) - P(t_k))/dt ([`Wing::added_mass_over_step`]), and the impulse
+//!   handed to the body over a wingbeat is zero whatever the step;
+//! - the other terms (and the added mass's moment, and the paper form) by three-point
+//!   Gauss-Legendre quadrature (sixth order where the loads are smooth), on each side of a
+//!   stroke reversal that falls inside the step: the wake-capture term restarts with t* at
+//!   a reversal and jumps there, and a rule with a node at or across the jump would carry an
+//!   O(dt) error that repeats every wingbeat (measured with Simpson's rule, whose end nodes
+//!   sit on the reversals at an even step count: the fly's cycle-mean wake-capture force
+//!   converged only as 1/N).
+//!
+//! The state reported with them (angles, stroke phase, frame, for the translational term and
+//! the logs) is the midpoint's, and the wing's frames at the step's start and end come with
+//! them (what a host needs for other exact step means, e.g. the wing's inertial reaction).
+//! A host that tables them per step of the wingbeat (the wing set does) pays their cost once
+//! per wingbeat.
+
+use super::Wing;
+use crate::forces::KinematicLoads;
+use crate::frame::WingFrame;
+use crate::terms::{Term, TermForce};
+
+/// Three-point Gauss-Legendre nodes on [0, 1] and their weights.
+const GAUSS3: [(f64, f64); 3] = [
+    (0.5 - 0.387_298_334_620_741_7, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0),
+];
+
+/// The kinematic loads that represent one step ([`Wing::kinematic_loads_over_step`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepKinematicLoads {
+    /// The midpoint's state with each kinematic term's mean over the step.
+    pub mean: KinematicLoads,
+    /// The wing's frame at the step's start.
+    pub start: WingFrame,
+    /// The wing's frame at the step's end.
+    pub end: WingFrame,
+}
+
+impl Wing {
+    /// The kinematic loads that represent a step of `dt_s` from wingbeat phase
+    /// `phase_start` to `phase_end` (see the module documentation).
+    pub fn kinematic_loads_over_step(
+        &self,
+        phase_start: f64,
+        phase_end: f64,
+        dt_s: f64,
+    ) -> StepKinematicLoads {
+        let k = &self.kinematics;
+        let side = self.mount.side;
+        let start = WingFrame::new(&k.angles(phase_start), side);
+        let end = WingFrame::new(&k.angles(phase_end), side);
+        let mut mean = self.kinematic_loads(0.5 * (phase_start + phase_end));
+        // The pieces of the step between reversals (at most two reversals in a step of at
+        // most 1/20 of the wingbeat).
+        let mut cuts = [phase_start, phase_end, phase_end, phase_end];
+        let mut n_cuts = 2;
+        let mut a = phase_start;
+        while n_cuts < 4 && k.stroke_phase(a).half_stroke != k.stroke_phase(phase_end).half_stroke
+        {
+            let h0 = k.stroke_phase(a).half_stroke;
+            let (mut lo, mut hi) = (a, phase_end);
+            for _ in 0..60 {
+                let m = 0.5 * (lo + hi);
+                if m <= lo || m >= hi {
+                    break;
+                }
+                if k.stroke_phase(m).half_stroke == h0 {
+                    lo = m;
+                } else {
+                    hi = m;
+                }
+            }
+            cuts[n_cuts - 1] = hi;
+            cuts[n_cuts] = phase_end;
+            n_cuts += 1;
+            a = hi;
+        }
+        let span = phase_end - phase_start;
+        let mut sums = [TermForce::default(); 4];
+        for piece in cuts[..n_cuts].windows(2) {
+            let (p0, p1) = (piece[0], piece[1]);
+            for (x, w) in GAUSS3 {
+                let node = self.kinematic_loads(p0 + x * (p1 - p0));
+                let weight = w * (p1 - p0) / span;
+                for term in [Term::Rotational, Term::AddedMass, Term::WakeCapture] {
+                    let i = term as usize;
+                    let (n, t) = (&node.terms[i], &mut sums[i]);
+                    t.force_n += weight * n.force_n;
+                    t.moment_hinge_nm += weight * n.moment_hinge_nm;
+                    t.c_l += weight * n.c_l;
+                    t.c_d += weight * n.c_d;
+                }
+            }
+        }
+        mean.terms[1..].copy_from_slice(&sums[1..]);
+        let i = Term::AddedMass as usize;
+        if let Some(exact) =
+            self.added_mass_over_step(&start, &end, dt_s, &mean.terms[i], mean.phase.downstroke)
+        {
+            // The exact mean force, with the quadrature's moment (added_mass_over_step keeps
+            // the moment it is given).
+            mean.terms[i] = exact;
+        }
+        StepKinematicLoads { mean, start, end }
+    }
+}
