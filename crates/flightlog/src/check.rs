@@ -9,7 +9,9 @@
 //! `round(duration_s / dt)` steps with no controller (exactly what `flapwing simulate`
 //! does), picks samples with the same [`crate::Decimator`], and compares every logged
 //! `/vehicle/state` sample: position, velocity, attitude quaternion and body rates, as f64
-//! bits (protobuf doubles are the bits themselves, but for the sign of a zero, which proto3
+//! bits (the log's `load_sampling` metadata, or, for a log written before issue 37, the
+//! step-start sampling of that time, sets where the re-run takes the loads; protobuf
+//! doubles are the bits themselves, but for the sign of a zero, which proto3
 //! does not keep; the JSON numbers of logs written before
 //! issue #16 are read back with a correctly rounded parser, so they survive the round trip
 //! exactly, and there a logged 0 matches a non-finite value, which JSON could not hold). A
@@ -157,6 +159,7 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
     };
     let mut spec = flapsim::VehicleSpec::from_toml(toml, origin).map_err(embedded)?;
     spec.aero.added_mass = logged_added_mass_form(md, spec.aero.added_mass)?;
+    spec.sim.load_sampling = logged_load_sampling(md)?;
     let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let rate = match md.get("log_rate_hz").map(String::as_str) {
@@ -357,6 +360,24 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
         samples: idx as u64,
         note,
     })
+}
+
+/// Where in a step the logged run took the wings' loads: the log's `load_sampling`
+/// metadata, else (a log written before issue 37, when there was one sampling) the step's
+/// start.
+fn logged_load_sampling(
+    md: &std::collections::BTreeMap<String, String>,
+) -> Result<flapsim::LoadSampling> {
+    use flapsim::LoadSampling;
+    match md.get("load_sampling") {
+        Some(name) => LoadSampling::from_name(name).ok_or_else(|| {
+            Error::Embedded(format!(
+                "the log's `load_sampling` metadata `{name}` is not a sampling: allowed {}",
+                LoadSampling::allowed()
+            ))
+        }),
+        None => Ok(LoadSampling::StepStart),
+    }
 }
 
 /// The added-mass form the logged run used: the log's `added_mass_form` metadata, else (a log

@@ -110,9 +110,9 @@ pub struct ControlSpec {
 pub struct SimSpec {
     /// Physics steps per wingbeat (at least 20 accepted).
     pub steps_per_wingbeat: usize,
-    /// Where in a step the wings' loads are taken: `"midpoint"` (second order, the
-    /// default) or `"step_start"` (first order, the only one before issue 37; logs written
-    /// before it replay with it). See [`wingset::sampling`].
+    /// Where in a step the wings' loads are taken: `"step_start"` (first order, the only one
+    /// before issue 37 and the default; logs written before it replay with it) or
+    /// `"midpoint"` (second order). See [`wingset::sampling`].
     pub load_sampling: wingset::LoadSampling,
     /// rapier solver iterations (substeps) per step.
     pub solver_iterations: usize,
@@ -131,7 +131,7 @@ impl Default for SimSpec {
     fn default() -> Self {
         Self {
             steps_per_wingbeat: 100,
-            load_sampling: wingset::LoadSampling::Midpoint,
+            load_sampling: wingset::LoadSampling::StepStart,
             solver_iterations: 1,
             ground: false,
             wing_mass_kg: 0.0,

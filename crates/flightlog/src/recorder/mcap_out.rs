@@ -125,6 +125,10 @@ fn run_metadata(
             "added_mass_form".to_owned(),
             vehicle.wings[0].options().added_mass.name().to_owned(),
         ),
+        (
+            "load_sampling".to_owned(),
+            vehicle.sim.load_sampling.name().to_owned(),
+        ),
         ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
     ])
 }
