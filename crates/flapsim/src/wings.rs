@@ -64,6 +64,9 @@ impl FromVehicle for WingSet {
             vehicle.controls,
         )?;
         set.set_load_sampling(vehicle.sim.load_sampling);
+        if vehicle.sim.load_sampling == wingset::LoadSampling::Midpoint {
+            set.set_body_inertia_kg_m2(Some(vehicle.inertia_kg_m2));
+        }
         Ok(set)
     }
 

@@ -33,6 +33,7 @@ mod map;
 mod output;
 mod step;
 mod step_kinematics;
+mod rate_damping;
 
 use nalgebra::Vector3;
 use wingforce::{Kinematics, Side, Wing};
@@ -97,8 +98,12 @@ pub struct WingSet {
     /// Where in a step the loads are taken ([`LoadSampling`]).
     sampling: LoadSampling,
     /// The step index, world velocity and body rates of the body state the last step was
-    /// given (the midpoint prediction's previous state; `None` after a restart).
-    prev_body: Option<(u64, Vector3<f64>, Vector3<f64>)>,
+    /// given, and the body rates it took its loads at (the midpoint prediction's previous
+    /// state; `None` after a restart).
+    prev_body: Option<(u64, Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// I^-1 D: the body's rate damping over its inertia, when the host gave the inertia
+    /// ([`WingSet::set_body_inertia_kg_m2`], module `rate_damping`).
+    rate_damping: Option<nalgebra::Matrix3<f64>>,
     still: bool,
     out: WingSetOutput,
 }
@@ -244,6 +249,7 @@ impl WingSet {
             body_drag_area_m2: 0.0,
             sampling: LoadSampling::default(),
             prev_body: None,
+            rate_damping: None,
             still: false,
             out: WingSetOutput::empty(n),
         };

@@ -93,6 +93,7 @@ impl WingSet {
             self.step,
             body.velocity_m_s,
             body.angular_velocity_body_rad_s,
+            sampled.angular_velocity_body_rad_s,
         ));
         self.step += 1;
         Ok(&self.out)
@@ -101,8 +102,9 @@ impl WingSet {
     /// The body's state at which the next step takes its loads ([`LoadSampling`]): `body`
     /// (the state at t_k) for [`LoadSampling::StepStart`] and for the first step after a
     /// restart; for [`LoadSampling::Midpoint`] the state at t_k + dt/2 predicted from the
-    /// last step's: the velocity and body rates extrapolated by half their change over the
-    /// last step, the attitude turned by the body rates over dt/2, the position moved by
+    /// last step's: the velocity extrapolated by half its change over the last step, the body
+    /// rates likewise (with the body's inertia known, the rate damping taken implicitly:
+    /// module `rate_damping`), the attitude turned by the body rates over dt/2, the position moved by
     /// the velocity over dt/2.
     pub fn sample_state(&self, body: &State) -> State {
         let prev = match (self.sampling, self.prev_body) {
@@ -111,8 +113,7 @@ impl WingSet {
         };
         let half = 0.5 * self.dt_s;
         let velocity_m_s = body.velocity_m_s + 0.5 * (body.velocity_m_s - prev.1);
-        let rates = body.angular_velocity_body_rad_s
-            + 0.5 * (body.angular_velocity_body_rad_s - prev.2);
+        let rates = self.midpoint_rates(&body.angular_velocity_body_rad_s, &prev.2, &prev.3);
         State {
             position_m: body.position_m + half * body.velocity_m_s,
             world_from_body: body.world_from_body
