@@ -147,6 +147,33 @@ pub(crate) fn fluid_impulse(
     -k * (a0 * am.c2 + a1 * am.c2_r + a2 * am.c2_x) * n
 }
 
+/// The impulse form's moment about the hinge split as M = dW/dt + R: the potential W (the
+/// strips' -p x P plus their rotational added inertia's angular impulse
+/// (k c^4 / 32) (omega . e_span) e_span) and the remainder R, which holds rates and no
+/// accelerations ((omega x e_span) x and (omega x e_le) x the strips' impulse moments, and
+/// the spin's -(k c^4 / 32)(omega . e_span)(omega x e_span)). Stroke frame. A step's mean
+/// moment is then (W_end - W_start)/dt plus R's mean, exact for the part that jumps with the
+/// accelerations (`Wing::kinematic_loads_over_step`).
+pub(crate) fn impulse_moment_parts(
+    frame: &WingFrame,
+    am: &AddedMassIntegrals,
+    k: f64,
+    u_s: &Vector3<f64>,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let n = &frame.n;
+    let a0 = n.dot(u_s);
+    let a1 = n.dot(&frame.omega.cross(&frame.e_span));
+    let a2 = n.dot(&frame.omega.cross(&frame.e_le));
+    let rv = k * (a0 * am.c2_r + a1 * am.c2_r2 + a2 * am.c2_rx);
+    let xv = k * (a0 * am.c2_x + a1 * am.c2_rx + a2 * am.c2_x2);
+    let ds = frame.omega.cross(&frame.e_span);
+    let dl = frame.omega.cross(&frame.e_le);
+    let spin_k = k / 32.0 * am.c4 * frame.omega.dot(&frame.e_span);
+    let potential = frame.e_span.cross(&(rv * n)) + frame.e_le.cross(&(xv * n)) + spin_k * frame.e_span;
+    let remainder = -(ds.cross(&(rv * n)) + dl.cross(&(xv * n))) - spin_k * ds;
+    (potential, remainder)
+}
+
 /// -dP/dt: `k` is -(pi/4) rho, `u_s` the wing's velocity relative to the air from the air's
 /// own (steady) motion, stroke frame.
 #[inline(always)]

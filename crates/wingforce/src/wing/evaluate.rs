@@ -192,6 +192,23 @@ impl Wing {
         })
     }
 
+    /// The impulse-form added mass's moment about the hinge as (W, R), stroke frame, with
+    /// the moment dW/dt + R (`added_mass::impulse_moment_parts`): `Some` when the added mass
+    /// is in the impulse form.
+    pub(crate) fn added_mass_moment_parts(
+        &self,
+        frame: &WingFrame,
+    ) -> Option<(Vector3<f64>, Vector3<f64>)> {
+        (self.options.added_mass == AddedMassForm::Impulse).then(|| {
+            added_mass::impulse_moment_parts(
+                frame,
+                &self.geometry.added_mass,
+                self.cache.am_k,
+                &self.cache.inflow_s,
+            )
+        })
+    }
+
     /// The impulse-form added-mass term over a step from `start` to `end` (the wing's
     /// frames there) of `dt_s`: the force -(P_end - P_start) / dt, so that a host which holds
     /// it over the step hands the body exactly the fluid's change of impulse, with the moment
