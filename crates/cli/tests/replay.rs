@@ -207,5 +207,9 @@ fn a_midpoint_run_replays_bit_for_bit() {
     assert_eq!(o.code, 0, "{}{}", o.stdout, o.stderr);
     assert!(o.stdout.starts_with("match"), "{}", o.stdout);
     let o = flapwing(&["replay", s(&log), "--json"]);
-    assert!(o.stdout.contains("\"load_sampling\": \"midpoint\""), "{}", o.stdout);
+    assert!(
+        o.stdout.contains("\"load_sampling\": \"midpoint\""),
+        "{}",
+        o.stdout
+    );
 }

@@ -514,6 +514,26 @@ pub unsafe extern "C" fn flapwing_wings_set_wind(
     })
 }
 
+/// Forgets the body states earlier steps were given: call it after moving the body other
+/// than by integrating the returned loads (a reset, a disturbance set by hand). A model with
+/// `[sim] load_sampling = "midpoint"` predicts the body's state at each step's midpoint from
+/// the last two states; after this the next step takes the state it is given.
+///
+/// # Safety
+/// `wings` is NULL or a live handle.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn flapwing_wings_restart_motion(
+    wings: *mut FlapwingWings,
+) -> FlapwingStatus {
+    const F: &str = "flapwing_wings_restart_motion";
+    guard(F, || {
+        // SAFETY: forwarded from this function's contract.
+        let w = unsafe { handle_mut(F, wings) }?;
+        w.set.restart_motion();
+        Ok(())
+    })
+}
+
 /// The message of the last call on this thread that failed, "" after a call that succeeded
 /// (every function but this one and flapwing_version sets it). Valid until the next call on
 /// this thread; never NULL.

@@ -401,6 +401,10 @@ fn every_function_reports_a_null_handle_and_null_out_pointers() {
                 "flapwing_wings_set_wind",
                 flapwing_wings_set_wind(null, wind.as_ptr()),
             ),
+            (
+                "flapwing_wings_restart_motion",
+                flapwing_wings_restart_motion(null),
+            ),
         ];
         for (name, s) in calls {
             assert_eq!(s, FLAPWING_NULL_POINTER, "{name}");

@@ -80,7 +80,10 @@ fn main() {
                             sampling.name()
                         );
                     }
-                    Err(e) => println!("| {name} | {} | {steps} | failed: {e} | | |", sampling.name()),
+                    Err(e) => println!(
+                        "| {name} | {} | {steps} | failed: {e} | | |",
+                        sampling.name()
+                    ),
                 }
             }
         }

@@ -89,11 +89,17 @@ fn actuated_wings_converge_at_second_order() {
         start.iter().all(|r| (1.6..2.6).contains(r)),
         "step_start ratios {start:?}"
     );
-    assert!(mid[1] > start[1], "midpoint ratios {mid:?}, step_start {start:?}");
+    assert!(
+        mid[1] > start[1],
+        "midpoint ratios {mid:?}, step_start {start:?}"
+    );
     let translational = toml.replace(
         "[sim]",
         "[aero]\nwake_capture = false\nrotational = false\nadded_mass = \"off\"\n\n[sim]",
     );
     let only = ratios(&translational, 50, "midpoint", 1);
-    assert!(only.iter().all(|r| *r > 3.5), "translational only: {only:?}");
+    assert!(
+        only.iter().all(|r| *r > 3.5),
+        "translational only: {only:?}"
+    );
 }

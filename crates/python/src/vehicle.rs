@@ -175,6 +175,12 @@ impl Vehicle {
     fn steps_per_wingbeat(&self) -> usize {
         self.vehicle.sim.steps_per_wingbeat
     }
+    /// Where in a step the wings' loads are taken (`[sim] load_sampling`): "step_start"
+    /// (first order) or "midpoint" (second order).
+    #[getter]
+    fn load_sampling(&self) -> &'static str {
+        self.vehicle.sim.load_sampling.name()
+    }
     /// True for an actuated vehicle (wings driven by actuators, passive pitch).
     #[getter]
     fn actuated(&self) -> bool {

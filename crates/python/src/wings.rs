@@ -73,6 +73,19 @@ impl WingSet {
     fn __len__(&self) -> usize {
         self.set.len()
     }
+    /// Where in a step the loads are taken (the model's `[sim] load_sampling`): "step_start"
+    /// or "midpoint" (second order: the body's state at the step's midpoint is predicted from
+    /// the last two states `step` was given).
+    #[getter]
+    fn load_sampling(&self) -> &'static str {
+        self.set.load_sampling().name()
+    }
+    /// Forgets the states earlier steps were given: call it after moving the body by hand
+    /// (a reset, a disturbance), so that a "midpoint" set does not predict from a state the
+    /// body has left. Nothing to forget for "step_start".
+    fn restart_motion(&mut self) {
+        self.set.restart_motion();
+    }
     /// The controls in force (a dict of SI fields).
     #[getter]
     fn controls<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

@@ -169,7 +169,8 @@ pub(crate) fn impulse_moment_parts(
     let ds = frame.omega.cross(&frame.e_span);
     let dl = frame.omega.cross(&frame.e_le);
     let spin_k = k / 32.0 * am.c4 * frame.omega.dot(&frame.e_span);
-    let potential = frame.e_span.cross(&(rv * n)) + frame.e_le.cross(&(xv * n)) + spin_k * frame.e_span;
+    let potential =
+        frame.e_span.cross(&(rv * n)) + frame.e_le.cross(&(xv * n)) + spin_k * frame.e_span;
     let remainder = -(ds.cross(&(rv * n)) + dl.cross(&(xv * n))) - spin_k * ds;
     (potential, remainder)
 }

@@ -42,3 +42,14 @@ pub struct KinematicLoads {
     /// In the order of [`Term::ALL`], body frame; the translational entry is zero.
     pub terms: [TermForce; 4],
 }
+
+/// The kinematic loads that represent one step ([`crate::Wing::kinematic_loads_over_step`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepKinematicLoads {
+    /// The midpoint's state with each kinematic term's mean over the step.
+    pub mean: KinematicLoads,
+    /// The wing's frame at the step's start.
+    pub start: WingFrame,
+    /// The wing's frame at the step's end.
+    pub end: WingFrame,
+}

@@ -82,7 +82,10 @@ fn added_mass_step_means_carry_no_cycle_mean_force_at_any_step_count() {
     let peak = peaks(&w, Term::AddedMass).0;
     for n in [20, 25, 40] {
         let (f, _) = step_cycle_mean(&w, Term::AddedMass, n);
-        assert!(norm(f) < 1e-12 * peak, "N = {n}: cycle mean {f:?} against peak {peak:e}");
+        assert!(
+            norm(f) < 1e-12 * peak,
+            "N = {n}: cycle mean {f:?} against peak {peak:e}"
+        );
         // One sample per step (at each step's midpoint) aliases the flip's pulse.
         let (sampled, _) = fine_mean(&w, Term::AddedMass, 0.0, 1.0, n);
         if n == 25 {
@@ -106,12 +109,23 @@ fn a_step_mean_is_the_steps_fine_mean_across_a_reversal() {
             let (ef, em) = (diff(t.force_n.into(), f), diff(t.moment_hinge_nm.into(), m));
             // Measured: at most 0.05% of the term's peak (the rotational term inside the
             // flip); the added mass's at round-off.
-            assert!(ef <= 2e-3 * pf, "{term:?} [{a}, {b}]: force {:?} against {f:?}", t.force_n);
-            assert!(em <= 2e-3 * pm, "{term:?} [{a}, {b}]: moment {:?} against {m:?}", t.moment_hinge_nm);
+            assert!(
+                ef <= 2e-3 * pf,
+                "{term:?} [{a}, {b}]: force {:?} against {f:?}",
+                t.force_n
+            );
+            assert!(
+                em <= 2e-3 * pm,
+                "{term:?} [{a}, {b}]: moment {:?} against {m:?}",
+                t.moment_hinge_nm
+            );
             if term == Term::AddedMass {
                 // The reference's own error (20,000 midpoint samples across the flip's kinks)
                 // is about 1e-5 of the peak.
-                assert!(ef <= 1e-9 * pf && em <= 1e-4 * pm, "[{a}, {b}]: {ef:e} {em:e}");
+                assert!(
+                    ef <= 1e-9 * pf && em <= 1e-4 * pm,
+                    "[{a}, {b}]: {ef:e} {em:e}"
+                );
             }
         }
     }
@@ -129,7 +143,9 @@ fn odd_and_even_step_counts_give_the_fine_cycle_mean() {
         for n in [24, 25] {
             let (sf, sm) = step_cycle_mean(&w, term, n);
             let (ef, em) = (diff(sf, f), diff(sm, m));
-            eprintln!("{term:?} N = {n}: force {ef:.3e}, moment {em:.3e} (fine {fs:.3e}, {ms:.3e})");
+            eprintln!(
+                "{term:?} N = {n}: force {ef:.3e}, moment {em:.3e} (fine {fs:.3e}, {ms:.3e})"
+            );
             // Measured: within 0.4% (force) and 2% (moment) of the fine cycle means, the
             // rotational term's pulse at 25 steps (three steps per flip) the largest.
             assert!(ef <= 5e-3 * fs, "{term:?} N = {n}: force {ef:e} of {fs:e}");

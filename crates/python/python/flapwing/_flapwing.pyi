@@ -128,6 +128,9 @@ class Vehicle:
     @property
     def steps_per_wingbeat(self) -> int: ...
     @property
+    def load_sampling(self) -> str:
+        """`[sim] load_sampling`: "step_start" (first order) or "midpoint" (second order)."""
+    @property
     def actuated(self) -> bool: ...
     @property
     def control_channels(self) -> list[str]:
@@ -252,6 +255,12 @@ class WingSet:
     @property
     def steps(self) -> int: ...
     def __len__(self) -> int: ...
+    @property
+    def load_sampling(self) -> str:
+        """The model's `[sim] load_sampling` ("midpoint": the body's midpoint state is
+        predicted from the last two states `step` was given)."""
+    def restart_motion(self) -> None:
+        """Forget earlier states: call after moving the body by hand."""
     @property
     def controls(self) -> dict[str, float]: ...
     def set_controls(self, **controls: float) -> None:

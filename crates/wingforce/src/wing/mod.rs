@@ -17,14 +17,13 @@ use crate::inflow::InducedInflow;
 use crate::kinematics::Kinematics;
 use crate::planform::Geometry;
 
-pub use crate::forces::{KinematicLoads, WingForces};
+pub use crate::forces::{KinematicLoads, StepKinematicLoads, WingForces};
 pub use crate::frame::WingFrame;
 pub use crate::mount::{BodyMotion, Fluid, Mount, Side};
 pub use crate::terms::{Term, TermForce};
 
 mod evaluate;
 mod step_mean;
-pub use step_mean::StepKinematicLoads;
 
 /// Which terms to compute and how.
 #[derive(Debug, Clone, PartialEq)]

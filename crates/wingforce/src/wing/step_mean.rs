@@ -3,7 +3,7 @@
 //!
 //! Of a prescribed wing's four terms only the translational one depends on the body's
 //! motion; the rotational, added-mass and wake-capture terms are functions of the wingbeat
-//! phase alone ([`KinematicLoads`]). Sampled once per step they alias: they are pulses
+//! phase alone ([`crate::KinematicLoads`]). Sampled once per step they alias: they are pulses
 //! inside the pitch flip (the fly's flip lasts 0.12 of the wingbeat, three steps at 25 steps
 //! per wingbeat), and one sample per step turns a pulse's integral into an error that
 //! depends on where the flip falls on the step grid and repeats every wingbeat. Measured on
@@ -37,7 +37,7 @@
 use nalgebra::Vector3;
 
 use super::Wing;
-use crate::forces::KinematicLoads;
+use crate::forces::StepKinematicLoads;
 use crate::frame::WingFrame;
 use crate::terms::{Term, TermForce};
 
@@ -47,17 +47,6 @@ const GAUSS3: [(f64, f64); 3] = [
     (0.5, 8.0 / 18.0),
     (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0),
 ];
-
-/// The kinematic loads that represent one step ([`Wing::kinematic_loads_over_step`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StepKinematicLoads {
-    /// The midpoint's state with each kinematic term's mean over the step.
-    pub mean: KinematicLoads,
-    /// The wing's frame at the step's start.
-    pub start: WingFrame,
-    /// The wing's frame at the step's end.
-    pub end: WingFrame,
-}
 
 impl Wing {
     /// The kinematic loads that represent a step of `dt_s` from wingbeat phase
@@ -78,8 +67,7 @@ impl Wing {
         let mut cuts = [phase_start, phase_end, phase_end, phase_end];
         let mut n_cuts = 2;
         let mut a = phase_start;
-        while n_cuts < 4 && k.stroke_phase(a).half_stroke != k.stroke_phase(phase_end).half_stroke
-        {
+        while n_cuts < 4 && k.stroke_phase(a).half_stroke != k.stroke_phase(phase_end).half_stroke {
             let h0 = k.stroke_phase(a).half_stroke;
             let (mut lo, mut hi) = (a, phase_end);
             for _ in 0..60 {

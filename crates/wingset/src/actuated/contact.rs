@@ -7,8 +7,8 @@ use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root, illinois_root};
 
 /// Most segments (touches and releases) of one sub-step on an inelastic stop.
 const MAX_STOP_EVENTS: usize = 64;
-use crate::sampling::LoadSampling;
 use crate::error::{Error, Result};
+use crate::sampling::LoadSampling;
 
 impl DynamicWing {
     /// Advances the structure over one sub-step of length `h`: away from the stops, one

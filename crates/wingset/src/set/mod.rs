@@ -31,9 +31,9 @@ mod dt;
 mod limits;
 mod map;
 mod output;
+mod rate_damping;
 mod step;
 mod step_kinematics;
-mod rate_damping;
 
 use nalgebra::Vector3;
 use wingforce::{Kinematics, Side, Wing};
@@ -44,9 +44,9 @@ pub use map::ControlMap;
 pub use output::{WingSetOutput, zero_forces};
 
 use crate::actuated::{Drive, DynamicWing};
-use crate::sampling::LoadSampling;
 use crate::controls::Controls;
 use crate::error::{Error, Result};
+use crate::sampling::LoadSampling;
 
 /// Longest wingbeat, in steps, whose kinematic loads are kept (about 500 B per wing and step).
 const MAX_TABLE_STEPS: u64 = 4096;
@@ -97,15 +97,30 @@ pub struct WingSet {
     body_drag_area_m2: f64,
     /// Where in a step the loads are taken ([`LoadSampling`]).
     sampling: LoadSampling,
-    /// The step index, world velocity and body rates of the body state the last step was
-    /// given, and the body rates it took its loads at (the midpoint prediction's previous
-    /// state; `None` after a restart).
-    prev_body: Option<(u64, Vector3<f64>, Vector3<f64>, Vector3<f64>)>,
+    /// What the last step was given and took (the midpoint prediction's previous state;
+    /// `None` after a restart).
+    prev_body: Option<PrevBody>,
     /// I^-1 D: the body's rate damping over its inertia, when the host gave the inertia
     /// ([`WingSet::set_body_inertia_kg_m2`], module `rate_damping`).
     rate_damping: Option<nalgebra::Matrix3<f64>>,
     still: bool,
     out: WingSetOutput,
+}
+
+/// The last step's body state, for [`LoadSampling::Midpoint`]'s prediction.
+#[derive(Debug, Clone, Copy)]
+struct PrevBody {
+    /// The step's index.
+    step: u64,
+    /// The velocity it was given, world frame, m/s.
+    velocity_m_s: Vector3<f64>,
+    /// The body rates it was given, rad/s.
+    rates_rad_s: Vector3<f64>,
+    /// The body rates it took its loads at, rad/s.
+    mid_rates_rad_s: Vector3<f64>,
+    /// The body's attitude at the step's start as the set integrates it from the rates
+    /// (trapezoidal rule; the host's own update is first order).
+    world_from_body: nalgebra::UnitQuaternion<f64>,
 }
 
 /// Builds a [`WingSet`] of prescribed-kinematics wings, one by one.
