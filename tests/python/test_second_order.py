@@ -60,7 +60,8 @@ def test_a_numpy_hosts_velocity_converges_at_the_samplings_order(tmp_path, sampl
 def test_the_sampling_is_named_and_restart_forgets_the_last_state(tmp_path):
     path = model(tmp_path, 100, "midpoint")
     assert flapwing.Vehicle(path).load_sampling == "midpoint"
-    assert flapwing.Vehicle("drosophila").load_sampling == "step_start"
+    assert flapwing.Vehicle("drosophila").load_sampling == "midpoint"
+    assert flapwing.Vehicle("robobee").load_sampling == "step_start"
     a, b = flapwing.WingSet(path), flapwing.WingSet(path)
     assert a.load_sampling == "midpoint"
     rest = dict(position_m=[0, 0, 0], world_from_body_wxyz=[1, 0, 0, 0], velocity_m_s=[0, 0, 0],

@@ -24,7 +24,7 @@ fn vehicle(name: &str, steps: usize, sampling: LoadSampling) -> Result<Vehicle, 
     let text = flapsim::builtin_model(name).ok_or_else(|| format!("no built-in {name}"))?;
     let mut spec = VehicleSpec::from_toml(text, name).map_err(|e| e.to_string())?;
     spec.sim.steps_per_wingbeat = steps;
-    spec.sim.load_sampling = sampling;
+    spec.sim.load_sampling = Some(sampling);
     spec.build(name).map_err(|e| e.to_string())
 }
 

@@ -63,8 +63,8 @@ impl FromVehicle for WingSet {
             dt_s,
             vehicle.controls,
         )?;
-        set.set_load_sampling(vehicle.sim.load_sampling);
-        if vehicle.sim.load_sampling == wingset::LoadSampling::Midpoint {
+        set.set_load_sampling(vehicle.load_sampling());
+        if vehicle.load_sampling() == wingset::LoadSampling::Midpoint {
             set.set_body_inertia_kg_m2(Some(vehicle.inertia_kg_m2));
         }
         Ok(set)

@@ -225,7 +225,9 @@ fn a_phase_offset_of_half_a_wingbeat_shifts_the_hind_pair_by_half_a_wingbeat() {
 /// set's mean load is `mean_loads`' at 100 phases (to 1e-12 of the weight: the sums' order).
 #[test]
 fn the_wing_set_and_the_cycle_mean_agree_on_four_wings() {
-    let v = vehicle(flapsim::DRAGONFLY_TOML);
+    let mut v = vehicle(flapsim::DRAGONFLY_TOML);
+    // `mean_loads` samples the N phases of the step starts.
+    v.sim.load_sampling = Some(flapsim::LoadSampling::StepStart);
     let mut set = WingSet::from_vehicle_sized(&v).unwrap();
     assert_eq!(set.len(), 4);
     let still = flapsim::State::at_rest();

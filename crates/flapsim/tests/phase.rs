@@ -14,8 +14,13 @@
 use flapsim::{Controls, Mode, Simulation, StepOutput, Vehicle};
 use wingforce::{BodyMotion, WingForces};
 
+/// The fly with its loads taken at each step's start, where a step's loads are wingforce's
+/// at the step's phase (the midpoint sampling's step means are checked against wingforce in
+/// wingforce's `tests/step_mean.rs`).
 fn drosophila() -> Vehicle {
-    Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "models/drosophila.toml").unwrap()
+    let mut v = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "models/drosophila.toml").unwrap();
+    v.sim.load_sampling = Some(flapsim::LoadSampling::StepStart);
+    v
 }
 
 /// The body's motion relative to still air, body frame, at the step's state.

@@ -24,7 +24,7 @@ use flapsim::{Mode, Simulation, State, Vehicle};
 fn vehicle(toml: &str, steps: usize, sampling: &str) -> Vehicle {
     let mut spec = flapsim::VehicleSpec::from_toml(toml, "model").unwrap();
     spec.sim.steps_per_wingbeat = steps;
-    spec.sim.load_sampling = wingset::LoadSampling::from_name(sampling).unwrap();
+    spec.sim.load_sampling = wingset::LoadSampling::from_name(sampling);
     spec.build("model").unwrap()
 }
 

@@ -159,7 +159,7 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
     };
     let mut spec = flapsim::VehicleSpec::from_toml(toml, origin).map_err(embedded)?;
     spec.aero.added_mass = logged_added_mass_form(md, spec.aero.added_mass)?;
-    spec.sim.load_sampling = logged_load_sampling(md)?;
+    spec.sim.load_sampling = Some(logged_load_sampling(md)?);
     let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let rate = match md.get("log_rate_hz").map(String::as_str) {

@@ -70,7 +70,17 @@ fn old_and_new_logs_of_one_run_agree() {
     assert!(!old.metadata.contains_key("added_mass_form"));
     let embedded = &old.metadata["model_toml"];
     assert!(!embedded.contains("[aero]") && !embedded.contains("added_mass"));
-    let model = format!("{embedded}\n[aero]\nadded_mass = \"paper\"\n");
+    // And the loads taken at each step's start, the only sampling before issue 37.
+    assert!(!old.metadata.contains_key("load_sampling") && !embedded.contains("load_sampling"));
+    let model = format!("{embedded}\n[aero]\nadded_mass = \"paper\"\n",).replacen(
+        "[sim]",
+        "[sim]\nload_sampling = \"step_start\"",
+        1,
+    );
+    assert!(
+        model.contains("load_sampling"),
+        "the old model has a [sim] table"
+    );
     let run = common::record_model(
         &common::mcap_opts(&path, settings.log_rate_hz),
         "simulate",

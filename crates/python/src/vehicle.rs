@@ -179,7 +179,7 @@ impl Vehicle {
     /// (first order) or "midpoint" (second order).
     #[getter]
     fn load_sampling(&self) -> &'static str {
-        self.vehicle.sim.load_sampling.name()
+        self.vehicle.load_sampling().name()
     }
     /// True for an actuated vehicle (wings driven by actuators, passive pitch).
     #[getter]

@@ -6,11 +6,12 @@
 //! when a_k is the step's mean load to O(dt^2), and first-order when it is the load at the
 //! step's start (its error is dt/2 a' per step, summed over the run).
 //!
-//! - [`LoadSampling::StepStart`] (the only one before issue 37, and still the default; logs
-//!   written before it replay with it bit for bit): the wings' kinematics at the wingbeat phase of t_k and the body's state at t_k.
+//! - [`LoadSampling::StepStart`] (the only one before issue 37; logs written before it
+//!   replay with it bit for bit, and the actuated built-in vehicles keep it, see their model
+//!   files): the wings' kinematics at the wingbeat phase of t_k and the body's state at t_k.
 //!   Measured on the fly (issue 37's table): the hover excursion's error falls as 1/N
 //!   (3.6% at 100 steps per wingbeat, 0.8% at 400).
-//! - [`LoadSampling::Midpoint`] (`[sim] load_sampling = "midpoint"`): the loads at the step's midpoint
+//! - [`LoadSampling::Midpoint`] (the default; `[sim] load_sampling`): the loads at the step's midpoint
 //!   t_k + dt/2, which represent the step to O(dt^2) (the midpoint rule): prescribed wings
 //!   take their kinematics at the midpoint phase (from the same per-step table, so a step
 //!   costs what it did), and the body's state at the midpoint is predicted from the last two
@@ -41,12 +42,11 @@
 )]
 #[serde(rename_all = "snake_case")]
 pub enum LoadSampling {
-    /// The loads at the step's start (first order; before issue 37). The default until the
-    /// built-in vehicles' step counts and everything downstream are re-run with the
-    /// midpoint (issue 37's remaining work).
-    #[default]
+    /// The loads at the step's start (first order; the only one before issue 37).
     StepStart,
-    /// The loads at the step's midpoint, the body's state there predicted (second order).
+    /// The loads at the step's midpoint, the body's state there predicted (second order;
+    /// the default).
+    #[default]
     Midpoint,
 }
 
@@ -69,7 +69,7 @@ impl LoadSampling {
 
     /// The allowed names, for error messages.
     pub fn allowed() -> &'static str {
-        "\"step_start\" (first order, the default) or \"midpoint\" (second order)"
+        "\"midpoint\" (second order, the default) or \"step_start\" (first order)"
     }
 
     /// The fraction of the step at which the kinematics are sampled.

@@ -110,10 +110,12 @@ pub struct ControlSpec {
 pub struct SimSpec {
     /// Physics steps per wingbeat (at least 20 accepted).
     pub steps_per_wingbeat: usize,
-    /// Where in a step the wings' loads are taken: `"step_start"` (first order, the only one
-    /// before issue 37 and the default; logs written before it replay with it) or
-    /// `"midpoint"` (second order). See [`wingset::sampling`].
-    pub load_sampling: wingset::LoadSampling,
+    /// Where in a step the wings' loads are taken: `"midpoint"` (second order) or
+    /// `"step_start"` (first order, the only one before issue 37; logs written before it
+    /// replay with it). See [`wingset::sampling`]. Absent: midpoint for prescribed wings,
+    /// step-start for actuated ones (`Vehicle::load_sampling`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_sampling: Option<wingset::LoadSampling>,
     /// rapier solver iterations (substeps) per step.
     pub solver_iterations: usize,
     /// Add a ground plane at z = 0 and a contact sphere on the body (take-off and landing).
@@ -131,7 +133,7 @@ impl Default for SimSpec {
     fn default() -> Self {
         Self {
             steps_per_wingbeat: 100,
-            load_sampling: wingset::LoadSampling::StepStart,
+            load_sampling: None,
             solver_iterations: 1,
             ground: false,
             wing_mass_kg: 0.0,

@@ -11,7 +11,11 @@ use nalgebra::UnitQuaternion;
 
 /// The built-in fruit fly trimmed for hover, and its trim.
 pub fn fly() -> (Vehicle, Trim) {
-    let v = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "drosophila").unwrap();
+    let mut v = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "drosophila").unwrap();
+    // The estimator's tests pin what issue #27 measured with the loads taken at each step's
+    // start (an IMU sample is a step's load; with the midpoint sampling it is the step's
+    // mean, and the every-step propagation is no longer rapier's own step).
+    v.sim.load_sampling = Some(flapsim::LoadSampling::StepStart);
     let t = trim(&v).unwrap();
     let tv = trimmed_vehicle(&v, &t).unwrap();
     (tv, t)

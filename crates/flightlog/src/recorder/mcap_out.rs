@@ -127,7 +127,7 @@ fn run_metadata(
         ),
         (
             "load_sampling".to_owned(),
-            vehicle.sim.load_sampling.name().to_owned(),
+            vehicle.load_sampling().name().to_owned(),
         ),
         ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
     ])

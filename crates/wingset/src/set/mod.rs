@@ -238,6 +238,10 @@ impl WingSet {
             })
             .collect();
         let n = wings.len();
+        let sampling = match dynamic {
+            Some(_) => LoadSampling::StepStart,
+            None => LoadSampling::Midpoint,
+        };
         let mut set = Self {
             wings,
             dynamic,
@@ -262,7 +266,9 @@ impl WingSet {
             wing_winds_world_m_s: None,
             wing_motions: Vec::new(),
             body_drag_area_m2: 0.0,
-            sampling: LoadSampling::default(),
+            // Actuated wings step-start until told otherwise (their own default,
+            // `DynamicWing::set_load_sampling`); prescribed ones at the midpoint.
+            sampling,
             prev_body: None,
             rate_damping: None,
             still: false,

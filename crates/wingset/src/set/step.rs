@@ -47,14 +47,16 @@ impl WingSet {
 
     /// [`WingSet::step`] and [`WingSet::loads`]: adds the body's drag (when the host turned it on) to the output and
     /// checks that the loads are finite.
-    fn finish(&self, body: &State, out: &mut WingSetOutput) -> Result<()> {
-        let drag = self.body_drag(body);
+    /// The drag is taken at the `sampled` state ([`Self::sample_state`]); an overflow names
+    /// the state the host `given`.
+    fn finish(&self, given: &State, sampled: &State, out: &mut WingSetOutput) -> Result<()> {
+        let drag = self.body_drag(sampled);
         out.body_drag = drag;
         out.total.add(drag.force_n, drag.moment_nm);
         if out.total.is_finite() {
             Ok(())
         } else {
-            Err(self.overflow_error(body, &self.motion(body)))
+            Err(self.overflow_error(given, &self.motion(given)))
         }
     }
 
@@ -85,7 +87,7 @@ impl WingSet {
             Some(_) => self.actuated_into(&sampled, &mut out),
             None => Ok(()),
         }
-        .and_then(|()| self.finish(&sampled, &mut out));
+        .and_then(|()| self.finish(body, &sampled, &mut out));
         in_step_frame(&mut out, body, &sampled);
         self.out = out;
         r?;
@@ -166,7 +168,7 @@ impl WingSet {
             let mut copy = self.clone();
             // A state the step would reject still gets its loads reported as far as known.
             let _ = copy.actuated_into(body, &mut out);
-            self.finish(body, &mut out)?;
+            self.finish(given, body, &mut out)?;
             in_step_frame(&mut out, given, body);
             return Ok(out);
         }
@@ -183,7 +185,7 @@ impl WingSet {
         }
         let sums = self.sums(body, cycles, table_phase, &motions);
         sums.loads_into(&kin, &mut out);
-        self.finish(body, &mut out)?;
+        self.finish(given, body, &mut out)?;
         in_step_frame(&mut out, given, body);
         Ok(out)
     }
@@ -272,11 +274,12 @@ impl WingSet {
     }
 }
 
-/// Expresses the body loads of `out`, taken at the `sampled` state, in the body frame of the
-/// state `body` the host gave (the frame in which it applies them): the body turns by
-/// dt/2 of its rates between the two ([`WingSet::sample_state`]), and a load held in the
-/// wrong one would point dt/2 omega off, a first-order error. Each wing's own forces stay
-/// as computed.
+/// Expresses the loads of `out`, taken at the `sampled` state, in the body frame of the
+/// state `body` the host gave (the frame in which it applies them): the body turns by dt/2
+/// of its rates between the two, and the set's attitude estimate differs from the host's
+/// by the host's first-order bias ([`WingSet::sample_state`]); a load held in the wrong
+/// frame would point that much off. Each wing's forces turn with them, so that they still
+/// sum to the total.
 fn in_step_frame(out: &mut WingSetOutput, body: &State, sampled: &State) {
     if sampled.world_from_body == body.world_from_body {
         return;
@@ -290,6 +293,12 @@ fn in_step_frame(out: &mut WingSetOutput, body: &State, sampled: &State) {
     turn(&mut out.wing_inertia);
     turn(&mut out.body_drag);
     turn(&mut out.total);
+    for w in &mut out.wings {
+        for t in w.terms.iter_mut().chain(std::iter::once(&mut w.total)) {
+            t.force_n = rel * t.force_n;
+            t.moment_hinge_nm = rel * t.moment_hinge_nm;
+        }
+    }
 }
 
 /// The prescribed wings' loads at one body state (borrowing the set's wings while the

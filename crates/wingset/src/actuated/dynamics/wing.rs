@@ -177,7 +177,9 @@ impl DynamicWing {
             downstroke: true,
             samples: Vec::new(),
             period_index: 0,
-            sampling: LoadSampling::default(),
+            // Step-start until a wing set that samples at the midpoint says otherwise (the
+            // actuated vehicles' default, `flapsim::Vehicle::load_sampling`).
+            sampling: LoadSampling::StepStart,
         };
         w.set_drive(drive)?;
         Ok(w)
