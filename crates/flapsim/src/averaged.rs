@@ -22,7 +22,10 @@ pub struct FrozenState {
 }
 
 /// Mean loads over one wingbeat at a frozen state: `steps` samples of the prescribed
-/// kinematics, or, for an actuated vehicle, the wings run into their periodic motion at
+/// kinematics (with the vehicle's midpoint load sampling, `Vehicle::load_sampling`, the
+/// means over `steps` steps that a simulation stepping at that count applies:
+/// `wingforce::Wing::kinematic_loads_over_step`, the translational term at each step's
+/// midpoint; so a trim balances the loads the simulation steps with), or, for an actuated vehicle, the wings run into their periodic motion at
 /// that body state by the dynamics ([`crate::actuated::periodic`], which integrates at the
 /// simulation's step and ignores `steps`; its error says when there is no periodic motion).
 pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> Result<MeanLoads> {
@@ -36,10 +39,17 @@ pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> Resul
     }
     let mut out = MeanLoads::default();
     let w = 1.0 / steps as f64;
+    let midpoint = vehicle.load_sampling() == wingset::LoadSampling::Midpoint;
+    let dt_s = w / vehicle.freq_hz();
     for k in 0..steps {
         let phase = k as f64 * w;
         for wing in &vehicle.wings {
-            let f = wing.evaluate(phase, &motion);
+            let f = if midpoint {
+                let s = wing.kinematic_loads_over_step(phase, (k + 1) as f64 * w, dt_s);
+                wing.evaluate_with(&s.mean, &motion)
+            } else {
+                wing.evaluate(phase, &motion)
+            };
             let hinge = &wing.mount().hinge_in_body_m;
             for term in Term::ALL {
                 let t = f.term(term);

@@ -88,7 +88,7 @@ impl WingSet {
             None => Ok(()),
         }
         .and_then(|()| self.finish(body, &sampled, &mut out));
-        in_step_frame(&mut out, body, &sampled);
+        in_step_frame(&mut out, &self.wings, body, &sampled);
         self.out = out;
         r?;
         self.prev_body = Some(PrevBody {
@@ -169,7 +169,7 @@ impl WingSet {
             // A state the step would reject still gets its loads reported as far as known.
             let _ = copy.actuated_into(body, &mut out);
             self.finish(given, body, &mut out)?;
-            in_step_frame(&mut out, given, body);
+            in_step_frame(&mut out, &self.wings, given, body);
             return Ok(out);
         }
         let (cycles, table_phase, j) = self.sample_phase_parts();
@@ -186,7 +186,7 @@ impl WingSet {
         let sums = self.sums(body, cycles, table_phase, &motions);
         sums.loads_into(&kin, &mut out);
         self.finish(given, body, &mut out)?;
-        in_step_frame(&mut out, given, body);
+        in_step_frame(&mut out, &self.wings, given, body);
         Ok(out)
     }
 
@@ -280,7 +280,7 @@ impl WingSet {
 /// by the host's first-order bias ([`WingSet::sample_state`]); a load held in the wrong
 /// frame would point that much off. Each wing's forces turn with them, so that they still
 /// sum to the total.
-fn in_step_frame(out: &mut WingSetOutput, body: &State, sampled: &State) {
+fn in_step_frame(out: &mut WingSetOutput, wings: &[Wing], body: &State, sampled: &State) {
     if sampled.world_from_body == body.world_from_body {
         return;
     }
@@ -293,10 +293,18 @@ fn in_step_frame(out: &mut WingSetOutput, body: &State, sampled: &State) {
     turn(&mut out.wing_inertia);
     turn(&mut out.body_drag);
     turn(&mut out.total);
-    for w in &mut out.wings {
-        for t in w.terms.iter_mut().chain(std::iter::once(&mut w.total)) {
+    for (w, forces) in wings.iter().zip(&mut out.wings) {
+        let hinge = &w.mount().hinge_in_body_m;
+        for t in forces
+            .terms
+            .iter_mut()
+            .chain(std::iter::once(&mut forces.total))
+        {
+            // The moment about the centre of mass turns with the force; the hinge stays
+            // where it is in the body.
+            let about_com = rel * t.moment_about_com_nm(hinge);
             t.force_n = rel * t.force_n;
-            t.moment_hinge_nm = rel * t.moment_hinge_nm;
+            t.moment_hinge_nm = about_com - hinge.cross(&t.force_n);
         }
     }
 }
