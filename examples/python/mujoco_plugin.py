@@ -42,20 +42,22 @@ def build_plugin(python: str = sys.executable) -> pathlib.Path:
     return path
 
 
-def fly_xml(integrator: str = "Euler", **config: str) -> str:
-    """fly.xml with another integrator and extra plugin config attributes (strings)."""
+def fly_xml(integrator: str = "Euler", model: str = "drosophila", **config: str) -> str:
+    """fly.xml with another integrator, model (a built-in name or a model file) and extra
+    plugin config attributes (strings)."""
     xml = FLY_XML.read_text()
     xml = xml.replace('integrator="Euler"', f'integrator="{integrator}"')
     extra = "".join(f'<config key="{k}" value="{v}"/>' for k, v in config.items())
     return xml.replace('<config key="model" value="drosophila"/>',
-                       '<config key="model" value="drosophila"/>' + extra)
+                       f'<config key="model" value="{model}"/>' + extra)
 
 
-def fly_native(steps: int, integrator: str = "Euler", **config: str) -> dict:
+def fly_native(steps: int, integrator: str = "Euler", model: str = "drosophila",
+               **config: str) -> dict:
     """Flies fly.xml (the plugin must be loaded) `steps` steps; returns per step the state
     after it (position_m, world_from_body_wxyz, velocity_m_s, angular_velocity_body_rad_s) and
     the wrench the plugin applied during it (force_n, moment_nm: body frame)."""
-    m = mujoco.MjModel.from_xml_string(fly_xml(integrator, **config))
+    m = mujoco.MjModel.from_xml_string(fly_xml(integrator, model, **config))
     d = mujoco.MjData(m)
     adr = m.plugin_stateadr[0]
     out = {k: np.empty((steps, n)) for k, n in (
@@ -73,10 +75,10 @@ def fly_native(steps: int, integrator: str = "Euler", **config: str) -> dict:
     return out
 
 
-def fly_flapwing(steps: int, **controls: float) -> dict:
+def fly_flapwing(steps: int, model: str = "drosophila", **controls: float) -> dict:
     """flapwing's own rapier run of the same model and controls: the states after each step
     (like fly_native's) and the loads applied during it."""
-    sim = flapwing.Simulation(flapwing.Vehicle("drosophila"), "free")
+    sim = flapwing.Simulation(flapwing.Vehicle(model), "free")
     if controls:
         sim.set_controls(**controls)  # before the first step: in force from step 0
     r = sim.run(steps + 1)  # records the state at the start of each step

@@ -43,6 +43,22 @@ N = 100  # steps per wingbeat (the model's sim.steps_per_wingbeat)
 
 
 @pytest.fixture(scope="session")
+def step_start_fly(tmp_path_factory):
+    """The fly with its loads taken at each step's start (`[sim] load_sampling`): MuJoCo's
+    Euler and flapwing's rapier host then integrate the same loads the same way, to round-off.
+    With the default midpoint sampling flapwing's own host moves rapier's pose to the
+    trapezoidal rule and MuJoCo's Euler keeps its first-order pose (wingset::sampling), a
+    difference of O(dt) by design; the plugin's wrench under the midpoint sampling is checked
+    step by step in the tethered tests above this section."""
+    text = (ROOT / "models/drosophila.toml").read_text()
+    assert "steps_per_wingbeat = 100\n" in text
+    path = tmp_path_factory.mktemp("models") / "drosophila_step_start.toml"
+    path.write_text(text.replace("steps_per_wingbeat = 100\n",
+                                 'steps_per_wingbeat = 100\nload_sampling = "step_start"\n'))
+    return str(path)
+
+
+@pytest.fixture(scope="session")
 def native():
     """Builds and loads libflapwing_mujoco.so (once per session)."""
     return plugin.build_plugin()
@@ -97,12 +113,13 @@ def test_tethered_mean_over_21_wingbeats_equals_the_cli(native, run_flapwing):
 # ------------------------------------------------------------------ open-loop free flight
 
 @pytest.fixture(scope="module")
-def free_flapwing():
-    return plugin.fly_flapwing(STEPS)
+def free_flapwing(step_start_fly):
+    return plugin.fly_flapwing(STEPS, model=step_start_fly)
 
 
-def test_free_flight_euler_follows_flapwing_to_round_off(native, free_flapwing, run_flapwing):
-    mj, fw = plugin.fly_native(STEPS), free_flapwing
+def test_free_flight_euler_follows_flapwing_to_round_off(native, free_flapwing, run_flapwing,
+                                                         step_start_fly):
+    mj, fw = plugin.fly_native(STEPS, model=step_start_fly), free_flapwing
     scale = np.linalg.norm(fw["position_m"], axis=1).max()
     assert scale > 1e-3  # a real flight: the untrimmed fly sinks and pitches by millimetres
     dp = np.linalg.norm(mj["position_m"] - fw["position_m"], axis=1)
@@ -110,14 +127,15 @@ def test_free_flight_euler_follows_flapwing_to_round_off(native, free_flapwing, 
     dw = np.abs(mj["angular_velocity_body_rad_s"] - fw["angular_velocity_body_rad_s"])
     assert dw.max() <= 1e-6 * np.abs(fw["angular_velocity_body_rad_s"]).max()
     # The CLI's run ends where the Python package's does (same host, same model).
-    out = run_flapwing("simulate", "--model", "drosophila", "--duration-s", "0.1", "--json",
+    out = run_flapwing("simulate", "--model", step_start_fly, "--duration-s", "0.1", "--json",
                        "--no-log")
     end = np.array(json.loads(out.stdout)["summary"]["final_state"]["position_m"])
     assert np.linalg.norm(mj["position_m"][-1] - end) <= 1e-6 * scale
 
 
-def test_free_flight_rk4_within_the_first_order_integrator_bound(native, free_flapwing):
-    mj, fw = plugin.fly_native(STEPS, integrator="RK4"), free_flapwing
+def test_free_flight_rk4_within_the_first_order_integrator_bound(native, free_flapwing,
+                                                                 step_start_fly):
+    mj, fw = plugin.fly_native(STEPS, integrator="RK4", model=step_start_fly), free_flapwing
     dt = fw["dt_s"]
     # World acceleration of the reference: its body-frame force rotated, over m, plus gravity.
     acc = []
@@ -132,10 +150,11 @@ def test_free_flight_rk4_within_the_first_order_integrator_bound(native, free_fl
     assert dp.max() > 1e-6 * np.linalg.norm(fw["position_m"], axis=1).max()
 
 
-def test_controls_attribute_rolls_the_fly_within_the_gyroscopic_bound(native):
+def test_controls_attribute_rolls_the_fly_within_the_gyroscopic_bound(native, step_start_fly):
     deg = 2.0
-    mj = plugin.fly_native(STEPS, diff_amplitude_deg=repr(deg))
-    fw = plugin.fly_flapwing(STEPS, diff_amplitude_rad=deg * (math.pi / 180.0))
+    mj = plugin.fly_native(STEPS, model=step_start_fly, diff_amplitude_deg=repr(deg))
+    fw = plugin.fly_flapwing(STEPS, model=step_start_fly,
+                             diff_amplitude_rad=deg * (math.pi / 180.0))
     w = fw["angular_velocity_body_rad_s"]
     assert np.abs(w[:, 0]).max() > 1.0  # it rolls
     r = {"dt_s": fw["dt_s"], "inertia_diag": np.array([8.1e-14, 3.53e-13, 3.53e-13]),
@@ -306,8 +325,8 @@ def test_reset_restarts_the_wings(native):
 # ------------------------------------------------------------------ the callback fallback
 
 @pytest.fixture(scope="module")
-def flight():
-    return plugin.fly_with_callback("drosophila", wingbeats=10)
+def flight(step_start_fly):
+    return plugin.fly_with_callback(step_start_fly, wingbeats=10)
 
 
 def test_callback_flies_flapwing_manoeuvre_within_the_integrator_bound(flight):
