@@ -11,32 +11,41 @@
 //!   files): the wings' kinematics at the wingbeat phase of t_k and the body's state at t_k.
 //!   Measured on the fly (issue 37's table): the hover excursion's error falls as 1/N
 //!   (3.6% at 100 steps per wingbeat, 0.8% at 400).
-//! - [`LoadSampling::Midpoint`] (the default; `[sim] load_sampling`): the loads at the step's midpoint
-//!   t_k + dt/2, which represent the step to O(dt^2) (the midpoint rule): prescribed wings
-//!   take their kinematics at the midpoint phase (from the same per-step table, so a step
-//!   costs what it did), and the body's state at the midpoint is predicted from the last two
-//!   states the host passed, v(t_k + dt/2) = v_k + (v_k - v_{k-1})/2 for the velocity and
-//!   the body rates (the attitude turned by the body rates over dt/2). Actuated wings take
-//!   their aerodynamic loads afresh at every Runge-Kutta stage (not held over the step) and
-//!   report the trapezoidal mean over the step of the loads their integrator passed, as
-//!   the hinge stops always did (`actuated::dynamics`). The first step, and the first
-//!   after a host restarts the body ([`crate::WingSet::restart_motion`]), has no previous
-//!   state and takes the body's state at t_k (one step's O(dt^2) error).
+//! - [`LoadSampling::Midpoint`] (the default for prescribed wings; `[sim] load_sampling`):
+//!   loads that represent the step. Prescribed wings: the rotational, added-mass and
+//!   wake-capture terms and the wings' inertial reaction are their means over the step
+//!   (wingforce's `Wing::kinematic_loads_over_step`: the added mass's force and moment and
+//!   the inertial reaction exactly from the wing's motion at the step's ends, the rest by
+//!   Gauss-Legendre quadrature split at stroke reversals), tabled once per step of the
+//!   wingbeat; the translational term, the only one the body's motion enters, at the step's
+//!   midpoint, with the body's midpoint state predicted from the last two states the host
+//!   passed: v(t_k + dt/2) = v_k + (v_k - v_{k-1})/2, the body rates likewise (with the
+//!   body's inertia known, the rate damping taken implicitly for stability: `rate_damping`),
+//!   and the attitude the set integrates itself from the rates by the trapezoidal rule (the
+//!   loads are handed back in the host's frame, so a host's first-order attitude does not
+//!   turn them). Actuated wings take their aerodynamic loads afresh at every Runge-Kutta
+//!   stage and report the step's trapezoidal mean over their integrator's nodes. The first
+//!   step, and the first after a host restarts the body ([`crate::WingSet::restart_motion`]),
+//!   has no previous state and takes the body's state at t_k (one step's O(dt^2) error).
 //!
-//! Why the midpoint rather than a quadrature over the step: the prescribed wings' kinematic
-//! loads come from a table computed once per step of the wingbeat; sampling it half a step
-//! later costs nothing, where a two-node quadrature (the trapezoid) doubles the strip loop
-//! per step, and the midpoint rule's error constant is half the trapezoid's. The body's
-//! midpoint state is extrapolated rather than iterated (a predictor-corrector would need
-//! the host to step twice).
+//! Why a mean over the step and not a sample at its midpoint: the kinematic terms are pulses
+//! inside the pitch flip, and one sample per step aliases them (the fly at 25 steps per
+//! wingbeat: a cycle-mean added-mass force of 2% of the lift). Why the translational term at
+//! the midpoint and not by quadrature: it needs the strip loop, the step's cost, at each node.
+//! Why the body's midpoint state is extrapolated rather than iterated: a predictor-corrector
+//! would need the host to step twice.
 //!
-//! What stays first order: the host's position and attitude update, x_{k+1} = x_k + dt
-//! v_{k+1}, reads the velocity at the step's end, so the positions carry a bias of
-//! dt/2 (v(t) - v(0)) that does not grow with time (the rectangle rule's error on a
-//! velocity that is itself second-order accurate); and the wind a host evaluates at the
-//! body's position at t_k (a wind field's gradient along the flight, dt/2 v.grad(w)).
+//! Measured (docs/speed.md rows 25-26, `flapsim/tests/second_order.rs`,
+//! `tests/python/test_second_order.py`): the fly's open-loop error falls 4x per halved step in
+//! flapsim's host and in a numpy semi-implicit Euler host, at 1.10x the step's cost; at equal
+//! steps its attitude error is 1/1000 of the step-start sampling's. What stays first order: a
+//! host's own position and attitude (x_{k+1} = x_k + dt v_{k+1} reads the velocity at the
+//! step's end: a bias of dt/2 (v(t) - v(0)) that does not grow; flapsim's `Simulation` moves
+//! rapier's pose to the trapezoidal rule, other hosts keep it), and a wind field a host
+//! evaluates at the body's position at t_k. Odd step counts put a reversal on a step's
+//! midpoint, where the translational term's one sample aliases (the fly at 25: a pitch error
+//! of 3.9 deg after 0.3 s open loop, against 0.08 at 26).
 
-/// Where in a step the loads are taken: see the module documentation.
 #[derive(
     Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
 )]
