@@ -10,6 +10,10 @@ in one run (this VM's speed drifts by up to 2x from minute to minute):
    interleaved with the Rust free-flight run of 1 (alternating which goes first), whose
    wingbeat rate gives a per-round ratio that the machine's load cancels out of; and the
    episode length the zero action reaches.
+3. `WingSet.step` from Python (the force element for a Python host: the body's state in as
+   lists, the loads out as a dict of numpy arrays): seconds per call over N calls fed the
+   trimmed fly's hovering state, against the Rust run of 1 per step (a whole `Simulation`
+   step: the element, rapier and the summary), interleaved; the ratio of each pair.
 
 Run from the repository root: `python3 crates/python/bench/bench.py` (after
 `pip install ./crates/python`; set CARGO_TARGET_DIR as for the build).
@@ -39,6 +43,18 @@ def python_seconds(v) -> float:
     t = time.perf_counter()
     sim.run(STEPS, record=False)
     return time.perf_counter() - t
+
+
+def wingset_step_seconds(v, n: int = STEPS) -> float:
+    """Seconds per `WingSet.step` call from Python, the body held at the trim state."""
+    wings = flapwing.WingSet(v)
+    s = flapwing.Simulation(v, "free").state
+    p, q = list(s["position_m"]), list(s["world_from_body_wxyz"])
+    u, w = list(s["velocity_m_s"]), list(s["angular_velocity_body_rad_s"])
+    t = time.perf_counter()
+    for _ in range(n):
+        wings.step(p, q, u, w)
+    return (time.perf_counter() - t) / n
 
 
 def hover_wingbeats_per_s(env, wingbeats: int = 2000, lengths: list | None = None) -> float:
@@ -72,6 +88,20 @@ def main() -> None:
         ratios.append(b / a)
     q = np.percentile(ratios, [25, 50, 75])
     print(f"Python run(N) / Rust, {STEPS} steps: median {q[1]:.3f}x [quartiles {q[0]:.3f} {q[2]:.3f}]")
+    per_call, per_step = [], []
+    for k in range(ROUNDS):
+        if k % 2 == 0:
+            a = wingset_step_seconds(v)
+            b = rust_seconds(exe) / STEPS
+        else:
+            b = rust_seconds(exe) / STEPS
+            a = wingset_step_seconds(v)
+        per_call.append(a)
+        per_step.append(b)
+    q = np.percentile(np.array(per_call) / np.array(per_step), [25, 50, 75])
+    print(f"WingSet.step from Python: median {1e6 * np.median(per_call):.2f} us per call; "
+          f"the Rust Simulation step {1e6 * np.median(per_step):.2f} us; ratio median "
+          f"{q[1]:.2f}x [quartiles {q[0]:.2f} {q[2]:.2f}]")
     env = gym.make("flapwing/Hover-v0")
     hover_wingbeats_per_s(env, 200)  # warm up
     wingbeats = STEPS / 100  # the Rust run's wingbeats (100 steps per wingbeat)
