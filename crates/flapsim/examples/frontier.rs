@@ -136,14 +136,7 @@ fn main() {
     };
     let mut rows: Vec<Row> = Vec::new();
     let names: Vec<&str> = if args.is_empty() {
-        vec![
-            "drosophila",
-            "bumblebee",
-            "robobee_kinematic",
-            "dragonfly",
-            "robobee",
-            "hummingbird",
-        ]
+        flapsim::BUILTIN_MODELS.to_vec()
     } else {
         args.iter().map(String::as_str).collect()
     };

@@ -376,8 +376,6 @@ impl Simulation {
             .out
             .take()
             .unwrap_or_else(|| Box::new(StepOutput::empty()));
-        // The body drag is taken where the wings take their loads (wingset::sampling).
-        let drag_velocity_m_s = self.wings.sample_state(&state).velocity_m_s;
         let r = match self.wings.step(&state) {
             Ok(o) => {
                 out.fill(o, &state);
@@ -397,6 +395,8 @@ impl Simulation {
             self.out = Some(out);
             return Err(e);
         }
+        // The body drag is taken where the wings took their loads (wingset::sampling).
+        let drag_velocity_m_s = self.wings.sampled_state().velocity_m_s;
         Ok(self.apply_and_advance(out, &drag_velocity_m_s))
     }
 

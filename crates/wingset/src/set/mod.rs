@@ -100,6 +100,8 @@ pub struct WingSet {
     /// What the last step was given and took (the midpoint prediction's previous state;
     /// `None` after a restart).
     prev_body: Option<PrevBody>,
+    /// The body state the last step took its loads at ([`WingSet::sampled_state`]).
+    sampled: State,
     /// I^-1 D: the body's rate damping over its inertia, when the host gave the inertia
     /// ([`WingSet::set_body_inertia_kg_m2`], module `rate_damping`).
     rate_damping: Option<nalgebra::Matrix3<f64>>,
@@ -270,6 +272,7 @@ impl WingSet {
             // `DynamicWing::set_load_sampling`); prescribed ones at the midpoint.
             sampling,
             prev_body: None,
+            sampled: State::at_rest(),
             rate_damping: None,
             still: false,
             out: WingSetOutput::empty(n),

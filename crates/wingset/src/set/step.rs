@@ -91,6 +91,7 @@ impl WingSet {
         in_step_frame(&mut out, &self.wings, body, &sampled);
         self.out = out;
         r?;
+        self.sampled = sampled;
         self.prev_body = Some(PrevBody {
             step: self.step,
             velocity_m_s: body.velocity_m_s,
@@ -127,6 +128,13 @@ impl WingSet {
             velocity_m_s,
             angular_velocity_body_rad_s: rates,
         }
+    }
+
+    /// The body state the last step took its loads at ([`Self::sample_state`] of the state
+    /// it was given; a host that applies loads of its own there, such as the body's drag,
+    /// reads it here instead of predicting it again).
+    pub fn sampled_state(&self) -> &State {
+        &self.sampled
     }
 
     /// The last step's body state, when the midpoint prediction may use it (the step just
