@@ -4,7 +4,8 @@
 //! over `steps` equally spaced phases.
 
 use nalgebra::{UnitQuaternion, Vector3};
-use wingforce::{BodyMotion, Term};
+use wingforce::inflow::InflowState;
+use wingforce::{BodyMotion, Term, Wing, WingForces};
 
 use crate::error::Result;
 use crate::model::Vehicle;
@@ -37,30 +38,143 @@ pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> Resul
     if vehicle.actuation.is_some() {
         return Ok(crate::actuated::periodic::settle(vehicle, &motion)?.mean);
     }
+    if let Some(p) = periodic_inflow(vehicle, &motion, steps)? {
+        return Ok(p.mean);
+    }
     let mut out = MeanLoads::default();
+    let mut forces = Vec::with_capacity(vehicle.wings.len());
+    for k in 0..steps {
+        step_loads(vehicle, &vehicle.wings, k, steps, &motion, &mut forces);
+        accumulate(&vehicle.wings, &forces, 1.0 / steps as f64, &mut out);
+    }
+    Ok(out)
+}
+
+/// Each wing's forces at step `k` of `steps` of the wingbeat, as the vehicle's load sampling
+/// takes them, into `out`.
+fn step_loads(
+    vehicle: &Vehicle,
+    wings: &[Wing],
+    k: usize,
+    steps: usize,
+    motion: &BodyMotion,
+    out: &mut Vec<WingForces>,
+) {
     let w = 1.0 / steps as f64;
     let midpoint = vehicle.load_sampling() == wingset::LoadSampling::Midpoint;
     let dt_s = w / vehicle.freq_hz();
-    for k in 0..steps {
-        let phase = k as f64 * w;
-        for wing in &vehicle.wings {
-            let f = if midpoint {
-                let s = wing.kinematic_loads_over_step(phase, (k + 1) as f64 * w, dt_s);
-                wing.evaluate_with(&s.mean, &motion)
-            } else {
-                wing.evaluate(phase, &motion)
-            };
-            let hinge = &wing.mount().hinge_in_body_m;
-            for term in Term::ALL {
-                let t = f.term(term);
-                let m = t.moment_about_com_nm(hinge);
-                let slot = &mut out.terms[term as usize];
-                slot.force_n += w * t.force_n;
-                slot.moment_nm += w * m;
-                out.total.force_n += w * t.force_n;
-                out.total.moment_nm += w * m;
-            }
+    let phase = k as f64 * w;
+    out.clear();
+    out.extend(wings.iter().map(|wing| {
+        if midpoint {
+            let s = wing.kinematic_loads_over_step(phase, (k + 1) as f64 * w, dt_s);
+            wing.evaluate_with(&s.mean, motion)
+        } else {
+            wing.evaluate(phase, motion)
+        }
+    }));
+}
+
+/// Adds `weight` times the wings' aerodynamic loads about the centre of mass to `out`.
+fn accumulate(wings: &[Wing], forces: &[WingForces], weight: f64, out: &mut MeanLoads) {
+    for (wing, f) in wings.iter().zip(forces) {
+        let hinge = &wing.mount().hinge_in_body_m;
+        for term in Term::ALL {
+            let t = f.term(term);
+            let m = t.moment_about_com_nm(hinge);
+            out.terms[term as usize].add(weight * t.force_n, weight * m);
+            out.total.add(weight * t.force_n, weight * m);
         }
     }
-    Ok(out)
+}
+
+/// The wings and their dynamic inflow on its periodic motion at a frozen body state.
+#[derive(Debug, Clone)]
+pub struct PeriodicInflow {
+    /// Mean aerodynamic loads over the last wingbeat (body frame, about the CoM).
+    pub mean: MeanLoads,
+    /// Each pair's inflow states at the start of a wingbeat on the periodic motion (where a
+    /// simulation of the same step count continues it at phase 0).
+    pub states: Vec<InflowState>,
+    /// Wingbeats run.
+    pub wingbeats: usize,
+}
+
+/// Largest change of an inflow state over the last wingbeat, relative to the mean inflow,
+/// for the inflow to count as periodic.
+pub const PERIODIC_INFLOW_TOLERANCE: f64 = 1e-9;
+
+/// For a prescribed vehicle whose wake answers (`[aero] inflow = "dynamic"`), its pairs'
+/// inflow run into its periodic motion at a frozen body state, stepped as a simulation of
+/// `steps` steps per wingbeat steps it (module `wingset::set::inflow`), and the wings' mean
+/// loads over the last wingbeat; `None` for a vehicle whose wake does not answer.
+///
+/// The run has a fixed length for a vehicle (the mean loads are then a smooth function of
+/// the body state, for finite-difference Jacobians): enough wingbeats for the hover inflow's
+/// slowest state to decay by 1e-14 (`InflowDisc::hover_time_constant_s`, an upper bound of
+/// the time constants in climb and forward flight), at least two. An inflow still drifting
+/// then is an error.
+pub fn periodic_inflow(
+    vehicle: &Vehicle,
+    motion: &BodyMotion,
+    steps: usize,
+) -> Result<Option<PeriodicInflow>> {
+    let mut wings = vehicle.wings.clone();
+    let Some(mut inflow) = wingset::PairInflows::of(&wings)? else {
+        return Ok(None);
+    };
+    let period_s = 1.0 / vehicle.freq_hz();
+    let dt_s = period_s / steps as f64;
+    let tau_s = inflow
+        .discs()
+        .iter()
+        .map(|d| d.hover_time_constant_s(vehicle.mass_kg * vehicle.gravity_m_s2))
+        .fold(0.0, f64::max);
+    let wingbeats = ((14.0 * std::f64::consts::LN_10 * tau_s / period_s).ceil() as usize).max(2);
+    let sampling = vehicle.load_sampling();
+    let mut forces = Vec::with_capacity(wings.len());
+    let mut mean = MeanLoads::default();
+    let mut start = inflow.states();
+    for beat in 0..wingbeats {
+        crate::cancel::check()?;
+        start = inflow.states();
+        mean = MeanLoads::default();
+        for k in 0..steps {
+            inflow.apply(&mut wings, sampling, dt_s);
+            step_loads(vehicle, &wings, k, steps, motion, &mut forces);
+            accumulate(&wings, &forces, 1.0 / steps as f64, &mut mean);
+            inflow
+                .advance(&wings, &forces, motion, dt_s)
+                .map_err(|e| {
+                    crate::Error::Analysis(format!(
+                        "the dynamic inflow of {} at this body state (velocity {:?} m/s, rates {:?} rad/s, body frame) in wingbeat {beat}: {}",
+                        vehicle.name,
+                        motion.velocity_m_s.as_slice(),
+                        motion.angular_velocity_rad_s.as_slice(),
+                        e.reason()
+                    ))
+                })?;
+        }
+    }
+    let end = inflow.states();
+    let scale = end.iter().map(|s| s.mean_m_s.abs()).fold(0.0, f64::max);
+    let drift = start
+        .iter()
+        .zip(&end)
+        .flat_map(|(a, b)| {
+            let (a, b) = (a.to_array(), b.to_array());
+            (0..3).map(move |i| (a[i] - b[i]).abs())
+        })
+        .fold(0.0, f64::max);
+    if !(drift <= PERIODIC_INFLOW_TOLERANCE * scale.max(f64::MIN_POSITIVE)) {
+        return Err(crate::Error::Analysis(format!(
+            "the dynamic inflow of {} did not settle into a periodic motion in {wingbeats} wingbeats: a state still changes by {drift:.3e} m/s per wingbeat (allowed: {:.1e} of the mean inflow {scale:.4} m/s)",
+            vehicle.name, PERIODIC_INFLOW_TOLERANCE
+        )));
+    }
+    Ok(Some(PeriodicInflow {
+        mean,
+        states: end,
+        wingbeats,
+    }))
 }

@@ -36,6 +36,12 @@ pub(crate) struct Cache {
     /// The wing's velocity relative to the induced inflow's air, stroke frame, m/s: the air
     /// comes down through the stroke plane at w_i, so the wing moves up through it.
     pub(crate) inflow_s: Vector3<f64>,
+    /// The air the translational term's strips meet at the hinge: `inflow_s`, or the dynamic
+    /// inflow's field there ([`crate::Wing::set_inflow_field`]), stroke frame, m/s.
+    pub(crate) translational_inflow_s: Vector3<f64>,
+    /// The dynamic inflow's gradient over the stroke plane, (d w / d x, d w / d y) in the
+    /// stroke frame, 1/s (zero for a frozen or no inflow).
+    pub(crate) inflow_gradient_per_s: nalgebra::Vector2<f64>,
 }
 
 impl Cache {
@@ -63,6 +69,8 @@ impl Cache {
             hinge_s: Vector3::zeros(),
             am_k: 0.0,
             inflow_s: Vector3::zeros(),
+            translational_inflow_s: Vector3::zeros(),
+            inflow_gradient_per_s: nalgebra::Vector2::zeros(),
         }
     }
 }

@@ -42,7 +42,7 @@ pub use added_mass::AddedMassForm;
 pub use axes::AxisMoments;
 pub use coefficients::{RangeFlags, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
 pub use error::{Error, Result, Validator};
-pub use inflow::InducedInflow;
+pub use inflow::{InducedInflow, InflowModel};
 pub use kinematics::{Kinematics, KinematicsSpec, StrokePhase, WingAngles};
 pub use model::{AeroSpec, FluidSpec, WingModelSpec, WingSpec};
 pub use planform::{Geometry, GeometryOverrides, PlanformSpec};

@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use crate::added_mass::AddedMassForm;
 use crate::coefficients::{TranslationalModel, WakeCaptureModel};
 use crate::error::{Error, Result, Validator};
+use crate::inflow::InflowModel;
 use crate::kinematics::{Kinematics, KinematicsSpec};
 use crate::mount::{Fluid, Mount};
 use crate::planform::{Geometry, GeometryOverrides, PlanformSpec};
@@ -73,8 +74,13 @@ pub struct AeroSpec {
     pub cp_chord_frac: f64,
     /// The induced inflow of a hovering vehicle through its stroke plane (momentum theory
     /// with the weight as thrust; [`crate::inflow`]). Only a vehicle, which has a weight, can
-    /// switch it on; its builder sets [`AeroOptions::induced_inflow`].
+    /// switch it on; its builder sets [`AeroOptions::induced_inflow`]. The older spelling
+    /// of `inflow = "frozen"`.
     pub induced_inflow: bool,
+    /// The induced flow a vehicle's wings meet: `"off"` (still air), `"frozen"` (the hover
+    /// downwash held at the flight condition) or `"dynamic"` (each pair's wake follows its
+    /// loads: [`crate::inflow::dynamic`]). Absent: `induced_inflow` decides (frozen or off).
+    pub inflow: Option<InflowModel>,
 }
 
 impl Default for AeroSpec {
@@ -91,11 +97,27 @@ impl Default for AeroSpec {
             strips: 20,
             cp_chord_frac: 0.25,
             induced_inflow: false,
+            inflow: None,
         }
     }
 }
 
 impl AeroSpec {
+    /// The induced-flow model the file asks for (`inflow`, or the older `induced_inflow`);
+    /// an error when the two disagree.
+    pub fn inflow_model(&self, v: &Validator<'_>) -> Result<InflowModel> {
+        match (self.inflow, self.induced_inflow) {
+            (Some(m), false) => Ok(m),
+            (Some(InflowModel::Frozen), true) | (None, true) => Ok(InflowModel::Frozen),
+            (None, false) => Ok(InflowModel::Off),
+            (Some(m), true) => Err(v.invalid(
+                "aero.inflow",
+                m,
+                "the model `induced_inflow = true` (its older spelling) also names, \"frozen\"; write only `inflow`",
+            )),
+        }
+    }
+
     /// Validated options.
     pub fn build(&self, v: &Validator<'_>, field: &str) -> Result<AeroOptions> {
         v.positive(&format!("{field}.c_rot"), self.c_rot)?;
@@ -234,10 +256,10 @@ impl WingModelSpec {
         let v = Validator::new(origin);
         let aero = &self.aero;
         let options = aero.build(&v, "aero")?;
-        if aero.induced_inflow {
+        if aero.inflow_model(&v)? != InflowModel::Off {
             return Err(v.invalid(
-                "aero.induced_inflow",
-                true,
+                "aero.inflow",
+                aero.inflow_model(&v)?,
                 "false for a wing on a fixed mount (the inflow is the downwash that carries a hovering vehicle's weight; a vehicle model switches it on)",
             ));
         }

@@ -285,15 +285,19 @@ impl Wing {
     }
 
     /// The pitch-axis velocity relative to the air at radius r is linear in r:
-    /// u(r) = v_hinge + r (omega_wing + omega_body) x e_span. Its (e_le, n) components as
+    /// u(r) = v_hinge + r (omega_wing + omega_body) x e_span, plus the induced flow (uniform,
+    /// or with a dynamic inflow's gradient, also linear in r). Its (e_le, n) components as
     /// `StripVelocity`.
     #[inline(always)]
     fn strip_velocity(&self, frame: &WingFrame, body: &BodyMotion) -> StripVelocity {
         let c = &self.cache;
         let v_body_s = c.stroke_from_body * body.velocity_m_s;
         let w_body_s = c.stroke_from_body * body.angular_velocity_rad_s;
-        let v_hinge_s = v_body_s + w_body_s.cross(&c.hinge_s) + c.inflow_s;
-        let b = (frame.omega + w_body_s).cross(&frame.e_span);
+        let v_hinge_s = v_body_s + w_body_s.cross(&c.hinge_s) + c.translational_inflow_s;
+        let mut b = (frame.omega + w_body_s).cross(&frame.e_span);
+        // A dynamic inflow's gradient over the plane: linear in r along the span too.
+        b.z += c.inflow_gradient_per_s.x * frame.e_span.x
+            + c.inflow_gradient_per_s.y * frame.e_span.y;
         StripVelocity {
             a_le: v_hinge_s.dot(&frame.e_le),
             b_le: b.dot(&frame.e_le),

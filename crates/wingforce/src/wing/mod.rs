@@ -186,6 +186,8 @@ impl Wing {
             hinge_s: *rot.inverse().matrix() * self.mount.hinge_in_body_m,
             am_k: -0.25 * std::f64::consts::PI * rho,
             inflow_s: Vector3::z() * self.induced_downwash_m_s(),
+            translational_inflow_s: Vector3::z() * self.induced_downwash_m_s(),
+            inflow_gradient_per_s: nalgebra::Vector2::zeros(),
         };
     }
 
@@ -205,6 +207,24 @@ impl Wing {
                 &normal_body,
             )
         })
+    }
+
+    /// Sets the induced flow the translational term's strips meet (a dynamic inflow,
+    /// [`crate::inflow::dynamic`], which the wing set holding this wing steps): the downwash
+    /// at the hinge `at_hinge_m_s` and its gradient over the stroke plane `gradient_per_s`
+    /// ((d w / d x, d w / d y), stroke frame, 1/s), so a strip at radius r meets
+    /// w = at_hinge + gradient . (r e_span). The added mass keeps the wing's own
+    /// [`AeroOptions::induced_inflow`] (the dynamic inflow's start), whose contribution to a
+    /// periodic fluid impulse has zero cycle mean (MODEL.md 4.3). Changing the kinematics,
+    /// fluid or options resets the field to that inflow.
+    pub fn set_inflow_field(&mut self, at_hinge_m_s: f64, gradient_per_s: nalgebra::Vector2<f64>) {
+        self.cache.translational_inflow_s = Vector3::z() * at_hinge_m_s;
+        self.cache.inflow_gradient_per_s = gradient_per_s;
+    }
+
+    /// The hinge's position in the stroke frame (the stroke plane through the hinge), m.
+    pub fn hinge_in_stroke_m(&self) -> Vector3<f64> {
+        self.cache.hinge_s
     }
 
     /// Replaces the kinematics (a controller does this between wingbeats).

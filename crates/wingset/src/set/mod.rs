@@ -28,6 +28,7 @@
 mod body;
 mod drag;
 mod dt;
+mod inflow;
 mod limits;
 mod map;
 mod output;
@@ -40,6 +41,7 @@ use wingforce::{Kinematics, Side, Wing};
 
 pub use body::{BodyLoad, MeanLoads, State};
 pub use dt::{MIN_STEPS_PER_WINGBEAT, check_dt, max_dt_s};
+pub use inflow::PairInflows;
 pub use map::ControlMap;
 pub use output::{WingSetOutput, zero_forces};
 
@@ -105,6 +107,8 @@ pub struct WingSet {
     /// I^-1 D: the body's rate damping over its inertia, when the host gave the inertia
     /// ([`WingSet::set_body_inertia_kg_m2`], module `rate_damping`).
     rate_damping: Option<nalgebra::Matrix3<f64>>,
+    /// Each pair's dynamic inflow, when the wings' wake answers (module `inflow`).
+    inflow: Option<PairInflows>,
     still: bool,
     out: WingSetOutput,
 }
@@ -239,6 +243,12 @@ impl WingSet {
                 g.strips.iter().map(|s| s.area_m2 * s.r_m).sum::<f64>() / g.area_m2
             })
             .collect();
+        let inflow = PairInflows::of(&wings)?;
+        if inflow.is_some() && dynamic.is_some() {
+            return Err(Error::Input(
+                "wing set: a dynamic inflow on actuated wings: the disc their stroke sweeps is an output of the wing dynamics, not yet measured for it (issue #38); allowed: inflow = \"frozen\" or \"off\"".into(),
+            ));
+        }
         let n = wings.len();
         let sampling = match dynamic {
             Some(_) => LoadSampling::StepStart,
@@ -274,6 +284,7 @@ impl WingSet {
             prev_body: None,
             sampled: State::at_rest(),
             rate_damping: None,
+            inflow,
             still: false,
             out: WingSetOutput::empty(n),
         };
@@ -404,6 +415,31 @@ impl WingSet {
     /// midpoint from the last two states otherwise).
     pub fn restart_motion(&mut self) {
         self.prev_body = None;
+        if let Some(i) = &mut self.inflow {
+            i.restart();
+        }
+    }
+
+    /// Each wing pair's dynamic inflow states now (empty unless the wake answers:
+    /// `wingforce::inflow::dynamic`).
+    pub fn inflow_states(&self) -> Vec<wingforce::inflow::InflowState> {
+        self.inflow.as_ref().map_or_else(Vec::new, PairInflows::states)
+    }
+
+    /// Replaces each pair's dynamic inflow states (a start at a periodic inflow, a Floquet
+    /// perturbation); an error for a set whose wake does not answer or a wrong count.
+    pub fn set_inflow_states(&mut self, states: &[wingforce::inflow::InflowState]) -> Result<()> {
+        match &mut self.inflow {
+            Some(i) => i.set_states(states),
+            None => Err(Error::Input(
+                "wing set: no dynamic inflow to set (its wings' inflow is frozen or off)".into(),
+            )),
+        }
+    }
+
+    /// The dynamic inflow of the set's pairs, if its wake answers.
+    pub fn pair_inflows(&self) -> Option<&PairInflows> {
+        self.inflow.as_ref()
     }
 
     /// Controls to apply at the start of the next wingbeat (immediately if none has begun).

@@ -34,6 +34,9 @@ pub struct WingSetOutput {
     pub total: BodyLoad,
     /// Controls in force during this step.
     pub controls: Controls,
+    /// Each wing pair's dynamic inflow states the step's loads were taken at (empty unless
+    /// the wake answers: `wingforce::inflow::dynamic`).
+    pub inflow: Vec<wingforce::inflow::InflowState>,
 }
 
 /// A wing's forces before any step: all zero (what a host reports before its first step).
@@ -64,6 +67,7 @@ impl WingSetOutput {
             body_drag: BodyLoad::default(),
             total: BodyLoad::default(),
             controls: Controls::default(),
+            inflow: Vec::new(),
         }
     }
 }

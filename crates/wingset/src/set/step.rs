@@ -77,6 +77,7 @@ impl WingSet {
         }
         self.last_cycle = cycle;
         let sampled = self.sample_state(body);
+        self.apply_inflow();
         if self.dynamic.is_none() {
             self.prescribed_step(&sampled);
         }
@@ -87,7 +88,8 @@ impl WingSet {
             Some(_) => self.actuated_into(&sampled, &mut out),
             None => Ok(()),
         }
-        .and_then(|()| self.finish(body, &sampled, &mut out));
+        .and_then(|()| self.finish(body, &sampled, &mut out))
+        .and_then(|()| self.advance_inflow(&sampled, &mut out));
         in_step_frame(&mut out, &self.wings, body, &sampled);
         self.out = out;
         r?;
@@ -165,9 +167,45 @@ impl WingSet {
         }
     }
 
+    /// Sets the wings' inflow fields from their pairs' dynamic inflow for the coming step
+    /// (module `inflow`); nothing when the wake does not answer.
+    fn apply_inflow(&mut self) {
+        if let Some(i) = &mut self.inflow {
+            i.apply(&mut self.wings, self.sampling, self.dt_s);
+        }
+    }
+
+    /// Steps the pairs' dynamic inflow with the step's loads in `out` (taken at the
+    /// `sampled` state, before they are turned into the host's frame) and records the states
+    /// they were taken at.
+    fn advance_inflow(&mut self, sampled: &State, out: &mut WingSetOutput) -> Result<()> {
+        let motion = self.motion(sampled);
+        let (step, t_s, dt_s) = (self.step, self.time_s(), self.dt_s);
+        let Some(i) = &mut self.inflow else {
+            return Ok(());
+        };
+        out.inflow.clear();
+        out.inflow.extend(i.used());
+        i.advance(&self.wings, &out.wings, &motion, dt_s)
+            .map_err(|e| Error::Diverged {
+                t_s,
+                step,
+                reason: e.reason(),
+            })
+    }
+
     /// The loads at a body state without advancing (an actuated set steps a copy of its
-    /// wings: their accelerations come out of a step).
+    /// wings: their accelerations come out of a step; a set whose wake answers sets a
+    /// copy's inflow fields).
     pub fn loads(&self, body: &State) -> Result<WingSetOutput> {
+        if self.inflow.is_some() {
+            let mut copy = self.clone();
+            copy.apply_inflow();
+            let used = copy.inflow.take().map_or_else(Vec::new, |i| i.used());
+            let mut out = copy.loads(body)?;
+            out.inflow = used;
+            return Ok(out);
+        }
         self.check_input(body)?;
         let given = body;
         let body = &self.sample_state(body);

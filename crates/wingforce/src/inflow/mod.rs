@@ -46,7 +46,46 @@
 //! vortex-ring and windmill states) is outside momentum theory; [`glauert_downwash_m_s`]
 //! returns the root its bisection finds there and callers refuse such conditions.
 
+pub mod dynamic;
+
 use serde::{Deserialize, Serialize};
+
+pub use dynamic::{DynamicInflow, InflowDisc, InflowError, InflowForcing, InflowState};
+
+/// Which induced flow a vehicle's wings meet (`[aero] inflow` in a model file; MODEL.md 4.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InflowModel {
+    /// Still air: no induced flow (the robofly reproduction, and the wings' own default).
+    #[default]
+    Off,
+    /// The frozen wake: momentum theory's downwash for the weight, held at the flight
+    /// condition while the body moves (this module).
+    Frozen,
+    /// The wake that answers: each pair's induced flow follows its own current loads and the
+    /// body's velocity, with Pitt-Peters dynamics ([`dynamic`]).
+    Dynamic,
+}
+
+impl InflowModel {
+    /// The name a model file and every report use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Off => "off",
+            Self::Frozen => "frozen",
+            Self::Dynamic => "dynamic",
+        }
+    }
+
+    /// Every model, for error messages.
+    pub const ALL: [Self; 3] = [Self::Off, Self::Frozen, Self::Dynamic];
+}
+
+impl std::fmt::Display for InflowModel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
 /// The induced inflow of one wing: the thrust it carries, from which the downwash through the
 /// area it sweeps follows at its current amplitude ([`downwash_m_s`]), and the flight
@@ -59,6 +98,11 @@ pub struct InducedInflow {
     /// (zero in hover).
     #[serde(default)]
     pub flight_velocity_body_m_s: [f64; 3],
+    /// The wake answers ([`InflowModel::Dynamic`]): the wing set that holds this wing runs
+    /// its pair's [`DynamicInflow`], and this inflow is its start (and the added mass's
+    /// reference air); otherwise it is frozen.
+    #[serde(default)]
+    pub dynamic: bool,
 }
 
 impl InducedInflow {
@@ -67,6 +111,7 @@ impl InducedInflow {
         Self {
             thrust_n,
             flight_velocity_body_m_s: [0.0; 3],
+            dynamic: false,
         }
     }
 
