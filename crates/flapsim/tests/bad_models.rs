@@ -72,10 +72,41 @@ fn errors_name_file_field_value_and_range() {
 fn an_actuated_vehicle_refuses_the_hover_downwash() {
     // The downwash's disc is set by the stroke amplitude, which an actuated wing's dynamics
     // produce rather than take as an input (wingforce::inflow).
-    let text = format!("{}\n[aero]\ninduced_inflow = true\n", flapsim::ROBOBEE_TOML);
-    let e = err(&text);
+    for line in ["induced_inflow = true", "inflow = \"frozen\"", "inflow = \"dynamic\""] {
+        let text = format!("{}\n[aero]\n{line}\n", flapsim::ROBOBEE_TOML);
+        let e = err(&text);
+        assert!(
+            e.starts_with("bad.toml") && e.contains("aero.inflow") && e.contains("actuated"),
+            "{line}: {e}"
+        );
+    }
+}
+
+#[test]
+fn an_unknown_or_contradictory_inflow_model_is_named() {
+    let fly = flapsim::DROSOPHILA_TOML;
+    assert!(fly.contains("induced_inflow = true") || fly.contains("inflow = "));
+    let base = fly
+        .lines()
+        .filter(|l| !l.starts_with("induced_inflow") && !l.starts_with("inflow ="))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let unknown = err(&base.replacen("[aero]", "[aero]\ninflow = \"swirl\"", 1));
     assert!(
-        e.starts_with("bad.toml") && e.contains("aero.induced_inflow") && e.contains("actuated"),
-        "{e}"
+        unknown.contains("bad.toml")
+            && unknown.contains("swirl")
+            && unknown.contains("off")
+            && unknown.contains("frozen")
+            && unknown.contains("dynamic"),
+        "{unknown}"
+    );
+    let both = err(&base.replacen(
+        "[aero]",
+        "[aero]\ninflow = \"dynamic\"\ninduced_inflow = true",
+        1,
+    ));
+    assert!(
+        both.starts_with("bad.toml") && both.contains("aero.inflow") && both.contains("dynamic"),
+        "{both}"
     );
 }

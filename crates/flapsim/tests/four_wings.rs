@@ -413,11 +413,13 @@ fn bad_pairs_name_file_field_value_and_range() {
         "{e}"
     );
     // The hover downwash and the actuated wings are one pair's.
-    let e = err(&format!("{good}\n[aero]\ninduced_inflow = true\n"));
-    assert!(
-        e.starts_with("bad.toml") && e.contains("aero.induced_inflow") && e.contains("[[pairs]]"),
-        "{e}"
-    );
+    for line in ["induced_inflow = true", "inflow = \"dynamic\""] {
+        let e = err(&format!("{good}\n[aero]\n{line}\n"));
+        assert!(
+            e.starts_with("bad.toml") && e.contains("aero.inflow") && e.contains("[[pairs]]"),
+            "{line}: {e}"
+        );
+    }
     // Unknown fields in a pair are errors too.
     let e = err(&good.replacen(
         "phase_offset_deg = 61.0",

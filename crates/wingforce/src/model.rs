@@ -260,7 +260,7 @@ impl WingModelSpec {
             return Err(v.invalid(
                 "aero.inflow",
                 aero.inflow_model(&v)?,
-                "false for a wing on a fixed mount (the inflow is the downwash that carries a hovering vehicle's weight; a vehicle model switches it on)",
+                "\"off\" for a wing on a fixed mount: still fluid, as the seed paper's robofly (the induced flow is the downwash that carries a vehicle's weight; a vehicle model switches it on)",
             ));
         }
         let geometry = build_geometry(&self.wing, &v, "wing", aero)?;
