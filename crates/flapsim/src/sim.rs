@@ -135,6 +135,9 @@ pub struct Simulation {
     wind: Option<Box<Wind>>,
     /// Each wing's wind at the last step, world, m/s (with a wind field).
     wing_winds_m_s: Vec<Vector3<f64>>,
+    /// Whether the wings' dynamic inflow still has to be started on its periodic motion at
+    /// the first step's body state ([`Simulation::step`]).
+    settle_inflow: bool,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -212,7 +215,9 @@ impl Simulation {
             uniform_wind_m_s: Vector3::zeros(),
             wind: None,
             wing_winds_m_s: Vec::new(),
+            settle_inflow: true,
         };
+        sim.settle_inflow = sim.wings.pair_inflows().is_some();
         // Zero the velocities on locked axes (rapier leaves them as given).
         if let Mode::Locked {
             translations: t,
@@ -363,12 +368,40 @@ impl Simulation {
         out
     }
 
+    /// Replaces each wing pair's dynamic inflow states (a Floquet perturbation, a start
+    /// where a run left off); the first step then keeps them instead of starting the inflow
+    /// on its periodic motion.
+    pub fn set_inflow_states(&mut self, states: &[wingforce::inflow::InflowState]) -> Result<()> {
+        self.wings.set_inflow_states(states)?;
+        self.settle_inflow = false;
+        Ok(())
+    }
+
+    /// Starts a dynamic inflow on its periodic motion at the body's state now (held frozen:
+    /// `crate::averaged::periodic_inflow`), as a run that has been going on would have it,
+    /// instead of at the hover inflow of the weight the set starts from.
+    fn start_inflow(&mut self, state: &State) -> Result<()> {
+        self.settle_inflow = false;
+        let motion = wingforce::BodyMotion {
+            velocity_m_s: state.world_from_body.inverse() * (state.velocity_m_s - self.uniform_wind_m_s),
+            angular_velocity_rad_s: state.angular_velocity_body_rad_s,
+        };
+        let steps = self.vehicle.sim.steps_per_wingbeat as usize;
+        if let Some(p) = crate::averaged::periodic_inflow(&self.vehicle, &motion, steps)? {
+            self.wings.set_inflow_states(&p.states)?;
+        }
+        Ok(())
+    }
+
     /// Advances one step; returns what was applied during it.
     pub fn step(&mut self) -> Result<&StepOutput> {
         let state = self.state();
         // A runaway state names the bound it broke (sim.max_speed_m_s, ...) before the wings
         // see it (their loads would overflow at such speeds, with no knob to name).
         self.check_state(&state)?;
+        if self.settle_inflow {
+            self.start_inflow(&state)?;
+        }
         if self.wind.is_some() && state.first_non_finite().is_none() {
             self.update_wing_winds(&state)?;
         }

@@ -4,6 +4,7 @@
 //! system (the monodromy matrix over one wingbeat by finite differences of full
 //! simulations) to compare with.
 
+use wingforce::inflow::InflowState;
 use nalgebra::{Complex, DMatrix, DVector, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
@@ -340,6 +341,7 @@ fn one_wingbeat(
     v: &Vehicle,
     periodic: Option<&crate::actuated::PeriodicWings>,
     wing_states: &[usize],
+    inflow: Option<&[InflowState]>,
     q_trim: &UnitQuaternion<f64>,
     v_trim: &Vector3<f64>,
     y: &[f64],
@@ -370,6 +372,20 @@ fn one_wingbeat(
         };
         sim.set_wing_states([w, w]);
     }
+    // The inflow's longitudinal states (mean and fore-aft gradient of each pair) go on
+    // after the wings'.
+    let n_inflow = 4 + wing_states.len();
+    if let Some(states) = inflow {
+        let perturbed: Vec<InflowState> = states
+            .iter()
+            .enumerate()
+            .map(|(p, s)| InflowState {
+                mean_m_s: s.mean_m_s + y[n_inflow + 2 * p],
+                gradient_m_s: s.gradient_m_s + nalgebra::Vector2::new(y[n_inflow + 2 * p + 1], 0.0),
+            })
+            .collect();
+        sim.set_inflow_states(&perturbed)?;
+    }
     for _ in 0..v.sim.steps_per_wingbeat {
         sim.step()?;
     }
@@ -382,6 +398,12 @@ fn one_wingbeat(
             w.theta_dot_rad_s - w0.theta_dot_rad_s,
         ];
         out.extend(wing_states.iter().map(|&i| d[i]));
+    }
+    if let Some(states) = inflow {
+        for (s0, s) in states.iter().zip(sim.wing_set().inflow_states()) {
+            out.push(s.mean_m_s - s0.mean_m_s);
+            out.push(s.gradient_m_s.x - s0.gradient_m_s.x);
+        }
     }
     Ok(out)
 }
@@ -432,6 +454,16 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         }
         None => Vec::new(),
     };
+    // A dynamic inflow's periodic motion at the trim: its states at the wingbeat's start.
+    let inflow = crate::averaged::periodic_inflow(
+        v,
+        &wingforce::BodyMotion {
+            velocity_m_s: t.velocity_body_m_s(),
+            angular_velocity_rad_s: Vector3::zeros(),
+        },
+        v.sim.steps_per_wingbeat as usize,
+    )?
+    .map(|p| p.states);
     let speed = v.wings[0].v_ref_m_s();
     let mut eps = vec![speed * 1e-4, speed * 1e-4, 1e-5, 1e-3];
     let w = 2.0 * std::f64::consts::PI * v.freq_hz();
@@ -440,6 +472,11 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
             .iter()
             .map(|&i| if i < 2 { 1e-5 } else { 1e-5 * w }),
     );
+    if let Some(states) = &inflow {
+        for s in states {
+            eps.extend([1e-4 * s.mean_m_s, 1e-4 * s.mean_m_s]);
+        }
+    }
     let n = eps.len();
     let mut phi = DMatrix::zeros(n, n);
     for j in 0..n {
@@ -448,8 +485,8 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         yp[j] = eps[j];
         ym[j] = -eps[j];
         let (p, m) = (
-            one_wingbeat(v, periodic.as_ref(), &wing_states, &q, &v_trim, &yp)?,
-            one_wingbeat(v, periodic.as_ref(), &wing_states, &q, &v_trim, &ym)?,
+            one_wingbeat(v, periodic.as_ref(), &wing_states, inflow.as_deref(), &q, &v_trim, &yp)?,
+            one_wingbeat(v, periodic.as_ref(), &wing_states, inflow.as_deref(), &q, &v_trim, &ym)?,
         );
         for i in 0..n {
             phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);
@@ -475,6 +512,11 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
             .iter()
             .map(|&i| FLOQUET_WING_STATES[i].to_string()),
     );
+    for p in 0..inflow.as_ref().map_or(0, Vec::len) {
+        let pair = if p == 0 { String::new() } else { format!("_{p}") };
+        states.push(format!("inflow_mean_m_s{pair}"));
+        states.push(format!("inflow_fore_m_s{pair}"));
+    }
     Ok(FloquetAnalysis {
         states,
         period_s: period,

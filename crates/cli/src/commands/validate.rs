@@ -505,8 +505,12 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
     )?;
     writeln!(
         s,
-        "{:<11}  {:<q_w$}  {:>11}  {:>11}  {:>16}  result",
-        "vehicle", "quantity", "model", "measured", "tolerance"
+        "(model: the built-in model as it stands; frozen wake: the same row with its wake held at the trim, for the vehicles whose wake answers, [aero] inflow = \"dynamic\")"
+    )?;
+    writeln!(
+        s,
+        "{:<11}  {:<q_w$}  {:>11}  {:>16}  {:>11}  {:>16}  result",
+        "vehicle", "quantity", "model", "frozen wake", "measured", "tolerance"
     )?;
     let mut causes = Vec::new();
     for r in &v.rows {
@@ -523,14 +527,21 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
             causes.push((causes.len() + 1, c));
             verdict = format!("{verdict} (cause {})", causes.len());
         }
-        let model = if r.model.abs() < 1e-2 && r.model != 0.0 {
-            format!("{:>11.3e}", r.model)
-        } else {
-            format!("{:>11.4}", r.model)
+        let value = |x: f64| {
+            if x.abs() < 1e-2 && x != 0.0 {
+                format!("{x:.3e}")
+            } else {
+                format!("{x:.4}")
+            }
+        };
+        let model = format!("{:>11}", value(r.model));
+        let frozen = match &r.frozen_wake {
+            Some(f) => format!("{:>16}", format!("{} {}", value(f.model), f.verdict.name())),
+            None => format!("{:>16}", ""),
         };
         writeln!(
             s,
-            "{:<11}  {:<q_w$}  {model}  {measured}  {:>16}  {verdict}",
+            "{:<11}  {:<q_w$}  {model}  {frozen}  {measured}  {:>16}  {verdict}",
             r.vehicle,
             r.quantity,
             r.tolerance_text()
@@ -555,6 +566,25 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
         v.missed(),
         v.missed_properties()
     )?;
+    let answering: Vec<_> = v.rows.iter().filter_map(|r| r.frozen_wake.map(|f| (r, f))).collect();
+    if !answering.is_empty() {
+        let pass = |dynamic: bool| {
+            answering
+                .iter()
+                .filter(|(r, f)| {
+                    let verdict = if dynamic { r.verdict } else { f.verdict };
+                    verdict == flapsim::vehicle_validation::Verdict::Pass
+                })
+                .count()
+        };
+        writeln!(
+            s,
+            "the {} rows of vehicles whose wake answers: {} pass with it, {} with the wake frozen",
+            answering.len(),
+            pass(true),
+            pass(false)
+        )?;
+    }
     Ok(s)
 }
 

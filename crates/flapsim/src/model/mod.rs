@@ -75,6 +75,48 @@ impl Vehicle {
         VehicleSpec::from_toml(text, origin)?.build(origin)
     }
 
+    /// The induced flow the wings meet (`[aero] inflow`; MODEL.md 4.5).
+    pub fn inflow_model(&self) -> wingforce::InflowModel {
+        match self.wings[0].options().induced_inflow {
+            None => wingforce::InflowModel::Off,
+            Some(i) if i.dynamic => wingforce::InflowModel::Dynamic,
+            Some(_) => wingforce::InflowModel::Frozen,
+        }
+    }
+
+    /// The vehicle with its wings meeting `model`'s induced flow instead (the comparison
+    /// of `validate`'s wake columns, a `--inflow` option): the hover downwash of the weight,
+    /// frozen there or the dynamic inflow's start. An error where the model file would
+    /// refuse it (several pairs, actuated wings: `model/build.rs`).
+    pub fn with_inflow_model(&self, model: wingforce::InflowModel) -> Result<Vehicle> {
+        let mut v = self.clone();
+        if model == self.inflow_model() {
+            return Ok(v);
+        }
+        if model != wingforce::InflowModel::Off && (v.wings.len() > 2 || v.actuation.is_some()) {
+            return Err(crate::Error::Input(format!(
+                "{}: inflow = \"{model}\" needs one pair of prescribed wings (the hind pair's interference and the actuated wings' swept disc are not modelled yet, issue #38); allowed: \"off\"",
+                v.name
+            )));
+        }
+        let thrust_n = 0.5 * v.weight_n();
+        for w in &mut v.wings {
+            let mut o = w.options().clone();
+            o.induced_inflow = match model {
+                wingforce::InflowModel::Off => None,
+                m => {
+                    let mut i = o
+                        .induced_inflow
+                        .unwrap_or_else(|| wingforce::InducedInflow::hover(thrust_n));
+                    i.dynamic = m == wingforce::InflowModel::Dynamic;
+                    Some(i)
+                }
+            };
+            w.set_options(o);
+        }
+        Ok(v)
+    }
+
     /// Weight m g, N.
     pub fn weight_n(&self) -> f64 {
         self.mass_kg * self.gravity_m_s2

@@ -69,6 +69,18 @@ pub struct VehicleRow {
     /// A property the model must have (its misses are named apart), not a comparison with
     /// measured data.
     pub property: bool,
+    /// For a vehicle whose wake answers (`[aero] inflow = "dynamic"`): the same row with
+    /// its wake frozen (issue #38's side-by-side), else `None`.
+    pub frozen_wake: Option<FrozenWake>,
+}
+
+/// A row's value and verdict with the vehicle's wake frozen.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FrozenWake {
+    /// The model's value.
+    pub model: f64,
+    /// Its verdict against the same measured value and check.
+    pub verdict: Verdict,
 }
 
 impl VehicleRow {
@@ -151,9 +163,21 @@ impl VehicleSection {
 
 pub(super) struct RowBuilder {
     pub(super) rows: Vec<VehicleRow>,
+    /// The induced-flow model every vehicle of this pass meets where it has one (`None`:
+    /// each as its model file says).
+    pub(super) wake: Option<wingforce::InflowModel>,
 }
 
 impl RowBuilder {
+    /// A built-in vehicle, with this pass's wake.
+    pub(super) fn vehicle(&self, name: &str) -> crate::error::Result<crate::model::Vehicle> {
+        let v = crate::operating_points::builtin(name)?;
+        match self.wake {
+            Some(m) if v.inflow_model() != wingforce::InflowModel::Off => v.with_inflow_model(m),
+            _ => Ok(v),
+        }
+    }
+
     #[allow(clippy::too_many_arguments)]
     pub(super) fn push(
         &mut self,
@@ -176,6 +200,7 @@ impl RowBuilder {
             verdict: Verdict::Miss,
             cause: None,
             property,
+            frozen_wake: None,
         };
         if row.passes() {
             row.verdict = Verdict::Pass;

@@ -1,0 +1,88 @@
+//! The wake that answers (issue #38) against momentum theory's linear result.
+//!
+//! Physics: in hover a climb perturbation w changes the flow through the stroke plane. With
+//! the wake frozen the whole of w reaches the wings, whose thrust then changes by -k w (k the
+//! blade elements' thrust sensitivity to the flow through the disc, read off the frozen
+//! wake's Z_w). A responsive disc of mass flow m = 2 rho A w_h answers: momentum theory
+//! (T = 2 rho A (V + w_i) w_i, linearised) gives dT = m (w + 2 dw_i), and with dT = -k (w + dw_i)
+//! the thrust changes by -k m / (2m + k) w. So the responsive wake scales the frozen Z_w by
+//! m / (2m + k) (issue #38; Johnson 1980, *Helicopter Theory*, section 4.1, for the momentum
+//! balance). The dynamic inflow's averaged model must give that ratio within 10%: it is a
+//! linear, quasi-steady statement, and the model adds only the wingbeat's ripple of the
+//! induced flow (the pair loads its disc in pulses) and the disc's dependence on the trim.
+
+use flapsim::Vehicle;
+use flapsim::stability::analyze;
+use wingforce::InflowModel;
+
+fn derivative(report: &flapsim::stability::StabilityReport, name: &str) -> f64 {
+    report
+        .nondimensional
+        .iter()
+        .find(|d| d.name == name)
+        .map(|d| d.value)
+        .unwrap_or_else(|| panic!("no {name}"))
+}
+
+fn builtin(name: &str) -> Vehicle {
+    Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap()
+}
+
+#[test]
+fn the_responsive_wake_scales_heave_damping_as_momentum_theory_says() {
+    for name in ["drosophila", "bumblebee"] {
+        let v = builtin(name);
+        assert_eq!(v.inflow_model(), InflowModel::Dynamic, "{name} ships the dynamic wake");
+        let frozen_v = v.with_inflow_model(InflowModel::Frozen).unwrap();
+        let frozen = analyze(&frozen_v, false).unwrap();
+        let dynamic = analyze(&v, false).unwrap();
+        let k = -derivative(&frozen, "Z_w");
+        assert!(k > 0.0, "{name}: the wings lose thrust as the flow through them grows");
+        // The disc at the frozen trim's amplitude.
+        let trimmed = flapsim::trim::trimmed_vehicle(&frozen_v, &frozen.trim).unwrap();
+        let w = &trimmed.wings[0];
+        let rho = w.fluid().density_kg_m3;
+        let area = w.kinematics().amplitude_rad * w.geometry().r_tip_m.powi(2);
+        let w_h = (v.weight_n() / (2.0 * rho * area)).sqrt();
+        let m = 2.0 * rho * area * w_h;
+        let expected = m / (2.0 * m + k);
+        let ratio = derivative(&dynamic, "Z_w") / derivative(&frozen, "Z_w");
+        eprintln!("{name}: Z_w dynamic / frozen {ratio:.4}, m / (2m + k) {expected:.4} (k {k:.3e}, m {m:.3e} N s/m)");
+        assert!(
+            (ratio / expected - 1.0).abs() < 0.10,
+            "{name}: Z_w dynamic / frozen {ratio:.4} against m / (2m + k) = {expected:.4} (k {k:.3e} N s/m, m {m:.3e} N s/m)"
+        );
+    }
+}
+
+/// The dynamic inflow's states are states of the Floquet analysis: the monodromy spans the
+/// pair's mean and fore-aft inflow, whose own exponents are fast and stable (the inflow's
+/// time constant is a fraction of a wingbeat, Pitt-Peters' 2 R / (3 pi w_h)), and the body's
+/// four exponents agree with the averaged model's.
+#[test]
+fn the_inflow_states_are_floquet_states() {
+    let v = builtin("bumblebee");
+    let report = analyze(&v, true).unwrap();
+    assert!(
+        report.floquet_states.iter().any(|s| s == "inflow_mean_m_s")
+            && report.floquet_states.iter().any(|s| s == "inflow_fore_m_s"),
+        "{:?}",
+        report.floquet_states
+    );
+    let n = report.floquet_longitudinal.len();
+    assert_eq!(n, 6);
+    let period = report.floquet_period_s.unwrap();
+    // The two fastest decay within a wingbeat by more than e^-3.
+    for f in &report.floquet_longitudinal[4..] {
+        assert!(f.exponent.0 * period < -3.0, "{f:?}");
+    }
+    // The body's unstable oscillatory pair matches the averaged model within 2%.
+    let mode = &report.longitudinal_modes[0];
+    let averaged = (mode.re_per_s, mode.im_rad_s);
+    let floquet = report.floquet_longitudinal[0].exponent;
+    assert!(
+        ((floquet.0 - averaged.0) / averaged.0).abs() < 0.02
+            && ((floquet.1.abs() - averaged.1.abs()) / averaged.1.abs()).abs() < 0.02,
+        "Floquet {floquet:?} against averaged {averaged:?}"
+    );
+}
