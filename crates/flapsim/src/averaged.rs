@@ -104,16 +104,40 @@ pub struct PeriodicInflow {
 /// for the inflow to count as periodic.
 pub const PERIODIC_INFLOW_TOLERANCE: f64 = 1e-9;
 
+/// Most wingbeats [`periodic_inflow`] runs (an inflow slower than this to settle is an
+/// error).
+pub const MAX_INFLOW_WINGBEATS: usize = 200;
+
+/// Wingbeats for the slowest inflow state to decay by 1e-14 from where one wingbeat took
+/// it: the mean's time constant for small perturbations about hover at that inflow,
+/// 2 R_e / (3 pi w0) (`InflowDisc::hover_time_constant_s`; an upper bound of the time
+/// constants in climb, forward flight and of the gradients), at least two and at most
+/// [`MAX_INFLOW_WINGBEATS`].
+fn settling_wingbeats(inflow: &wingset::PairInflows, period_s: f64) -> usize {
+    let tau_s = inflow
+        .discs()
+        .iter()
+        .zip(inflow.states())
+        .map(|(d, s)| {
+            2.0 * d.radius_m() / (3.0 * std::f64::consts::PI * s.mean_m_s.abs())
+        })
+        .fold(0.0, f64::max);
+    let n = (14.0 * std::f64::consts::LN_10 * tau_s / period_s).ceil();
+    if n.is_finite() {
+        (n as usize).clamp(2, MAX_INFLOW_WINGBEATS)
+    } else {
+        MAX_INFLOW_WINGBEATS
+    }
+}
+
 /// For a prescribed vehicle whose wake answers (`[aero] inflow = "dynamic"`), its pairs'
 /// inflow run into its periodic motion at a frozen body state, stepped as a simulation of
 /// `steps` steps per wingbeat steps it (module `wingset::set::inflow`), and the wings' mean
 /// loads over the last wingbeat; `None` for a vehicle whose wake does not answer.
 ///
-/// The run has a fixed length for a vehicle (the mean loads are then a smooth function of
-/// the body state, for finite-difference Jacobians): enough wingbeats for the hover inflow's
-/// slowest state to decay by 1e-14 (`InflowDisc::hover_time_constant_s`, an upper bound of
-/// the time constants in climb and forward flight), at least two. An inflow still drifting
-/// then is an error.
+/// The run is long enough for the slowest state to decay by 1e-14 ([`settling_wingbeats`]),
+/// so the mean loads are a smooth function of the body state to round-off (for
+/// finite-difference Jacobians). An inflow still drifting then is an error.
 pub fn periodic_inflow(
     vehicle: &Vehicle,
     motion: &BodyMotion,
@@ -125,17 +149,18 @@ pub fn periodic_inflow(
     };
     let period_s = 1.0 / vehicle.freq_hz();
     let dt_s = period_s / steps as f64;
-    let tau_s = inflow
-        .discs()
-        .iter()
-        .map(|d| d.hover_time_constant_s(vehicle.mass_kg * vehicle.gravity_m_s2))
-        .fold(0.0, f64::max);
-    let wingbeats = ((14.0 * std::f64::consts::LN_10 * tau_s / period_s).ceil() as usize).max(2);
     let sampling = vehicle.load_sampling();
     let mut forces = Vec::with_capacity(wings.len());
     let mut mean = MeanLoads::default();
     let mut start = inflow.states();
-    for beat in 0..wingbeats {
+    // The first wingbeat from the hover inflow of the weight; then as many as the slowest
+    // time constant at the inflow it reached needs.
+    let mut wingbeats = MAX_INFLOW_WINGBEATS;
+    let mut beat = 0;
+    while beat < wingbeats {
+        if beat == 1 {
+            wingbeats = settling_wingbeats(&inflow, period_s);
+        }
         crate::cancel::check()?;
         start = inflow.states();
         mean = MeanLoads::default();
@@ -155,6 +180,7 @@ pub fn periodic_inflow(
                     ))
                 })?;
         }
+        beat += 1;
     }
     let end = inflow.states();
     let scale = end.iter().map(|s| s.mean_m_s.abs()).fold(0.0, f64::max);

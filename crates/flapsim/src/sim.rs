@@ -379,7 +379,9 @@ impl Simulation {
 
     /// Starts a dynamic inflow on its periodic motion at the body's state now (held frozen:
     /// `crate::averaged::periodic_inflow`), as a run that has been going on would have it,
-    /// instead of at the hover inflow of the weight the set starts from.
+    /// instead of at the hover inflow of the weight the set starts from. Where the inflow
+    /// has no periodic motion at that state (`periodic_inflow`'s error), the run starts
+    /// from the set's own start and its first steps are the wake building up.
     fn start_inflow(&mut self, state: &State) -> Result<()> {
         self.settle_inflow = false;
         let motion = wingforce::BodyMotion {
@@ -387,10 +389,10 @@ impl Simulation {
             angular_velocity_rad_s: state.angular_velocity_body_rad_s,
         };
         let steps = self.vehicle.sim.steps_per_wingbeat as usize;
-        if let Some(p) = crate::averaged::periodic_inflow(&self.vehicle, &motion, steps)? {
+        if let Ok(Some(p)) = crate::averaged::periodic_inflow(&self.vehicle, &motion, steps) {
             self.wings.set_inflow_states(&p.states)?;
         }
-        Ok(())
+        crate::cancel::check()
     }
 
     /// Advances one step; returns what was applied during it.

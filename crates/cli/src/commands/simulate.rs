@@ -51,6 +51,8 @@ struct Report<'a> {
     weight_n: f64,
     /// The added-mass term's form (`impulse`, `paper` for eq 7-8, or `off`).
     added_mass_form: &'static str,
+    /// The induced flow the wings meet (`off`, `frozen` or `dynamic`; `[aero] inflow`).
+    inflow_model: &'static str,
     summary: &'a RunSummary,
     /// What the model's sensors sampled (`None` without sensors).
     sensors: Option<&'a SensorSummary>,
@@ -82,6 +84,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     };
     let weight = vehicle.weight_n();
     let added_mass = vehicle.wings[0].options().added_mass;
+    let inflow_model = vehicle.inflow_model();
     let steps_per_wingbeat = vehicle.sim.steps_per_wingbeat;
     let name = vehicle.name.clone();
     let rate = if args.log.full_rate {
@@ -181,6 +184,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         steps_per_wingbeat,
         weight_n: weight,
         added_mass_form: added_mass.name(),
+        inflow_model: inflow_model.name(),
         summary: &s,
         sensors: sensors.as_ref().map(|r| r.summary()),
         wind: wind_spec.as_ref(),
@@ -235,6 +239,9 @@ fn print_text(name: &str, r: &Report<'_>, wind: Option<&str>) -> Result<()> {
     }
     if let Some(form) = wingforce::AddedMassForm::from_name(r.added_mass_form) {
         writeln!(o, "  (added mass: {})", form.describe())?;
+    }
+    if let Some(m) = wingforce::InflowModel::from_name(r.inflow_model) {
+        writeln!(o, "  (induced flow: {})", m.describe())?;
     }
     if let Some(m) = &s.wing_motion {
         writeln!(

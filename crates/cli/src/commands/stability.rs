@@ -81,6 +81,7 @@ pub fn run(args: StabilityArgs) -> Result<()> {
         t.pitch_rad.to_degrees(),
         crate::vehicle::trim_summary(&vehicle, t)
     )?;
+    writeln!(o, "induced flow: {}", vehicle.inflow_model().describe())?;
     writeln!(
         o,
         "averaged model, longitudinal (states {}):",

@@ -505,12 +505,12 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
     )?;
     writeln!(
         s,
-        "(model: the built-in model as it stands; frozen wake: the same row with its wake held at the trim, for the vehicles whose wake answers, [aero] inflow = \"dynamic\")"
+        "(model: the built-in model as it stands; other wake: for a vehicle with an induced flow, the same row under the other wake, [aero] inflow = \"dynamic\" (the pair's wake answers its loads and the body) for a frozen one and \"frozen\" for a dynamic one)"
     )?;
     writeln!(
         s,
-        "{:<11}  {:<q_w$}  {:>11}  {:>16}  {:>11}  {:>16}  result",
-        "vehicle", "quantity", "model", "frozen wake", "measured", "tolerance"
+        "{:<11}  {:<q_w$}  {:>11}  {:>22}  {:>11}  {:>16}  result",
+        "vehicle", "quantity", "model", "other wake", "measured", "tolerance"
     )?;
     let mut causes = Vec::new();
     for r in &v.rows {
@@ -535,13 +535,16 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
             }
         };
         let model = format!("{:>11}", value(r.model));
-        let frozen = match &r.frozen_wake {
-            Some(f) => format!("{:>16}", format!("{} {}", value(f.model), f.verdict.name())),
-            None => format!("{:>16}", ""),
+        let other = match &r.other_wake {
+            Some(f) => format!(
+                "{:>22}",
+                format!("{} {} {}", f.inflow, value(f.model), f.verdict.name())
+            ),
+            None => format!("{:>22}", ""),
         };
         writeln!(
             s,
-            "{:<11}  {:<q_w$}  {model}  {frozen}  {measured}  {:>16}  {verdict}",
+            "{:<11}  {:<q_w$}  {model}  {other}  {measured}  {:>16}  {verdict}",
             r.vehicle,
             r.quantity,
             r.tolerance_text()
@@ -566,23 +569,28 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
         v.missed(),
         v.missed_properties()
     )?;
-    let answering: Vec<_> = v.rows.iter().filter_map(|r| r.frozen_wake.map(|f| (r, f))).collect();
-    if !answering.is_empty() {
-        let pass = |dynamic: bool| {
-            answering
+    let others: Vec<_> = v
+        .rows
+        .iter()
+        .filter_map(|r| r.other_wake.map(|o| (r, o)))
+        .collect();
+    if let Some((_, first)) = others.first() {
+        let pass = |own: bool| {
+            others
                 .iter()
-                .filter(|(r, f)| {
-                    let verdict = if dynamic { r.verdict } else { f.verdict };
+                .filter(|(r, o)| {
+                    let verdict = if own { r.verdict } else { o.verdict };
                     verdict == flapsim::vehicle_validation::Verdict::Pass
                 })
                 .count()
         };
         writeln!(
             s,
-            "the {} rows of vehicles whose wake answers: {} pass with it, {} with the wake frozen",
-            answering.len(),
+            "the {} rows of vehicles with an induced flow: {} pass as the models stand, {} under the other wake ({})",
+            others.len(),
             pass(true),
-            pass(false)
+            pass(false),
+            first.inflow
         )?;
     }
     Ok(s)

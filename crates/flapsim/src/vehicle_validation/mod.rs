@@ -64,30 +64,42 @@ pub fn added_mass_lift_share(vehicle: &Vehicle) -> Result<(f64, f64, f64)> {
 }
 
 /// Computes the vehicles section: every row as the built-in models stand, and for the
-/// vehicles whose wake answers (`[aero] inflow = "dynamic"`), beside it the same row with
-/// their wake frozen ([`VehicleRow::frozen_wake`]; issue #38).
+/// vehicles with an induced flow, beside it the same row under the other wake
+/// ([`VehicleRow::other_wake`]; issue #38).
 pub fn vehicle_section() -> Result<VehicleSection> {
-    let mut section = vehicle_section_with(None)?;
-    let frozen = vehicle_section_with(Some(wingforce::InflowModel::Frozen))?;
-    for (row, f) in section.rows.iter_mut().zip(frozen.rows) {
-        let dynamic = builtin(row.vehicle)
-            .is_ok_and(|v| v.inflow_model() == wingforce::InflowModel::Dynamic);
-        if dynamic {
-            row.frozen_wake = Some(FrozenWake {
-                model: f.model,
-                verdict: f.verdict,
+    let mut section = vehicle_section_with(false)?;
+    let other = vehicle_section_with(true)?;
+    for (row, o) in section.rows.iter_mut().zip(other.rows) {
+        if let Some(inflow) = builtin(row.vehicle)
+            .ok()
+            .and_then(|v| other_wake(v.inflow_model()))
+        {
+            row.other_wake = Some(OtherWake {
+                inflow,
+                model: o.model,
+                verdict: o.verdict,
             });
         }
     }
     Ok(section)
 }
 
-/// The section with every vehicle that has an induced flow meeting `wake` (`None`: as its
-/// model file says).
-fn vehicle_section_with(wake: Option<wingforce::InflowModel>) -> Result<VehicleSection> {
+/// The wake a vehicle's rows are shown under beside its own: dynamic for frozen, frozen for
+/// dynamic; none for still air (the actuated, four-winged and fixed-mount models).
+pub fn other_wake(model: wingforce::InflowModel) -> Option<wingforce::InflowModel> {
+    match model {
+        wingforce::InflowModel::Off => None,
+        wingforce::InflowModel::Frozen => Some(wingforce::InflowModel::Dynamic),
+        wingforce::InflowModel::Dynamic => Some(wingforce::InflowModel::Frozen),
+    }
+}
+
+/// The section with every vehicle that has an induced flow under its other wake (`true`) or
+/// as its model file says.
+fn vehicle_section_with(other_wake: bool) -> Result<VehicleSection> {
     let mut b = RowBuilder {
         rows: Vec::new(),
-        wake,
+        other_wake,
     };
     robobee_rows(&mut b)?;
     hummingbird_rows(&mut b)?;
@@ -225,7 +237,7 @@ mod tests {
             verdict: Verdict::Miss,
             cause: None,
             property: false,
-            frozen_wake: None,
+            other_wake: None,
         };
         let rel = Check::Relative { tolerance: 0.15 };
         assert!(row(1.15, Some(1.0), rel).passes());

@@ -69,14 +69,17 @@ pub struct VehicleRow {
     /// A property the model must have (its misses are named apart), not a comparison with
     /// measured data.
     pub property: bool,
-    /// For a vehicle whose wake answers (`[aero] inflow = "dynamic"`): the same row with
-    /// its wake frozen (issue #38's side-by-side), else `None`.
-    pub frozen_wake: Option<FrozenWake>,
+    /// For a vehicle with an induced flow: the same row under the other wake, dynamic for a
+    /// model whose wake is frozen and frozen for one whose wake answers (issue #38's
+    /// side-by-side), else `None`.
+    pub other_wake: Option<OtherWake>,
 }
 
-/// A row's value and verdict with the vehicle's wake frozen.
+/// A row's value and verdict under the other wake ([`VehicleRow::other_wake`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct FrozenWake {
+pub struct OtherWake {
+    /// The induced-flow model of this value.
+    pub inflow: wingforce::InflowModel,
     /// The model's value.
     pub model: f64,
     /// Its verdict against the same measured value and check.
@@ -163,17 +166,17 @@ impl VehicleSection {
 
 pub(super) struct RowBuilder {
     pub(super) rows: Vec<VehicleRow>,
-    /// The induced-flow model every vehicle of this pass meets where it has one (`None`:
-    /// each as its model file says).
-    pub(super) wake: Option<wingforce::InflowModel>,
+    /// Whether every vehicle with an induced flow meets the other wake in this pass (frozen
+    /// for dynamic and dynamic for frozen: [`super::other_wake`]).
+    pub(super) other_wake: bool,
 }
 
 impl RowBuilder {
     /// A built-in vehicle, with this pass's wake.
     pub(super) fn vehicle(&self, name: &str) -> crate::error::Result<crate::model::Vehicle> {
         let v = crate::operating_points::builtin(name)?;
-        match self.wake {
-            Some(m) if v.inflow_model() != wingforce::InflowModel::Off => v.with_inflow_model(m),
+        match super::other_wake(v.inflow_model()) {
+            Some(m) if self.other_wake => v.with_inflow_model(m),
             _ => Ok(v),
         }
     }
@@ -200,7 +203,7 @@ impl RowBuilder {
             verdict: Verdict::Miss,
             cause: None,
             property,
-            frozen_wake: None,
+            other_wake: None,
         };
         if row.passes() {
             row.verdict = Verdict::Pass;

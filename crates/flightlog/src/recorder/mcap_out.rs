@@ -126,6 +126,10 @@ fn run_metadata(
             vehicle.wings[0].options().added_mass.name().to_owned(),
         ),
         (
+            "inflow_model".to_owned(),
+            vehicle.inflow_model().name().to_owned(),
+        ),
+        (
             "load_sampling".to_owned(),
             vehicle.load_sampling().name().to_owned(),
         ),

@@ -305,9 +305,16 @@ impl DynamicInflow {
         if !finite {
             return Err(InflowError::NotFinite);
         }
+        if !(self.disc.area_m2 > 0.0) {
+            // A pair that sweeps nothing (no stroke) moves no air.
+            self.state = InflowState::default();
+            return Ok(());
+        }
         let w0 = self.state.mean_m_s;
         let v = forcing.disc_velocity_m_s;
-        if v.z + w0 <= 0.0 && (v.x * v.x + v.y * v.y) < w0 * w0 {
+        // The flow through the disc against the induced velocity (a descent into the own
+        // wake; a negative thrust's upwash is the mirror image and allowed).
+        if (v.z + w0) * w0 < 0.0 && (v.x * v.x + v.y * v.y) < w0 * w0 {
             return Err(InflowError::VortexRing {
                 through_m_s: v.z,
                 mean_m_s: w0,

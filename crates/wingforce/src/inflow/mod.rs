@@ -77,6 +77,22 @@ impl InflowModel {
         }
     }
 
+    /// What the model is, in words for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Self::Off => "off (still air)",
+            Self::Frozen => "frozen (the hover downwash of the weight, held at the flight condition)",
+            Self::Dynamic => {
+                "dynamic (each pair's wake follows its loads and the body: Pitt-Peters, wingforce::inflow::dynamic)"
+            }
+        }
+    }
+
+    /// The model named `name`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+
     /// Every model, for error messages.
     pub const ALL: [Self; 3] = [Self::Off, Self::Frozen, Self::Dynamic];
 }
