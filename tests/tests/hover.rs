@@ -219,7 +219,7 @@ fn published_operating_points_agree_or_say_why_not() {
         rows[1]
     );
     let still_air = Vehicle::from_toml(
-        &flapsim::DROSOPHILA_TOML.replace("induced_inflow = true", "induced_inflow = false"),
+        &flapsim::DROSOPHILA_TOML.replace("inflow = \"frozen\"", "inflow = \"off\""),
         "drosophila, still air",
     )
     .unwrap();

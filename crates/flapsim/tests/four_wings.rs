@@ -53,8 +53,8 @@ fn hover(v: &Vehicle) -> FrozenState {
 fn fly_at_fixed_re(area: &str) -> String {
     let t = flapsim::DROSOPHILA_TOML
         .replacen(
-            "induced_inflow = true",
-            "induced_inflow = false\nar_ro_corrections = false",
+            "inflow = \"frozen\"",
+            "inflow = \"off\"\nar_ro_corrections = false",
             1,
         )
         .replacen("kinematic_viscosity_m2_s = 1.516e-5", "reynolds = 120.0", 1)
@@ -131,7 +131,7 @@ fn a_hind_pair_on_the_fore_hinges_carries_what_twice_the_area_carries_in_the_lin
     // For the record: the real fly (corrections on, its own viscosity) is not linear in area.
     let real = |area: &str| {
         flapsim::DROSOPHILA_TOML
-            .replacen("induced_inflow = true", "induced_inflow = false", 1)
+            .replacen("inflow = \"frozen\"", "inflow = \"off\"", 1)
             .replacen("area_m2 = 2.0e-6", &format!("area_m2 = {area}"), 1)
     };
     let (f4, f2) = (
@@ -455,7 +455,7 @@ fn a_two_winged_model_has_one_pair_without_offset() {
 #[test]
 fn a_four_winged_fly_trims_on_all_its_wings() {
     let fly =
-        flapsim::DROSOPHILA_TOML.replacen("induced_inflow = true", "induced_inflow = false", 1);
+        flapsim::DROSOPHILA_TOML.replacen("inflow = \"frozen\"", "inflow = \"off\"", 1);
     let with_pair = |deg: f64| {
         format!(
             "{fly}\n[[pairs]]\nphase_offset_deg = {deg:.1}\n[pairs.hinge]\nleft_in_body_m = [-0.32e-3, 0.45e-3, 0.28e-3]\nstroke_plane_tilt_deg = 45.0\n"

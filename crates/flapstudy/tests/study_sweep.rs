@@ -5,7 +5,7 @@
 //! term scales with the square of the wingbeat frequency (velocities ~ f, accelerations
 //! ~ f^2, reference dynamic pressure ~ f^2), so forces ~ f^2 and power = moment x angular
 //! velocity ~ f^3. These scalings are of still air: the hover downwash of the built-in fly
-//! (`[aero] induced_inflow`) depends on the weight, not on the wingbeat, so the scaling
+//! (`[aero] inflow`) depends on the weight, not on the wingbeat, so the scaling
 //! checks switch it off.
 
 use flapstudy::spec::{StudySpec, latin_hypercube, shard_range};
@@ -22,7 +22,7 @@ fn study(text: &str) -> Study {
 /// A study on the built-in fly in still air (no hover downwash).
 fn still_air_study(text: &str) -> Study {
     let spec = StudySpec::from_toml(text, "test.toml").expect("study parses");
-    let base = flapsim::DROSOPHILA_TOML.replace("induced_inflow = true", "induced_inflow = false");
+    let base = flapsim::DROSOPHILA_TOML.replace("inflow = \"frozen\"", "inflow = \"off\"");
     assert_ne!(
         base,
         flapsim::DROSOPHILA_TOML,
@@ -114,7 +114,7 @@ levels = [1.204, 2.408]
 
     // Hold Re at the drosophila's own value while doubling the frequency.
     let base = flapsim::Vehicle::from_toml(
-        &flapsim::DROSOPHILA_TOML.replace("induced_inflow = true", "induced_inflow = false"),
+        &flapsim::DROSOPHILA_TOML.replace("inflow = \"frozen\"", "inflow = \"off\""),
         "d",
     )
     .unwrap();
