@@ -118,9 +118,7 @@ fn settling_wingbeats(inflow: &wingset::PairInflows, period_s: f64) -> usize {
         .discs()
         .iter()
         .zip(inflow.states())
-        .map(|(d, s)| {
-            2.0 * d.radius_m() / (3.0 * std::f64::consts::PI * s.mean_m_s.abs())
-        })
+        .map(|(d, s)| 2.0 * d.radius_m() / (3.0 * std::f64::consts::PI * s.mean_m_s.abs()))
         .fold(0.0, f64::max);
     let n = (14.0 * std::f64::consts::LN_10 * tau_s / period_s).ceil();
     if n.is_finite() {
@@ -171,7 +169,7 @@ pub fn periodic_inflow(
             inflow
                 .advance(&wings, &forces, motion, dt_s)
                 .map_err(|e| {
-                    crate::Error::Analysis(format!(
+                    crate::error::Error::Analysis(format!(
                         "the dynamic inflow of {} at this body state (velocity {:?} m/s, rates {:?} rad/s, body frame) in wingbeat {beat}: {}",
                         vehicle.name,
                         motion.velocity_m_s.as_slice(),
@@ -193,7 +191,7 @@ pub fn periodic_inflow(
         })
         .fold(0.0, f64::max);
     if !(drift <= PERIODIC_INFLOW_TOLERANCE * scale.max(f64::MIN_POSITIVE)) {
-        return Err(crate::Error::Analysis(format!(
+        return Err(crate::error::Error::Analysis(format!(
             "the dynamic inflow of {} did not settle into a periodic motion in {wingbeats} wingbeats: a state still changes by {drift:.3e} m/s per wingbeat (allowed: {:.1e} of the mean inflow {scale:.4} m/s)",
             vehicle.name, PERIODIC_INFLOW_TOLERANCE
         )));

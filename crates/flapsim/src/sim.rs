@@ -385,7 +385,8 @@ impl Simulation {
     fn start_inflow(&mut self, state: &State) -> Result<()> {
         self.settle_inflow = false;
         let motion = wingforce::BodyMotion {
-            velocity_m_s: state.world_from_body.inverse() * (state.velocity_m_s - self.uniform_wind_m_s),
+            velocity_m_s: state.world_from_body.inverse()
+                * (state.velocity_m_s - self.uniform_wind_m_s),
             angular_velocity_rad_s: state.angular_velocity_body_rad_s,
         };
         let steps = self.vehicle.sim.steps_per_wingbeat as usize;

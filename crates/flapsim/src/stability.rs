@@ -4,9 +4,9 @@
 //! system (the monodromy matrix over one wingbeat by finite differences of full
 //! simulations) to compare with.
 
-use wingforce::inflow::InflowState;
 use nalgebra::{Complex, DMatrix, DVector, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
+use wingforce::inflow::InflowState;
 
 use crate::error::Result;
 use crate::flight::FlightCondition;
@@ -485,8 +485,24 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         yp[j] = eps[j];
         ym[j] = -eps[j];
         let (p, m) = (
-            one_wingbeat(v, periodic.as_ref(), &wing_states, inflow.as_deref(), &q, &v_trim, &yp)?,
-            one_wingbeat(v, periodic.as_ref(), &wing_states, inflow.as_deref(), &q, &v_trim, &ym)?,
+            one_wingbeat(
+                v,
+                periodic.as_ref(),
+                &wing_states,
+                inflow.as_deref(),
+                &q,
+                &v_trim,
+                &yp,
+            )?,
+            one_wingbeat(
+                v,
+                periodic.as_ref(),
+                &wing_states,
+                inflow.as_deref(),
+                &q,
+                &v_trim,
+                &ym,
+            )?,
         );
         for i in 0..n {
             phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);
@@ -513,7 +529,11 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
             .map(|&i| FLOQUET_WING_STATES[i].to_string()),
     );
     for p in 0..inflow.as_ref().map_or(0, Vec::len) {
-        let pair = if p == 0 { String::new() } else { format!("_{p}") };
+        let pair = if p == 0 {
+            String::new()
+        } else {
+            format!("_{p}")
+        };
         states.push(format!("inflow_mean_m_s{pair}"));
         states.push(format!("inflow_fore_m_s{pair}"));
     }

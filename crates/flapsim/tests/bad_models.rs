@@ -72,7 +72,11 @@ fn errors_name_file_field_value_and_range() {
 fn an_actuated_vehicle_refuses_the_hover_downwash() {
     // The downwash's disc is set by the stroke amplitude, which an actuated wing's dynamics
     // produce rather than take as an input (wingforce::inflow).
-    for line in ["induced_inflow = true", "inflow = \"frozen\"", "inflow = \"dynamic\""] {
+    for line in [
+        "induced_inflow = true",
+        "inflow = \"frozen\"",
+        "inflow = \"dynamic\"",
+    ] {
         let text = format!("{}\n[aero]\n{line}\n", flapsim::ROBOBEE_TOML);
         let e = err(&text);
         assert!(

@@ -454,8 +454,7 @@ fn a_two_winged_model_has_one_pair_without_offset() {
 /// the same one whatever the second pair's phase (the cycle means do not depend on it).
 #[test]
 fn a_four_winged_fly_trims_on_all_its_wings() {
-    let fly =
-        flapsim::DROSOPHILA_TOML.replacen("inflow = \"frozen\"", "inflow = \"off\"", 1);
+    let fly = flapsim::DROSOPHILA_TOML.replacen("inflow = \"frozen\"", "inflow = \"off\"", 1);
     let with_pair = |deg: f64| {
         format!(
             "{fly}\n[[pairs]]\nphase_offset_deg = {deg:.1}\n[pairs.hinge]\nleft_in_body_m = [-0.32e-3, 0.45e-3, 0.28e-3]\nstroke_plane_tilt_deg = 45.0\n"

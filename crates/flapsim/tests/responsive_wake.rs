@@ -38,7 +38,10 @@ fn the_responsive_wake_scales_heave_damping_as_momentum_theory_says() {
         let frozen = analyze(&frozen_v, false).unwrap();
         let dynamic = analyze(&v, false).unwrap();
         let k = -derivative(&frozen, "Z_w");
-        assert!(k > 0.0, "{name}: the wings lose thrust as the flow through them grows");
+        assert!(
+            k > 0.0,
+            "{name}: the wings lose thrust as the flow through them grows"
+        );
         // The disc at the frozen trim's amplitude.
         let trimmed = flapsim::trim::trimmed_vehicle(&frozen_v, &frozen.trim).unwrap();
         let w = &trimmed.wings[0];
@@ -48,7 +51,9 @@ fn the_responsive_wake_scales_heave_damping_as_momentum_theory_says() {
         let m = 2.0 * rho * area * w_h;
         let expected = m / (2.0 * m + k);
         let ratio = derivative(&dynamic, "Z_w") / derivative(&frozen, "Z_w");
-        eprintln!("{name}: Z_w dynamic / frozen {ratio:.4}, m / (2m + k) {expected:.4} (k {k:.3e}, m {m:.3e} N s/m)");
+        eprintln!(
+            "{name}: Z_w dynamic / frozen {ratio:.4}, m / (2m + k) {expected:.4} (k {k:.3e}, m {m:.3e} N s/m)"
+        );
         assert!(
             (ratio / expected - 1.0).abs() < 0.10,
             "{name}: Z_w dynamic / frozen {ratio:.4} against m / (2m + k) = {expected:.4} (k {k:.3e} N s/m, m {m:.3e} N s/m)"

@@ -61,7 +61,10 @@ fn axial_climb_follows_momentum_theory() {
             "climb {climb_m_s}: {} against {exact}",
             i.state.mean_m_s
         );
-        assert!(i.state.gradient_m_s.norm() < 1e-15, "axial flow has no skew");
+        assert!(
+            i.state.gradient_m_s.norm() < 1e-15,
+            "axial flow has no skew"
+        );
     }
 }
 
@@ -77,7 +80,10 @@ fn fast_forward_flight_tends_to_w_h_squared_over_v() {
         let ratio = i.state.mean_m_s * v / (w_h * w_h);
         // Glauert: w sqrt(V^2 + w^2) = w_h^2, so w V / w_h^2 = 1 / sqrt(1 + (w/V)^2).
         let exact = 1.0 / (1.0 + (i.state.mean_m_s / v).powi(2)).sqrt();
-        assert!((ratio - exact).abs() < 1e-10, "V {v}: {ratio} against {exact}");
+        assert!(
+            (ratio - exact).abs() < 1e-10,
+            "V {v}: {ratio} against {exact}"
+        );
         assert!((ratio - 1.0).abs() < last, "w V / w_h^2 tends to 1");
         last = (ratio - 1.0).abs();
         // Pitt-Peters' steady skewed wake: more downwash behind (x < 0), by
@@ -118,7 +124,10 @@ fn a_thrust_step_is_followed_with_pitt_peters_time_constant() {
     }
     let fraction = (i.state.mean_m_s - w0) / (w_end - w0);
     let e = 1.0 - (-1.0f64).exp();
-    assert!((fraction - e).abs() < 1e-3, "{fraction} against 1 - 1/e = {e}");
+    assert!(
+        (fraction - e).abs() < 1e-3,
+        "{fraction} against 1 - 1/e = {e}"
+    );
     // The exponential rule is stable at any step: one step of 100 time constants lands on
     // the steady value.
     let mut j = settled(hover_forcing());

@@ -99,7 +99,11 @@ fn downwash_lowers_hover_lift_and_only_the_translational_term() {
 fn a_wing_model_cannot_switch_inflow_on() {
     // The seed paper's robofly is a wing in still fluid (MODEL.md 4.5): no model of the
     // induced flow, frozen or dynamic, in either spelling.
-    for line in ["induced_inflow = true", "inflow = \"frozen\"", "inflow = \"dynamic\""] {
+    for line in [
+        "induced_inflow = true",
+        "inflow = \"frozen\"",
+        "inflow = \"dynamic\"",
+    ] {
         let text = include_str!("../../../models/robofly.toml")
             .replace("[aero]", &format!("[aero]\n{line}"));
         let err = WingModelSpec::from_toml(&text, "robofly.toml")

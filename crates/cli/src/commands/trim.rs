@@ -158,7 +158,12 @@ pub fn run(args: TrimArgs) -> Result<()> {
         "{what} of {} ({} Newton iterations)",
         src.origin, t.iterations
     )?;
-    writeln!(o, "  {:<18} {}", "induced flow", vehicle.inflow_model().describe())?;
+    writeln!(
+        o,
+        "  {:<18} {}",
+        "induced flow",
+        vehicle.inflow_model().describe()
+    )?;
     for row in &report.controls {
         writeln!(
             o,

@@ -94,7 +94,7 @@ impl Vehicle {
             return Ok(v);
         }
         if model != wingforce::InflowModel::Off && (v.wings.len() > 2 || v.actuation.is_some()) {
-            return Err(crate::Error::Input(format!(
+            return Err(crate::error::Error::Input(format!(
                 "{}: inflow = \"{model}\" needs one pair of prescribed wings (the hind pair's interference and the actuated wings' swept disc are not modelled yet, issue #38); allowed: \"off\"",
                 v.name
             )));

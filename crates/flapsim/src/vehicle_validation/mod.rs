@@ -84,16 +84,6 @@ pub fn vehicle_section() -> Result<VehicleSection> {
     Ok(section)
 }
 
-/// The wake a vehicle's rows are shown under beside its own: dynamic for frozen, frozen for
-/// dynamic; none for still air (the actuated, four-winged and fixed-mount models).
-pub fn other_wake(model: wingforce::InflowModel) -> Option<wingforce::InflowModel> {
-    match model {
-        wingforce::InflowModel::Off => None,
-        wingforce::InflowModel::Frozen => Some(wingforce::InflowModel::Dynamic),
-        wingforce::InflowModel::Dynamic => Some(wingforce::InflowModel::Frozen),
-    }
-}
-
 /// The section with every vehicle that has an induced flow under its other wake (`true`) or
 /// as its model file says.
 fn vehicle_section_with(other_wake: bool) -> Result<VehicleSection> {

@@ -175,7 +175,7 @@ impl RowBuilder {
     /// A built-in vehicle, with this pass's wake.
     pub(super) fn vehicle(&self, name: &str) -> crate::error::Result<crate::model::Vehicle> {
         let v = crate::operating_points::builtin(name)?;
-        match super::other_wake(v.inflow_model()) {
+        match other_wake(v.inflow_model()) {
             Some(m) if self.other_wake => v.with_inflow_model(m),
             _ => Ok(v),
         }
@@ -211,5 +211,15 @@ impl RowBuilder {
             row.cause = Some(cause());
         }
         self.rows.push(row);
+    }
+}
+
+/// The wake a vehicle's rows are shown under beside its own: dynamic for frozen, frozen for
+/// dynamic; none for still air (the actuated, four-winged and fixed-mount models).
+pub fn other_wake(model: wingforce::InflowModel) -> Option<wingforce::InflowModel> {
+    match model {
+        wingforce::InflowModel::Off => None,
+        wingforce::InflowModel::Frozen => Some(wingforce::InflowModel::Dynamic),
+        wingforce::InflowModel::Dynamic => Some(wingforce::InflowModel::Frozen),
     }
 }

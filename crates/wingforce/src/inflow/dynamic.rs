@@ -112,7 +112,7 @@ impl InflowDisc {
 
     /// Hover induced velocity for `thrust_n`, sqrt(T / (2 rho A)), m/s.
     pub fn hover_m_s(&self, thrust_n: f64) -> f64 {
-        super::downwash_m_s(thrust_n.max(0.0), self.density_kg_m3, self.area_m2)
+        (thrust_n.max(0.0) / (2.0 * self.density_kg_m3 * self.area_m2)).sqrt()
     }
 
     /// The mean state's time constant for small perturbations about hover at `thrust_n`,
@@ -192,7 +192,10 @@ impl std::fmt::Display for InflowError {
                 f,
                 "the disc descends through its own wake (climb rate {through_m_s:.3} m/s along the stroke-plane normal against a mean induced velocity of {mean_m_s:.3} m/s): the vortex-ring state, outside the momentum theory of the dynamic inflow (allowed: a descent slower than the induced velocity, or a forward speed above it)"
             ),
-            Self::NotFinite => write!(f, "the inflow's loads or the disc's velocity are not finite"),
+            Self::NotFinite => write!(
+                f,
+                "the inflow's loads or the disc's velocity are not finite"
+            ),
         }
     }
 }
@@ -361,8 +364,14 @@ impl DynamicInflow {
     /// The steady state under `forcing` (the loads held), by stepping to convergence: what
     /// the states settle to. For tests and for starting a run at a flight condition.
     pub fn settle(&mut self, forcing: &InflowForcing) -> Result<(), InflowError> {
-        let tau = self.disc.hover_time_constant_s(forcing.thrust_n.abs().max(1e-30));
-        let dt = if tau.is_finite() && tau > 0.0 { tau } else { 1e-3 };
+        let tau = self
+            .disc
+            .hover_time_constant_s(forcing.thrust_n.abs().max(1e-30));
+        let dt = if tau.is_finite() && tau > 0.0 {
+            tau
+        } else {
+            1e-3
+        };
         for _ in 0..10_000 {
             let before = self.state;
             self.advance(forcing, dt)?;

@@ -81,7 +81,9 @@ impl InflowModel {
     pub fn describe(self) -> &'static str {
         match self {
             Self::Off => "off (still air)",
-            Self::Frozen => "frozen (the hover downwash of the weight, held at the flight condition)",
+            Self::Frozen => {
+                "frozen (the hover downwash of the weight, held at the flight condition)"
+            }
             Self::Dynamic => {
                 "dynamic (each pair's wake follows its loads and the body: Pitt-Peters, wingforce::inflow::dynamic)"
             }

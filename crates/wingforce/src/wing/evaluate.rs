@@ -296,8 +296,8 @@ impl Wing {
         let v_hinge_s = v_body_s + w_body_s.cross(&c.hinge_s) + c.translational_inflow_s;
         let mut b = (frame.omega + w_body_s).cross(&frame.e_span);
         // A dynamic inflow's gradient over the plane: linear in r along the span too.
-        b.z += c.inflow_gradient_per_s.x * frame.e_span.x
-            + c.inflow_gradient_per_s.y * frame.e_span.y;
+        b.z +=
+            c.inflow_gradient_per_s.x * frame.e_span.x + c.inflow_gradient_per_s.y * frame.e_span.y;
         StripVelocity {
             a_le: v_hinge_s.dot(&frame.e_le),
             b_le: b.dot(&frame.e_le),

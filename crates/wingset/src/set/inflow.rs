@@ -149,7 +149,10 @@ impl PairInflows {
                 self.pairs.len()
             )));
         }
-        if states.iter().any(|s| !s.to_array().iter().all(|x| x.is_finite())) {
+        if states
+            .iter()
+            .any(|s| !s.to_array().iter().all(|x| x.is_finite()))
+        {
             return Err(Error::Input(format!(
                 "inflow states {states:?}: allowed: finite velocities"
             )));
@@ -167,7 +170,12 @@ impl Pair {
         let first = &wings[idx[0]];
         let thrust: f64 = idx
             .iter()
-            .map(|&i| wings[i].options().induced_inflow.map_or(0.0, |f| f.thrust_n))
+            .map(|&i| {
+                wings[i]
+                    .options()
+                    .induced_inflow
+                    .map_or(0.0, |f| f.thrust_n)
+            })
             .sum();
         let centre_body_m = idx
             .iter()

@@ -423,7 +423,9 @@ impl WingSet {
     /// Each wing pair's dynamic inflow states now (empty unless the wake answers:
     /// `wingforce::inflow::dynamic`).
     pub fn inflow_states(&self) -> Vec<wingforce::inflow::InflowState> {
-        self.inflow.as_ref().map_or_else(Vec::new, PairInflows::states)
+        self.inflow
+            .as_ref()
+            .map_or_else(Vec::new, PairInflows::states)
     }
 
     /// Replaces each pair's dynamic inflow states (a start at a periodic inflow, a Floquet
