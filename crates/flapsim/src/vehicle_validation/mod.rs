@@ -133,7 +133,7 @@ fn vehicle_section_with(other_wake: bool) -> Result<VehicleSection> {
         false,
         || {
             format!(
-                "L/W {lw:.3} with a net drag of {:.3} of the weight: quasi-steady wings without the forewing wake on the hindwing (about 15% of each wing's force in CFD, Sun & Lan 2004), without unsteady lift beyond the four terms and without the measured spanwise twist; Lee et al.'s f_AR f_Ro take 24% off these AR 5, Ro 5 wings (0.952 without them; docs/models.md)",
+                "L/W {lw:.3} with a net drag of {:.3} of the weight: Lee et al.'s f_AR f_Ro take 24% off these AR 5, Ro 5 wings (0.952 without them; docs/models.md); the forewing's wake on the hindwing, which the model leaves out (its wings fly in still air), lowers the hindwing's force (by 14-16% in Sun & Lan 2004's CFD), so it would widen this shortfall, not close it; the measured spanwise twist is not modelled either (which way it pushes is not measured here)",
                 -f.x / dragonfly.weight_n()
             )
         },
