@@ -35,6 +35,29 @@ pub fn build_vehicle(src: &VehicleSource) -> anyhow::Result<flapsim::Vehicle> {
     flapsim::Vehicle::from_toml(&src.text, &src.origin).map_err(sim_error)
 }
 
+/// `--inflow`: an induced-flow model by name.
+pub fn parse_inflow(name: &str) -> Result<wingforce::InflowModel, String> {
+    wingforce::InflowModel::from_name(name).ok_or_else(|| {
+        format!("`{name}` is not an induced-flow model; allowed: off, frozen, dynamic")
+    })
+}
+
+/// The vehicle with `--inflow`'s induced flow in place of its model file's, if given.
+pub fn with_inflow(
+    vehicle: flapsim::Vehicle,
+    inflow: Option<wingforce::InflowModel>,
+) -> anyhow::Result<flapsim::Vehicle> {
+    match inflow {
+        Some(m) => {
+            use crate::error::InputContext;
+            vehicle
+                .with_inflow_model(m)
+                .input_context(format!("--inflow {m}"))
+        }
+        None => Ok(vehicle),
+    }
+}
+
 /// A flapsim error as an anyhow error, keeping model errors recognisable as bad input.
 pub fn sim_error(e: flapsim::Error) -> anyhow::Error {
     match e {

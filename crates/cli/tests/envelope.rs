@@ -188,3 +188,52 @@ fn envelope_refuses_bad_grids_and_fails_when_nothing_trims() {
     assert_eq!(r.code, 1, "{r:?}");
     assert!(r.stderr.contains("no point of the envelope trims"), "{r:?}");
 }
+
+/// `--inflow` puts another induced flow on the model for `trim` and `stability`, and both
+/// name it; a model that cannot take it, or an unknown name, is bad input (exit 2).
+#[test]
+fn inflow_option_selects_and_names_the_wake() {
+    let dir = tempfile::tempdir().unwrap();
+    let stability = |inflow: &str| {
+        let r = flapwing_in(
+            dir.path(),
+            &[
+                "stability",
+                "--model",
+                "bumblebee",
+                "--no-floquet",
+                "--inflow",
+                inflow,
+            ],
+        );
+        assert_eq!(r.code, 0, "{r:?}");
+        r.stdout
+    };
+    let z_w = |out: &str| -> f64 {
+        let line = out
+            .lines()
+            .find(|l| l.trim_start().starts_with("Z_w"))
+            .unwrap();
+        line.split_whitespace().last().unwrap().parse().unwrap()
+    };
+    let frozen = stability("frozen");
+    let dynamic = stability("dynamic");
+    assert!(frozen.contains("induced flow: frozen"), "{frozen}");
+    assert!(dynamic.contains("induced flow: dynamic"), "{dynamic}");
+    // The responsive disc relieves the heave damping (momentum theory: by m / (2m + k),
+    // about 0.42 here; crates/flapsim/tests/responsive_wake.rs checks it within 10%).
+    let ratio = z_w(&dynamic) / z_w(&frozen);
+    assert!((0.3..0.6).contains(&ratio), "Z_w dynamic / frozen {ratio}");
+    let r = flapwing_in(
+        dir.path(),
+        &["trim", "--model", "robobee", "--inflow", "dynamic"],
+    );
+    assert_eq!(r.code, 2, "{r:?}");
+    assert!(
+        r.stderr.contains("--inflow dynamic") && r.stderr.contains("allowed"),
+        "{r:?}"
+    );
+    let r = flapwing_in(dir.path(), &["trim", "--inflow", "swirl"]);
+    assert_eq!(r.code, 2, "{r:?}");
+    assert!(r.stderr.contains("off, frozen, dynamic"), "{r:?}");
+}

@@ -16,6 +16,11 @@ pub struct StabilityArgs {
     /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic, dragonfly; actuated: robobee, hummingbird).
     #[arg(long, value_name = "FILE|NAME")]
     pub model: Option<String>,
+    /// The induced flow the wings meet, in place of the model's `[aero] inflow`: `frozen`
+    /// (the hover downwash held at the condition), `dynamic` (each pair's wake answers its
+    /// loads and the body; issue #38) or `off` (still air).
+    #[arg(long, value_name = "MODEL", value_parser = crate::vehicle::parse_inflow)]
+    pub inflow: Option<wingforce::InflowModel>,
     /// Skip the Floquet analysis (full simulations over one wingbeat).
     #[arg(long = "no-floquet")]
     pub no_floquet: bool,
@@ -43,7 +48,7 @@ pub struct StabilityArgs {
 /// Runs the command.
 pub fn run(args: StabilityArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
-    let mut vehicle = build_vehicle(&src)?;
+    let mut vehicle = crate::vehicle::with_inflow(build_vehicle(&src)?, args.inflow)?;
     if let Some(n) = args.steps_per_wingbeat {
         if !(20..=100_000).contains(&n) {
             return Err(crate::error::input_error(format!(

@@ -14,6 +14,11 @@ pub struct TrimArgs {
     /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic, dragonfly; actuated: robobee, hummingbird).
     #[arg(long, value_name = "FILE|NAME")]
     pub model: Option<String>,
+    /// The induced flow the wings meet, in place of the model's `[aero] inflow`: `frozen`
+    /// (the hover downwash held at the condition), `dynamic` (each pair's wake answers its
+    /// loads and the body; issue #38) or `off` (still air).
+    #[arg(long, value_name = "MODEL", value_parser = crate::vehicle::parse_inflow)]
+    pub inflow: Option<wingforce::InflowModel>,
     /// What carries the weight: the stroke amplitude, the mid-stroke angle of attack (both
     /// half strokes moved alike, as Sun & Xiong 2005 trimmed) or the wingbeat frequency
     /// (default: the model's `[trim] lift_variable`, else the amplitude).
@@ -66,7 +71,7 @@ struct Report<'a> {
 /// Runs the command.
 pub fn run(args: TrimArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
-    let vehicle = build_vehicle(&src)?;
+    let vehicle = crate::vehicle::with_inflow(build_vehicle(&src)?, args.inflow)?;
     let condition = args.condition.check(&vehicle)?;
     if args.write.is_some() && !condition.is_hover() {
         return Err(crate::error::input_error(format!(
