@@ -139,6 +139,13 @@ impl Vehicle {
     fn added_mass_form(&self) -> &'static str {
         self.vehicle.wings[0].options().added_mass.name()
     }
+    /// The induced flow the wings meet (`[aero] inflow`): `"off"` (still air), `"frozen"`
+    /// (the hover downwash held at the flight condition) or `"dynamic"` (each pair's wake
+    /// answers its loads and the body).
+    #[getter]
+    fn inflow_model(&self) -> &'static str {
+        self.vehicle.inflow_model().name()
+    }
     /// Body mass, kg.
     #[getter]
     fn mass_kg(&self) -> f64 {

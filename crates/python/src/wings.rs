@@ -86,6 +86,26 @@ impl WingSet {
     fn restart_motion(&mut self) {
         self.set.restart_motion();
     }
+    /// Each wing pair's dynamic inflow states `(w0, w_x, w_y)`, m/s: the mean induced
+    /// velocity through the pair's disc and the extra downwash at its front and left edges
+    /// (`[aero] inflow = "dynamic"`; an empty list otherwise).
+    #[getter]
+    fn inflow_states(&self) -> Vec<[f64; 3]> {
+        self.set
+            .inflow_states()
+            .iter()
+            .map(|s| s.to_array())
+            .collect()
+    }
+    /// Replaces each pair's dynamic inflow states (one `(w0, w_x, w_y)` per pair, m/s).
+    /// ValueError for a set whose wake does not answer, a wrong count or a non-finite value.
+    fn set_inflow_states(&mut self, states: Vec<[f64; 3]>) -> PyResult<()> {
+        let states: Vec<_> = states
+            .into_iter()
+            .map(wingforce::inflow::InflowState::from_array)
+            .collect();
+        self.set.set_inflow_states(&states).map_err(sim_err)
+    }
     /// The controls in force (a dict of SI fields).
     #[getter]
     fn controls<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

@@ -113,6 +113,9 @@ class Vehicle:
     def added_mass_form(self) -> str:
         """The added-mass term's form: "impulse" (-dP/dt), "paper" (eq 7-8) or "off"."""
     @property
+    def inflow_model(self) -> str:
+        """`[aero] inflow`: "off", "frozen" or "dynamic"."""
+    @property
     def mass_kg(self) -> float: ...
     @property
     def inertia_kg_m2(self) -> FloatArray:
@@ -261,6 +264,11 @@ class WingSet:
         predicted from the last two states `step` was given)."""
     def restart_motion(self) -> None:
         """Forget earlier states: call after moving the body by hand."""
+    @property
+    def inflow_states(self) -> list[tuple[float, float, float]]:
+        """Each pair's dynamic inflow (w0, w_x, w_y), m/s; empty unless the wake answers."""
+    def set_inflow_states(self, states: list[tuple[float, float, float]]) -> None:
+        """Replace each pair's dynamic inflow states; ValueError if the wake does not answer."""
     @property
     def controls(self) -> dict[str, float]: ...
     def set_controls(self, **controls: float) -> None:

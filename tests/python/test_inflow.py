@@ -1,0 +1,71 @@
+"""The dynamic wake in Python (issue #38): `Vehicle.inflow_model`, `WingSet.inflow_states`.
+
+A wing set whose model has `[aero] inflow = "dynamic"` carries each pair's inflow states and
+steps them with its loads. It starts at momentum theory's hover downwash for the weight,
+w_h = sqrt(m g / (2 rho A)) over the disc the pair sweeps, A = Phi R^2 (Ellington 1984c), and
+then follows the pair's own thrust: at rest the wingbeat mean of the thrust balances
+2 rho A <w0^2> (the mean state's momentum balance, whose rate has no mean over a periodic
+motion; wingforce::inflow::dynamic).
+"""
+
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+import flapwing
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def dynamic_fly(tmp_path):
+    text = (ROOT / "models/drosophila.toml").read_text()
+    assert 'inflow = "frozen"' in text
+    path = tmp_path / "fly_dynamic.toml"
+    path.write_text(text.replace('inflow = "frozen"', 'inflow = "dynamic"'))
+    return str(path)
+
+
+REST = dict(position_m=[0, 0, 0], world_from_body_wxyz=[1, 0, 0, 0], velocity_m_s=[0, 0, 0],
+            angular_velocity_body_rad_s=[0, 0, 0])
+
+
+def test_the_wake_is_named_and_its_states_follow_the_thrust(tmp_path):
+    path = dynamic_fly(tmp_path)
+    assert flapwing.Vehicle("drosophila").inflow_model == "frozen"
+    assert flapwing.Vehicle("robobee").inflow_model == "off"
+    assert flapwing.Vehicle(path).inflow_model == "dynamic"
+    wings = flapwing.WingSet(path)
+    [(w0, wx, wy)] = wings.inflow_states
+    # The model's numbers: 1 mg, 140 deg of stroke, tip radius 2.39 + 0.3 mm, air 1.204.
+    area = math.radians(140.0) * (2.39e-3 + 0.3e-3) ** 2
+    w_h = math.sqrt(1.0e-6 * 9.81 / (2 * 1.204 * area))
+    assert w0 == pytest.approx(w_h, rel=1e-12) and wx == 0.0 and wy == 0.0
+    # Ten wingbeats at rest: the states move with the thrust; over the last the wingbeat mean
+    # of the force (inertia and added mass average out) balances 2 rho A <w0^2>.
+    steps = round(1.0 / (wings.dt_s * 218.0))
+    means = []
+    for beat in range(10):
+        force, w2 = np.zeros(3), 0.0
+        for _ in range(steps):
+            force += wings.step(**REST)["force_body_n"] / steps
+            w2 += wings.inflow_states[0][0] ** 2 / steps
+        means.append((np.linalg.norm(force), w2))
+    thrust, w2 = means[-1]
+    assert 2 * 1.204 * area * w2 == pytest.approx(thrust, rel=1e-3), (thrust, w2)  # measured: 1.1e-4
+    assert wings.inflow_states[0][0] != w0
+
+
+def test_states_can_be_set_only_where_the_wake_answers(tmp_path):
+    wings = flapwing.WingSet(dynamic_fly(tmp_path))
+    wings.set_inflow_states([(0.5, 0.01, -0.02)])
+    assert wings.inflow_states == [(0.5, 0.01, -0.02)] or wings.inflow_states == [[0.5, 0.01, -0.02]]
+    with pytest.raises(ValueError, match="one per pair"):
+        wings.set_inflow_states([(0.5, 0, 0), (0.5, 0, 0)])
+    with pytest.raises(ValueError, match="finite"):
+        wings.set_inflow_states([(float("nan"), 0, 0)])
+    frozen = flapwing.WingSet("drosophila")
+    assert frozen.inflow_states == []
+    with pytest.raises(ValueError, match="no dynamic inflow"):
+        frozen.set_inflow_states([(0.5, 0, 0)])
