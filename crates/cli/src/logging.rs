@@ -187,6 +187,8 @@ pub fn open(
         sensors: channels.sensors,
         wind: channels.wind,
         estimate: channels.estimate,
+        // A vehicle whose wake answers logs its pairs' inflow states (issue #38).
+        inflow: vehicle.inflow_model() == wingforce::InflowModel::Dynamic,
     };
     let command_line = std::env::args().collect::<Vec<_>>().join(" ");
     let info = RunInfo::new(
@@ -272,6 +274,23 @@ pub fn record_wind(
         } else {
             r.wind(t_s, &uniform, winds)?;
         }
+    }
+    Ok(())
+}
+
+/// Logs each wing pair's dynamic inflow at the step at `t_s` if there is a recorder and the
+/// vehicle's wake answers (see [`Recorder::inflow`]): the states the step's loads were taken
+/// at.
+pub fn record_inflow(
+    rec: &mut Option<Recorder>,
+    t_s: f64,
+    sim: &flapsim::Simulation,
+) -> anyhow::Result<()> {
+    let inflow = &sim.wing_set().output().inflow;
+    if let Some(r) = rec.as_mut()
+        && !inflow.is_empty()
+    {
+        r.inflow(t_s, inflow)?;
     }
     Ok(())
 }

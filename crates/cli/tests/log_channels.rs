@@ -251,3 +251,68 @@ fn hover_logs_the_wind_it_flies_in() {
     // Still air: no /wind.
     assert!(!topics(&hover("s.mcap", &[])).iter().any(|t| t == "/wind"));
 }
+
+/// A vehicle whose wake answers (`[aero] inflow = "dynamic"`) logs its pair's inflow states
+/// to `/inflow`, each logged step's as flapsim's simulation takes its loads at them, and
+/// `replay --check` re-runs the log bit for bit; a frozen wake logs no `/inflow`.
+#[test]
+fn simulate_logs_the_dynamic_inflow() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = include_str!("../../../models/drosophila.toml")
+        .replace("inflow = \"frozen\"", "inflow = \"dynamic\"");
+    assert!(text.contains("inflow = \"dynamic\""));
+    std::fs::write(d.join("fly.toml"), &text).unwrap();
+    let run = |model: &str, log: &str| {
+        let r = flapwing_in(
+            d,
+            &[
+                "simulate",
+                "--model",
+                model,
+                "--duration-s",
+                "0.01",
+                "--no-sensors",
+                "--mcap",
+                log,
+            ],
+        );
+        assert_eq!(r.code, 0, "{r:?}");
+        assert!(
+            r.stdout.contains("induced flow: dynamic") || model != "fly.toml",
+            "{r:?}"
+        );
+        d.join(log)
+    };
+    let a = run("fly.toml", "a.mcap");
+    assert!(topics(&a).iter().any(|t| t == "/inflow"));
+    let logged = rows(&a, "/inflow");
+
+    let vehicle = Vehicle::from_toml(&text, "fly.toml").unwrap();
+    let mut s = Simulation::new(vehicle, Mode::Free);
+    let n = (0.01 / s.dt_s()).round() as u64;
+    let mut decimator = Decimator::new(Some(2000.0));
+    let mut expected = Vec::new();
+    for _ in 0..n {
+        let t = s.step().unwrap().t_s;
+        if decimator.take(t) {
+            expected.push(((t * 1e9).round(), s.wing_set().output().inflow[0]));
+        }
+    }
+    assert_eq!(logged.len(), expected.len());
+    assert!(logged.len() > 10);
+    for (row, (t_ns, state)) in logged.iter().zip(&expected) {
+        assert_eq!(row["log_time_ns"], *t_ns);
+        let [w0, fore, left] = state.to_array();
+        assert_eq!(row["pairs.0.mean_m_s"].to_bits(), w0.to_bits());
+        assert_eq!(row["pairs.0.fore_m_s"].to_bits(), fore.to_bits());
+        assert_eq!(row["pairs.0.left_m_s"].to_bits(), left.to_bits());
+    }
+    // The inflow answers the wingbeat: it is not held.
+    let means: Vec<f64> = logged.iter().map(|r| r["pairs.0.mean_m_s"]).collect();
+    assert!(means.iter().any(|&m| m != means[0]));
+    let c = flapwing_in(d, &["replay", "a.mcap", "--check"]);
+    assert_eq!(c.code, 0, "{c:?}");
+    let frozen = run("drosophila", "frozen.mcap");
+    assert!(!topics(&frozen).iter().any(|t| t == "/inflow"));
+}

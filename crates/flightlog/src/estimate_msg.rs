@@ -1,5 +1,6 @@
-//! The messages of `/wind` ([`crate::schema::WIND_CHANNEL`]) and `/estimate`
-//! ([`crate::schema::ESTIMATE_CHANNEL`]): each wing's wind from the simulation, and the state
+//! The messages of `/wind` ([`crate::schema::WIND_CHANNEL`]), `/inflow`
+//! ([`crate::schema::INFLOW_CHANNEL`]) and `/estimate` ([`crate::schema::ESTIMATE_CHANNEL`]):
+//! each wing's wind from the simulation, each pair's dynamic inflow, and the state
 //! estimator's newest estimate and covariance ([`flapsim::estimator::Estimator`]).
 
 use flapsim::estimator::{Estimator, IAB, IP, ITH, IV, IWB, N_ERR};
@@ -25,6 +26,27 @@ pub(crate) fn wind(
         t_s,
         wing_winds_world_m_s: wing_winds_world_m_s.iter().map(Into::into).collect(),
         uniform_world_m_s: v3(uniform_world_m_s),
+    }
+}
+
+/// The `/inflow` message of a step at log time `t_ns` (simulation time `t_s`): each pair's
+/// states the step's loads were taken at.
+pub(crate) fn inflow(
+    t_ns: u64,
+    t_s: f64,
+    pairs: &[wingforce::inflow::InflowState],
+) -> proto::Inflow {
+    proto::Inflow {
+        timestamp: Some(timestamp(t_ns)),
+        t_s,
+        pairs: pairs
+            .iter()
+            .map(|p| proto::PairInflow {
+                mean_m_s: p.mean_m_s,
+                fore_m_s: p.gradient_m_s.x,
+                left_m_s: p.gradient_m_s.y,
+            })
+            .collect(),
     }
 }
 

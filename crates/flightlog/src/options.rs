@@ -72,6 +72,9 @@ pub struct LogOptions {
     /// Declare the estimate channel ([`schema::ESTIMATE_CHANNEL`]: `/estimate`) in the MCAP
     /// log, for [`Recorder::estimate`] (runs flown on a state estimate).
     pub estimate: bool,
+    /// Declare the induced-flow channel ([`schema::INFLOW_CHANNEL`]: `/inflow`) in the MCAP
+    /// log, for [`Recorder::inflow`] (vehicles whose wake answers).
+    pub inflow: bool,
 }
 
 impl LogOptions {

@@ -264,6 +264,26 @@ pub struct Wind {
 }
 
 #[derive(Clone, Copy, PartialEq, prost::Message)]
+pub struct PairInflow {
+    #[prost(double, tag = "1")]
+    pub mean_m_s: f64,
+    #[prost(double, tag = "2")]
+    pub fore_m_s: f64,
+    #[prost(double, tag = "3")]
+    pub left_m_s: f64,
+}
+
+#[derive(Clone, PartialEq, prost::Message)]
+pub struct Inflow {
+    #[prost(message, optional, tag = "1")]
+    pub timestamp: Option<Timestamp>,
+    #[prost(double, tag = "2")]
+    pub t_s: f64,
+    #[prost(message, repeated, tag = "3")]
+    pub pairs: Vec<PairInflow>,
+}
+
+#[derive(Clone, Copy, PartialEq, prost::Message)]
 pub struct ErrorStd {
     #[prost(message, optional, tag = "1")]
     pub position_world_m: Option<Vector3>,
@@ -495,6 +515,18 @@ mod tests {
                     pitch: 2.0,
                     yaw: 3.0,
                 }),
+            },
+        );
+        roundtrip(
+            "flapwing.Inflow",
+            &Inflow {
+                timestamp: t,
+                t_s: 1.0,
+                pairs: vec![PairInflow {
+                    mean_m_s: 1.0,
+                    fore_m_s: 2.0,
+                    left_m_s: 3.0,
+                }],
             },
         );
         roundtrip(

@@ -42,6 +42,9 @@ pub const TOPIC_MOCAP: &str = "/sensors/mocap";
 /// Each wing's wind at its hinge, `flapwing.Wind` (logs of runs with a wind field only, see
 /// [`WIND_CHANNEL`]).
 pub const TOPIC_WIND: &str = "/wind";
+/// Each wing pair's dynamic inflow states, `flapwing.Inflow` (logs of vehicles whose wake
+/// answers only, see [`INFLOW_CHANNEL`]).
+pub const TOPIC_INFLOW: &str = "/inflow";
 /// The state estimator's estimate and covariance, `flapwing.Estimate` (logs of runs flown on
 /// the estimate only, see [`ESTIMATE_CHANNEL`]).
 pub const TOPIC_ESTIMATE: &str = "/estimate";
@@ -120,13 +123,18 @@ pub const WIND_CHANNEL: (&str, &str) = (TOPIC_WIND, "flapwing.Wind");
 /// message per logged sample ([`crate::Recorder::estimate`]).
 pub const ESTIMATE_CHANNEL: (&str, &str) = (TOPIC_ESTIMATE, "flapwing.Estimate");
 
+/// The induced-flow channel, declared last when [`crate::LogOptions::inflow`] is set; one
+/// message per logged sample ([`crate::Recorder::inflow`]).
+pub const INFLOW_CHANNEL: (&str, &str) = (TOPIC_INFLOW, "flapwing.Inflow");
+
 /// Every optional channel, in the order they are declared after [`CHANNELS`] (those a log's
 /// options ask for; channel ids follow on from 14 without gaps).
-pub const OPTIONAL_CHANNELS: [(&str, &str); 4] = [
+pub const OPTIONAL_CHANNELS: [(&str, &str); 5] = [
     SENSOR_CHANNELS[0],
     SENSOR_CHANNELS[1],
     WIND_CHANNEL,
     ESTIMATE_CHANNEL,
+    INFLOW_CHANNEL,
 ];
 
 /// Index of /sensors/imu in [`OPTIONAL_CHANNELS`].
@@ -139,6 +147,8 @@ pub(crate) const OPT_MOCAP: usize = 1;
 pub(crate) const OPT_WIND: usize = 2;
 /// Index of /estimate in [`OPTIONAL_CHANNELS`].
 pub(crate) const OPT_ESTIMATE: usize = 3;
+/// Index of /inflow in [`OPTIONAL_CHANNELS`].
+pub(crate) const OPT_INFLOW: usize = 4;
 
 /// The channels a log of a vehicle with `wings` and `options` declares, in order (the
 /// wings' [`WingLayout::channels`], then those of [`OPTIONAL_CHANNELS`] it asks for):
@@ -152,6 +162,7 @@ pub fn declared_channels(
         options.sensors,
         options.wind,
         options.estimate,
+        options.inflow,
     ];
     wings
         .channels()
@@ -316,7 +327,8 @@ pub fn schema_data(name: &str) -> Option<Vec<u8>> {
         | "flapwing.ImuReading"
         | "flapwing.MocapReading"
         | "flapwing.Wind"
-        | "flapwing.Estimate" => Some(crate::proto::FILE_DESCRIPTOR_SET.to_vec()),
+        | "flapwing.Estimate"
+        | "flapwing.Inflow" => Some(crate::proto::FILE_DESCRIPTOR_SET.to_vec()),
         _ => None,
     }
 }

@@ -26,7 +26,7 @@ use crate::sample::{Sample, SampleBuilder, WingStatic};
 use crate::sample::{time_ns, timestamp};
 #[cfg(feature = "live")]
 use crate::scene::ForceArrows;
-use crate::schema::{OPT_ESTIMATE, OPT_WIND};
+use crate::schema::{OPT_ESTIMATE, OPT_INFLOW, OPT_WIND};
 use crate::sensor_msg::SensorMessage;
 use crate::writer::Flushed;
 
@@ -367,6 +367,41 @@ impl Recorder {
     fn sampled(&self, t_s: f64) -> Option<(u64, flapsim::State)> {
         let t_ns = time_ns(t_s);
         self.last_sample.filter(|(t, _)| *t == t_ns)
+    }
+
+    /// Logs each wing pair's dynamic inflow states for the step at `t_s` to `/inflow`
+    /// ([`crate::schema::INFLOW_CHANNEL`]): the states the step's loads were taken at
+    /// (`flapsim::WingSetOutput::inflow`). Call it after [`Recorder::record`] of the same
+    /// step: it is written only when that step was logged. The MCAP log must have been
+    /// created with [`LogOptions::inflow`] (the live view then serves `/inflow` too).
+    pub fn inflow(&mut self, t_s: f64, pairs: &[wingforce::inflow::InflowState]) -> Result<()> {
+        let Some((t_ns, _)) = self.sampled(t_s) else {
+            return Ok(());
+        };
+        #[cfg(feature = "live")]
+        let live = self
+            .live
+            .as_ref()
+            .is_some_and(|l| l.optional_wanted(OPT_INFLOW));
+        #[cfg(not(feature = "live"))]
+        let live = false;
+        if self.mcap.is_some() || live {
+            let msg = crate::estimate_msg::inflow(t_ns, t_s, pairs);
+            if let Some(m) = &mut self.mcap {
+                let Some(id) = m.optional_ids[OPT_INFLOW] else {
+                    return Err(Error::Options(
+                        "inflow messages need a log created with LogOptions::inflow".into(),
+                    ));
+                };
+                m.encoder.optional(OPT_INFLOW, id, t_ns, &msg, &mut m.chunk);
+                self.stats.mcap_messages += 1;
+            }
+            #[cfg(feature = "live")]
+            if let Some(l) = &mut self.live {
+                l.optional(OPT_INFLOW, t_ns, &msg);
+            }
+        }
+        Ok(())
     }
 
     /// Logs each wing's wind for the step at `t_s` to `/wind` ([`schema::WIND_CHANNEL`]):
