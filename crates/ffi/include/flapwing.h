@@ -280,6 +280,27 @@ typedef struct FlapwingTrim {
   double aero_power_w;
 } FlapwingTrim;
 
+/**
+ * One wing pair's dynamic inflow states (`wingforce::inflow::dynamic`): the air comes down
+ * through the pair's stroke plane at `mean_m_s + fore_m_s x / R_e + left_m_s y / R_e` (x
+ * forward, y left in the stroke plane from the disc's centre; R_e the radius of the disc of
+ * the area the pair sweeps), m/s.
+ */
+typedef struct FlapwingInflow {
+  /**
+   * Mean induced velocity through the pair's disc (down), m/s.
+   */
+  double mean_m_s;
+  /**
+   * Extra downwash at the disc's front edge, m/s.
+   */
+  double fore_m_s;
+  /**
+   * Extra downwash at the disc's left edge, m/s.
+   */
+  double left_m_s;
+} FlapwingInflow;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -515,6 +536,38 @@ enum FlapwingStatus flapwing_wings_trim(struct FlapwingWings *wings,
  */
 enum FlapwingStatus flapwing_wings_body_drag(const struct FlapwingWings *wings,
                                              struct FlapwingWrench *out);
+
+/**
+ * The number of wing pairs whose wake answers (`[aero] inflow = "dynamic"`): 0 for a model
+ * whose inflow is frozen or off.
+ *
+ * # Safety
+ * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+ */
+enum FlapwingStatus flapwing_wings_inflow_pairs(const struct FlapwingWings *wings, size_t *out);
+
+/**
+ * Pair `pair`'s dynamic inflow states now (after a step: the states the next step starts
+ * from). FLAPWING_INVALID_ARGUMENT for a pair beyond `flapwing_wings_inflow_pairs`.
+ *
+ * # Safety
+ * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+ */
+enum FlapwingStatus flapwing_wings_inflow(const struct FlapwingWings *wings,
+                                          size_t pair,
+                                          struct FlapwingInflow *out);
+
+/**
+ * Sets pair `pair`'s dynamic inflow states (a start where a run left off, a perturbation).
+ * FLAPWING_INVALID_ARGUMENT for a pair beyond `flapwing_wings_inflow_pairs` or a non-finite
+ * state, and the states unchanged.
+ *
+ * # Safety
+ * `wings` is NULL or a live handle.
+ */
+enum FlapwingStatus flapwing_wings_set_inflow(struct FlapwingWings *wings,
+                                              size_t pair,
+                                              struct FlapwingInflow state);
 
 #ifdef __cplusplus
 }  // extern "C"

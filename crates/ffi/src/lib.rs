@@ -30,6 +30,7 @@
 mod args;
 mod error;
 mod flight;
+mod inflow;
 mod types;
 
 use std::ffi::{CStr, c_char};
@@ -41,6 +42,9 @@ use args::{handle, handle_mut, need, put};
 pub use error::FlapwingStatus;
 use error::{Failure, guard};
 pub use flight::{FlapwingTrim, flapwing_wings_body_drag, flapwing_wings_trim};
+pub use inflow::{
+    FlapwingInflow, flapwing_wings_inflow, flapwing_wings_inflow_pairs, flapwing_wings_set_inflow,
+};
 pub use types::*;
 
 /// A C string argument as UTF-8.
