@@ -163,7 +163,7 @@ pub fn periodic_inflow(
         start = inflow.states();
         mean = MeanLoads::default();
         for k in 0..steps {
-            inflow.apply(&mut wings, sampling, dt_s);
+            inflow.apply(&mut wings, sampling);
             step_loads(vehicle, &wings, k, steps, motion, &mut forces);
             accumulate(&wings, &forces, 1.0 / steps as f64, &mut mean);
             inflow

@@ -257,10 +257,10 @@ impl DynamicInflow {
         }
     }
 
-    fn targets(&self, forcing: &InflowForcing) -> Targets {
+    fn targets(&self, forcing: &InflowForcing, mean_m_s: f64) -> Targets {
         let d = &self.disc;
         let (rho, a, r) = (d.density_kg_m3, d.area_m2, d.radius_m());
-        let (vtot, mass_flow, x, cos_chi) = flow(self.state.mean_m_s, forcing);
+        let (vtot, mass_flow, x, cos_chi) = flow(mean_m_s, forcing);
         let v = forcing.disc_velocity_m_s;
         let vt = (v.x * v.x + v.y * v.y).sqrt();
         // The free stream's direction in the plane (any in hover: the gradients' diagonal
@@ -323,19 +323,26 @@ impl DynamicInflow {
                 mean_m_s: w0,
             });
         }
-        let targets = self.targets(forcing);
         let d = &self.disc;
         let rho_a = d.density_kg_m3 * d.area_m2;
         let (vtot, mass_flow, _, _) = flow(w0, forcing);
         let m0 = d.mean_apparent_mass_kg();
-        // m0 dw0/dt = f(w0); linearised about w0, f' = -2 rho A V, and stepped exactly.
-        let f = forcing.thrust_n - targets.mean_coupling_n - 2.0 * rho_a * vtot * w0;
+        // m0 dw0/dt = f(w0); linearised about w0, f' = -2 rho A V, and stepped exactly (the
+        // exponential Rosenbrock-Euler rule: second order). The steady values the gradients
+        // relax to, and the skew's coupling into the mean, depend on w0: taken at the step's
+        // midpoint, w0 + dw0 / 2, from a first pass at w0 (so the step stays second order).
         let rate = 2.0 * rho_a * mass_flow / m0;
-        let dw0 = if rate * dt_s > 1e-12 {
-            f / m0 * (1.0 - (-rate * dt_s).exp()) / rate
-        } else {
-            f / m0 * dt_s
+        let mean_step = |coupling_n: f64| {
+            let f = forcing.thrust_n - coupling_n - 2.0 * rho_a * vtot * w0;
+            if rate * dt_s > 1e-12 {
+                f / m0 * (1.0 - (-rate * dt_s).exp()) / rate
+            } else {
+                f / m0 * dt_s
+            }
         };
+        let predicted = mean_step(self.targets(forcing, w0).mean_coupling_n);
+        let targets = self.targets(forcing, w0 + 0.5 * predicted);
+        let dw0 = mean_step(targets.mean_coupling_n);
         let g = self.state.gradient_m_s;
         let relax = |x: f64, target: f64, tau: f64| {
             if tau > 0.0 {

@@ -8,7 +8,8 @@
 //!
 //! 1. [`PairInflows::apply`] sets each wing's inflow field from its pair's states: the
 //!    states at the step's start ([`LoadSampling::StepStart`]), or at its midpoint
-//!    ([`LoadSampling::Midpoint`]) as the last step's loads carry them on by half a step;
+//!    ([`LoadSampling::Midpoint`]), extrapolated by half the last step's change (as the
+//!    set predicts the body's midpoint velocity);
 //! 2. the wings' loads are taken;
 //! 3. [`PairInflows::advance`] steps the states over the step with the pair's loads of that
 //!    step held: its aerodynamic force along the stroke-plane normal and that force's first
@@ -38,8 +39,11 @@ struct Pair {
     stroke_from_body: Matrix3<f64>,
     /// The states the wings' loads were last taken at.
     used: InflowState,
-    /// The last step's forcing (the midpoint prediction carries the states on with it).
-    last: Option<InflowForcing>,
+    /// The states at the last step's start (the midpoint prediction extrapolates from
+    /// them), or `None` after a restart.
+    last: Option<InflowState>,
+    /// The amplitude the disc was last sized for, rad.
+    amplitude_rad: f64,
 }
 
 /// Every pair's dynamic inflow (see the module documentation).
@@ -79,16 +83,20 @@ impl PairInflows {
 
     /// Sets each wing's inflow field from its pair's states for the coming step (module
     /// documentation, 1).
-    pub fn apply(&mut self, wings: &mut [Wing], sampling: LoadSampling, dt_s: f64) {
+    pub fn apply(&mut self, wings: &mut [Wing], sampling: LoadSampling) {
         for p in &mut self.pairs {
             p.refresh_disc(wings);
-            let mut used = p.inflow;
-            if let (LoadSampling::Midpoint, Some(f)) = (sampling, &p.last) {
-                // Carried on by half a step with the last step's loads (an error there: the
-                // step itself will report it).
-                let _ = used.advance(f, 0.5 * dt_s);
-            }
-            p.used = used.state;
+            p.used = match (sampling, &p.last) {
+                (LoadSampling::Midpoint, Some(last)) => {
+                    let now = p.inflow.state;
+                    InflowState {
+                        mean_m_s: now.mean_m_s + 0.5 * (now.mean_m_s - last.mean_m_s),
+                        gradient_m_s: now.gradient_m_s
+                            + 0.5 * (now.gradient_m_s - last.gradient_m_s),
+                    }
+                }
+                _ => p.inflow.state,
+            };
             let r = p.inflow.disc.radius_m();
             for &i in &p.wings {
                 let hinge = wings[i].hinge_in_stroke_m() - p.centre_s;
@@ -109,10 +117,11 @@ impl PairInflows {
     ) -> Result<()> {
         for p in &mut self.pairs {
             let forcing = p.forcing(wings, forces, motion);
+            let before = p.inflow.state;
             p.inflow
                 .advance(&forcing, dt_s)
                 .map_err(|e| Error::Input(e.to_string()))?;
-            p.last = Some(forcing);
+            p.last = Some(before);
         }
         Ok(())
     }
@@ -193,6 +202,7 @@ impl Pair {
             inflow,
             wings: idx,
             last: None,
+            amplitude_rad: first.kinematics().amplitude_rad,
         }
     }
 
@@ -208,7 +218,11 @@ impl Pair {
 
     /// The disc follows the amplitude the kinematics now have (a controller changes it).
     fn refresh_disc(&mut self, wings: &[Wing]) {
-        self.inflow.disc = Self::disc_of(wings, &self.wings);
+        let amplitude_rad = wings[self.wings[0]].kinematics().amplitude_rad;
+        if amplitude_rad != self.amplitude_rad {
+            self.amplitude_rad = amplitude_rad;
+            self.inflow.disc = Self::disc_of(wings, &self.wings);
+        }
     }
 
     /// The pair's loads on the disc and the disc's motion (module documentation, 3).

@@ -171,7 +171,7 @@ impl WingSet {
     /// (module `inflow`); nothing when the wake does not answer.
     fn apply_inflow(&mut self) {
         if let Some(i) = &mut self.inflow {
-            i.apply(&mut self.wings, self.sampling, self.dt_s);
+            i.apply(&mut self.wings, self.sampling);
         }
     }
 
