@@ -1,7 +1,9 @@
 //! Cycle-averaged loads at a frozen body state: the averaged model that trim and the
 //! stability derivatives of Sun and Xiong (2005) are built on. The body's velocity and
 //! attitude are held fixed over one wingbeat while the wings flap; the loads are averaged
-//! over `steps` equally spaced phases.
+//! over `steps` equally spaced phases. A wake that answers (`[aero] inflow = "dynamic"`) is
+//! run into its periodic motion at the frozen state first ([`periodic_inflow`]): the
+//! averaged model's inflow follows the body's state, as the simulation's does.
 
 use nalgebra::{UnitQuaternion, Vector3};
 use wingforce::inflow::InflowState;

@@ -418,7 +418,9 @@ pub fn floquet_longitudinal(v: &Vehicle, t: &Trim) -> Result<Vec<FloquetMode>> {
 /// simulations from perturbed starts, central differences) and its eigen-decomposition. For
 /// an actuated vehicle the matrix also spans the wings' own states (stroke, pitch and their
 /// rates, symmetric), whose memory from one wingbeat to the next couples into the body
-/// modes: 8 multipliers, the body's 4 and the wings' 4, sorted by real exponent.
+/// modes: 8 multipliers, the body's 4 and the wings' 4, sorted by real exponent. For a wake
+/// that answers (`[aero] inflow = "dynamic"`) it also spans each pair's mean and fore-aft
+/// inflow, started on their periodic motion at the trim ([`crate::averaged::periodic_inflow`]).
 pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
     let q = t.attitude();
     let v_trim = t.condition.velocity_world_m_s();

@@ -2,7 +2,8 @@
 //!
 //! A [`WingSet`] holds any number of wings (each with its own hinge position, stroke plane,
 //! planform and kinematics, or actuation) and their own state: the wingbeat phase, the
-//! actuated wings' stroke and pitch dynamics and the table of kinematic loads. Each
+//! actuated wings' stroke and pitch dynamics, each pair's dynamic inflow when its wake
+//! answers (module `inflow`) and the table of kinematic loads. Each
 //! [`WingSet::step`] takes the body's state at t_k from the host and returns the loads on the
 //! body over [t_k, t_k + dt] about its centre of mass, body frame: the aerodynamic load of
 //! each of wingforce's four terms, the inertial reaction of the wings and actuators, and each
