@@ -308,7 +308,7 @@ impl DynamicInflow {
         if !finite {
             return Err(InflowError::NotFinite);
         }
-        if !(self.disc.area_m2 > 0.0) {
+        if self.disc.area_m2.is_nan() || self.disc.area_m2 <= 0.0 {
             // A pair that sweeps nothing (no stroke) moves no air.
             self.state = InflowState::default();
             return Ok(());
