@@ -221,7 +221,7 @@ fn inflow_option_selects_and_names_the_wake() {
     assert!(frozen.contains("induced flow: frozen"), "{frozen}");
     assert!(dynamic.contains("induced flow: dynamic"), "{dynamic}");
     // The responsive disc relieves the heave damping (momentum theory: by m / (2m + k),
-    // about 0.42 here; crates/flapsim/tests/responsive_wake.rs checks it within 10%).
+    // about 0.42 here; crates/flapsim/tests/responsive_wake/mod.rs checks it within 10%).
     let ratio = z_w(&dynamic) / z_w(&frozen);
     assert!((0.3..0.6).contains(&ratio), "Z_w dynamic / frozen {ratio}");
     let r = flapwing_in(

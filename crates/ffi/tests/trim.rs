@@ -10,6 +10,9 @@
 //! steps), here within 1e-3 of the weight; before the drag was applied the bumblebee at
 //! 3 m/s was pushed forward by 12% of its weight (issue #40).
 
+/// A pair's dynamic inflow through the C ABI (in this binary to keep the link count down).
+mod inflow_abi;
+
 use std::ptr;
 
 use flapsim::Vehicle;

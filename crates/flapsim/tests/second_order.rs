@@ -18,6 +18,9 @@
 //! one drive period (its wings start from rest and take up their measured stroke
 //! reference only at the period's end).
 
+/// The wake that answers (issue #38; in this binary to keep the suite's link count down).
+mod responsive_wake;
+
 use flapsim::{Mode, Simulation, State, Vehicle};
 
 /// The vehicle with `steps` per wingbeat and the loads taken at `sampling`.

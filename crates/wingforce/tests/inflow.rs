@@ -7,6 +7,9 @@
 //! evaluations must agree to round-off, term by term and on both sides, at any stroke-plane
 //! tilt. The downwash then lowers each strip's angle of attack, so hover lift falls.
 
+/// The dynamic inflow against momentum theory and Pitt-Peters (one test binary with this one).
+mod dynamic_inflow;
+
 use nalgebra::Vector3;
 use wingforce::cycle::cycle_mean;
 use wingforce::{BodyMotion, InducedInflow, Mount, Side, Term, Wing, WingModelSpec};
