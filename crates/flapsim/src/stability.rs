@@ -486,7 +486,7 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         let mut ym = vec![0.0; n];
         yp[j] = eps[j];
         ym[j] = -eps[j];
-        let (p, m) = (
+        let run = |y: &[f64]| {
             one_wingbeat(
                 v,
                 periodic.as_ref(),
@@ -494,18 +494,10 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
                 inflow.as_deref(),
                 &q,
                 &v_trim,
-                &yp,
-            )?,
-            one_wingbeat(
-                v,
-                periodic.as_ref(),
-                &wing_states,
-                inflow.as_deref(),
-                &q,
-                &v_trim,
-                &ym,
-            )?,
-        );
+                y,
+            )
+        };
+        let (p, m) = (run(&yp)?, run(&ym)?);
         for i in 0..n {
             phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);
         }

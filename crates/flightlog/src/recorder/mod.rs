@@ -369,6 +369,43 @@ impl Recorder {
         self.last_sample.filter(|(t, _)| *t == t_ns)
     }
 
+    /// Whether a message on optional channel `opt` has anywhere to go: the MCAP log, or a
+    /// live view that serves the channel.
+    fn optional_wanted(&self, opt: usize) -> bool {
+        #[cfg(feature = "live")]
+        let live = self.live.as_ref().is_some_and(|l| l.optional_wanted(opt));
+        #[cfg(not(feature = "live"))]
+        let live = false;
+        let _ = opt;
+        self.mcap.is_some() || live
+    }
+
+    /// Writes `msg` on optional channel `opt` at log time `t_ns` to the MCAP log (which must
+    /// declare it: `option` names the [`LogOptions`] field that does) and the live view.
+    fn write_optional(
+        &mut self,
+        opt: usize,
+        t_ns: u64,
+        msg: &dyn crate::sample::Encoded,
+        option: &str,
+    ) -> Result<()> {
+        if let Some(m) = &mut self.mcap {
+            let Some(id) = m.optional_ids[opt] else {
+                return Err(Error::Options(format!(
+                    "{} messages need a log created with LogOptions::{option}",
+                    crate::schema::OPTIONAL_CHANNELS[opt].0
+                )));
+            };
+            m.encoder.optional(opt, id, t_ns, msg, &mut m.chunk);
+            self.stats.mcap_messages += 1;
+        }
+        #[cfg(feature = "live")]
+        if let Some(l) = &mut self.live {
+            l.optional(opt, t_ns, msg);
+        }
+        Ok(())
+    }
+
     /// Logs each wing pair's dynamic inflow states for the step at `t_s` to `/inflow`
     /// ([`crate::schema::INFLOW_CHANNEL`]): the states the step's loads were taken at
     /// (`flapsim::WingSetOutput::inflow`). Call it after [`Recorder::record`] of the same
@@ -378,28 +415,9 @@ impl Recorder {
         let Some((t_ns, _)) = self.sampled(t_s) else {
             return Ok(());
         };
-        #[cfg(feature = "live")]
-        let live = self
-            .live
-            .as_ref()
-            .is_some_and(|l| l.optional_wanted(OPT_INFLOW));
-        #[cfg(not(feature = "live"))]
-        let live = false;
-        if self.mcap.is_some() || live {
+        if self.optional_wanted(OPT_INFLOW) {
             let msg = crate::estimate_msg::inflow(t_ns, t_s, pairs);
-            if let Some(m) = &mut self.mcap {
-                let Some(id) = m.optional_ids[OPT_INFLOW] else {
-                    return Err(Error::Options(
-                        "inflow messages need a log created with LogOptions::inflow".into(),
-                    ));
-                };
-                m.encoder.optional(OPT_INFLOW, id, t_ns, &msg, &mut m.chunk);
-                self.stats.mcap_messages += 1;
-            }
-            #[cfg(feature = "live")]
-            if let Some(l) = &mut self.live {
-                l.optional(OPT_INFLOW, t_ns, &msg);
-            }
+            self.write_optional(OPT_INFLOW, t_ns, &msg, "inflow")?;
         }
         Ok(())
     }
@@ -425,28 +443,9 @@ impl Recorder {
         let Some((t_ns, _)) = self.sampled(t_s) else {
             return Ok(());
         };
-        #[cfg(feature = "live")]
-        let live = self
-            .live
-            .as_ref()
-            .is_some_and(|l| l.optional_wanted(OPT_WIND));
-        #[cfg(not(feature = "live"))]
-        let live = false;
-        if self.mcap.is_some() || live {
+        if self.optional_wanted(OPT_WIND) {
             let msg = crate::estimate_msg::wind(t_ns, t_s, uniform_world_m_s, wing_winds_world_m_s);
-            if let Some(m) = &mut self.mcap {
-                let Some(id) = m.optional_ids[OPT_WIND] else {
-                    return Err(Error::Options(
-                        "wind messages need a log created with LogOptions::wind".into(),
-                    ));
-                };
-                m.encoder.optional(OPT_WIND, id, t_ns, &msg, &mut m.chunk);
-                self.stats.mcap_messages += 1;
-            }
-            #[cfg(feature = "live")]
-            if let Some(l) = &mut self.live {
-                l.optional(OPT_WIND, t_ns, &msg);
-            }
+            self.write_optional(OPT_WIND, t_ns, &msg, "wind")?;
         }
         #[cfg(feature = "rerun")]
         if let Some(r) = &self.rerun {
@@ -475,31 +474,11 @@ impl Recorder {
         let rerun = self.rerun.is_some();
         #[cfg(not(feature = "rerun"))]
         let rerun = false;
-        #[cfg(feature = "live")]
-        let live = self
-            .live
-            .as_ref()
-            .is_some_and(|l| l.optional_wanted(OPT_ESTIMATE));
-        #[cfg(not(feature = "live"))]
-        let live = false;
-        if self.mcap.is_none() && !rerun && !live {
+        if !rerun && !self.optional_wanted(OPT_ESTIMATE) {
             return Ok(());
         }
         let msg = crate::estimate_msg::estimate(t_ns, t_s, filter);
-        if let Some(m) = &mut self.mcap {
-            let Some(id) = m.optional_ids[OPT_ESTIMATE] else {
-                return Err(Error::Options(
-                    "estimates need a log created with LogOptions::estimate".into(),
-                ));
-            };
-            m.encoder
-                .optional(OPT_ESTIMATE, id, t_ns, &msg, &mut m.chunk);
-            self.stats.mcap_messages += 1;
-        }
-        #[cfg(feature = "live")]
-        if let Some(l) = &mut self.live {
-            l.optional(OPT_ESTIMATE, t_ns, &msg);
-        }
+        self.write_optional(OPT_ESTIMATE, t_ns, &msg, "estimate")?;
         #[cfg(feature = "rerun")]
         if let Some(r) = &self.rerun {
             let (roll, pitch, yaw) = truth.euler_rad();
