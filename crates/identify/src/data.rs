@@ -455,7 +455,7 @@ impl FlightData {
 
 /// Vehicles the fit can replay: prescribed kinematics (an actuated vehicle's wings carry a
 /// hinge and actuator state that a segment restart would need as well).
-fn check_supported(vehicle: &Vehicle, path: &Path) -> Result<()> {
+pub(crate) fn check_supported(vehicle: &Vehicle, path: &Path) -> Result<()> {
     if vehicle.actuation.is_some() {
         return Err(log_err(
             path,
@@ -473,7 +473,11 @@ pub const START_FIT_FRAMES: usize = 3;
 
 /// Wingbeat starts whose state the motion capture can estimate: every wingbeat with
 /// [`START_FIT_FRAMES`] frames on each side.
-fn mocap_starts(mocap: &[MocapFrame], freq_hz: f64, wingbeats: u64) -> Vec<WingbeatStart> {
+pub(crate) fn mocap_starts(
+    mocap: &[MocapFrame],
+    freq_hz: f64,
+    wingbeats: u64,
+) -> Vec<WingbeatStart> {
     let mut out = Vec::new();
     for w in 0..wingbeats {
         let t = w as f64 / freq_hz;

@@ -25,6 +25,8 @@
 //! # Ok::<(), flapwing_identify::Error>(())
 //! ```
 
+pub mod bag;
+pub mod conventions;
 pub mod csv;
 pub mod data;
 mod error;
@@ -34,6 +36,8 @@ pub mod model_out;
 pub mod params;
 pub mod synthetic;
 
+pub use bag::BagRoles;
+pub use conventions::{BodyConvention, Conventions, QuaternionOrder, WorldConvention};
 pub use data::FlightData;
 pub use error::{Error, Result};
 pub use fit::{FitOptions, FitReport, ParamResult, Progress, StartStates, identify};

@@ -12,6 +12,9 @@ use crate::params::Param;
 
 use super::types::{FitOptions, PENALTY};
 
+/// The resolution of a recorded stamp, s (ROS 2: whole nanoseconds).
+const STAMP_QUANTUM_S: f64 = 1e-9;
+
 /// One segment of the flight.
 #[derive(Debug, Clone)]
 pub(super) struct Segment {
@@ -322,8 +325,10 @@ pub(super) fn setup<'a>(data: &'a FlightData, opts: &FitOptions) -> Result<Setup
         gyro: (sensors.imu.gyro_noise_density * sensors.imu.rate_hz.sqrt()).max(floor),
         accel: (sensors.imu.accel_noise_density * sensors.imu.rate_hz.sqrt()).max(floor),
     };
-    let mocap_tol = 1e-6 / mocap.rate_hz;
-    let imu_tol = 1e-6 / sensors.imu.rate_hz;
+    // A sample falls due at a step within a millionth of its period (flapsim's sensors), or
+    // within a nanosecond: a ROS 2 bag's stamps are whole nanoseconds.
+    let mocap_tol = (1e-6 / mocap.rate_hz).max(STAMP_QUANTUM_S);
+    let imu_tol = (1e-6 / sensors.imu.rate_hz).max(STAMP_QUANTUM_S);
     let controls = controlled_wingbeats(data);
     let end_t = opts.max_duration_s.unwrap_or(f64::INFINITY);
     let k = u64::from(opts.segment_wingbeats);
