@@ -6,6 +6,7 @@ mod cli;
 mod commands;
 mod condition;
 mod error;
+mod flight_input;
 mod input;
 mod interrupt;
 mod logging;

@@ -46,7 +46,7 @@ pub use sim::{BodyLoad, Mode, Simulation, State, StepOutput};
 pub use summary::{RunSummary, SummaryBuilder};
 pub use wind::{Wind, WindSpec};
 pub use wings::{FromVehicle, WingSet, WingSetBuilder, WingSetOutput};
-pub use wingset::LoadSampling;
+pub use wingset::{LoadSampling, StepMemory};
 
 /// The built-in default vehicle (a hovering fruit fly).
 pub const DROSOPHILA_TOML: &str = include_str!("../../../models/drosophila.toml");

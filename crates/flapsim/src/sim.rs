@@ -72,6 +72,10 @@ pub struct StepOutput {
     pub controls: Controls,
     /// Hinge and actuator state of each wing of an actuated vehicle (0 left, 1 right).
     pub actuated: Option<[ActuatedWingOutput; 2]>,
+    /// The wing set's memory of the step before this one, which this step's midpoint
+    /// prediction used (`None` for the step-start sampling and after a restart): logged,
+    /// it lets a replay restart here bit for bit ([`Simulation::set_step_memory`]).
+    pub memory: Option<wingset::StepMemory>,
 }
 
 impl StepOutput {
@@ -113,6 +117,7 @@ impl StepOutput {
             total: BodyLoad::default(),
             controls: Controls::default(),
             actuated: None,
+            memory: None,
         }
     }
 }
@@ -337,6 +342,14 @@ impl Simulation {
         crate::host::body_state(&self.world.bodies[self.body])
     }
 
+    /// After [`Simulation::set_state`] at a step a log recorded: gives the wings the
+    /// memory of the step before that the log holds ([`StepOutput::memory`]), so the run
+    /// continues as the logged one did, bit for bit. An error unless it is the memory of the
+    /// step just before the next one.
+    pub fn set_step_memory(&mut self, memory: wingset::StepMemory) -> Result<()> {
+        Ok(self.wings.set_step_memory(memory)?)
+    }
+
     /// Overwrites the body's state (for disturbances and Floquet perturbations).
     pub fn set_state(&mut self, s: &State) {
         // Not a state the loads moved the body to: the next step starts the midpoint
@@ -412,9 +425,11 @@ impl Simulation {
             .out
             .take()
             .unwrap_or_else(|| Box::new(StepOutput::empty()));
+        let memory = self.wings.step_memory();
         let r = match self.wings.step(&state) {
             Ok(o) => {
                 out.fill(o, &state);
+                out.memory = memory;
                 self.check(&out)
             }
             // The wing set refuses a non-finite state: here that is the run diverging.

@@ -163,6 +163,15 @@ pub(crate) fn vehicle_state(p: &mut Pb, m: &proto::VehicleState) {
     p.vec3(10, &m.applied_force_body_n);
     p.vec3(11, &m.applied_moment_body_nm);
     p.double(12, m.lift_over_weight);
+    if let Some(mem) = &m.memory {
+        p.message(13, |p| {
+            p.uint(1, mem.step);
+            p.vec3(2, &mem.velocity_m_s);
+            p.vec3(3, &mem.rates_rad_s);
+            p.vec3(4, &mem.mid_rates_rad_s);
+            p.xyzw(5, mem.world_from_body.map(|q| [q.x, q.y, q.z, q.w]));
+        });
+    }
 }
 
 #[inline(always)]

@@ -51,6 +51,7 @@
 
 pub mod check;
 mod chunk;
+pub mod compare;
 mod decimate;
 mod decode;
 mod encode;

@@ -20,8 +20,9 @@ const FIXED64: u8 = 1;
 const LEN: u8 = 2;
 
 /// Room enough for any of the sample's messages, strings aside: the largest, a
-/// `flapwing.WingForces` with every field set and the longest varints, takes 433 bytes (its
-/// sub-messages are all shorter than 128 bytes, so their lengths take one byte).
+/// `flapwing.VehicleState` with its step memory, every field set and the longest varints,
+/// takes about 440 bytes, a `flapwing.WingForces` 433 (their sub-messages are shorter than
+/// 128 bytes, so their lengths take one byte, except the step memory's: two).
 pub(crate) const SAMPLE_BOUND: usize = 512;
 
 impl<'a> Pb<'a> {

@@ -91,6 +91,22 @@ pub struct VehicleState {
     pub applied_moment_body_nm: Option<Vector3>,
     #[prost(double, tag = "12")]
     pub lift_over_weight: f64,
+    #[prost(message, optional, tag = "13")]
+    pub memory: Option<StepMemory>,
+}
+
+#[derive(Clone, Copy, PartialEq, prost::Message)]
+pub struct StepMemory {
+    #[prost(uint64, tag = "1")]
+    pub step: u64,
+    #[prost(message, optional, tag = "2")]
+    pub velocity_m_s: Option<Vector3>,
+    #[prost(message, optional, tag = "3")]
+    pub rates_rad_s: Option<Vector3>,
+    #[prost(message, optional, tag = "4")]
+    pub mid_rates_rad_s: Option<Vector3>,
+    #[prost(message, optional, tag = "5")]
+    pub world_from_body: Option<Quaternion>,
 }
 
 #[derive(Clone, Copy, PartialEq, prost::Message)]
@@ -420,6 +436,18 @@ mod tests {
                 applied_force_body_n: v,
                 applied_moment_body_nm: v,
                 lift_over_weight: 1.0,
+                memory: Some(StepMemory {
+                    step: 7,
+                    velocity_m_s: v,
+                    rates_rad_s: v,
+                    mid_rates_rad_s: v,
+                    world_from_body: Some(Quaternion {
+                        x: 0.5,
+                        y: 0.5,
+                        z: 0.5,
+                        w: 0.5,
+                    }),
+                }),
             },
         );
         roundtrip(

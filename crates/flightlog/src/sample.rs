@@ -66,7 +66,7 @@ pub(crate) fn wing_rotation(w: &WingStatic, angles: &wingforce::WingAngles) -> U
     UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m))
 }
 
-fn fox_vec(v: &Vector3<f64>) -> foxglove::messages::Vector3 {
+pub(crate) fn fox_vec(v: &Vector3<f64>) -> foxglove::messages::Vector3 {
     foxglove::messages::Vector3 {
         x: v.x,
         y: v.y,
@@ -74,7 +74,7 @@ fn fox_vec(v: &Vector3<f64>) -> foxglove::messages::Vector3 {
     }
 }
 
-fn fox_quat(q: &UnitQuaternion<f64>) -> foxglove::messages::Quaternion {
+pub(crate) fn fox_quat(q: &UnitQuaternion<f64>) -> foxglove::messages::Quaternion {
     foxglove::messages::Quaternion {
         x: q.i,
         y: q.j,
@@ -251,6 +251,18 @@ impl SampleBuilder {
             applied_force_body_n: Some(f.into()),
             applied_moment_body_nm: Some((&out.total.moment_nm).into()),
             lift_over_weight: (st.world_from_body * f).z / self.weight_n,
+            memory: out.memory.map(|m| proto::StepMemory {
+                step: m.step,
+                velocity_m_s: Some((&m.velocity_m_s).into()),
+                rates_rad_s: Some((&m.rates_rad_s).into()),
+                mid_rates_rad_s: Some((&m.mid_rates_rad_s).into()),
+                world_from_body: Some(proto::Quaternion {
+                    x: m.world_from_body.i,
+                    y: m.world_from_body.j,
+                    z: m.world_from_body.k,
+                    w: m.world_from_body.w,
+                }),
+            }),
         };
 
         let c = &out.controls;

@@ -601,6 +601,7 @@ impl FlightData {
             start_source: StartSource::Mocap,
             gust: None,
             wind: None,
+            logged_states: Vec::new(),
         })
     }
 }

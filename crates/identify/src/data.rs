@@ -42,6 +42,9 @@ pub struct WingbeatStart {
     pub wingbeat: u64,
     /// The body state at the wingbeat's first step.
     pub state: State,
+    /// The wing set's memory of the step before, where the log holds it: a replay from
+    /// here then continues bit for bit (see `flapsim::StepOutput::memory`).
+    pub memory: Option<flapsim::StepMemory>,
 }
 
 /// A uniform wind over a time window (a `flapwing hover --disturbance gust_*`).
@@ -92,6 +95,9 @@ pub struct FlightData {
     /// recovered K messages from C complete chunks"); `None` for a whole file and a CSV. The
     /// data above is what the complete chunks hold: callers should say so.
     pub damage: Option<String>,
+    /// Every logged body state (a flapwing log's `/vehicle/state`: (step, state)), the
+    /// recorded flight a resimulation is compared with; empty for a CSV and a bag.
+    pub logged_states: Vec<(u64, State, Option<flapsim::StepMemory>)>,
 }
 
 fn log_err(path: &Path, detail: impl Into<String>) -> Error {
@@ -168,11 +174,41 @@ fn quat(
     })
 }
 
-/// A quaternion (w, x, y, z) of norm within 1e-3 of 1, normalized.
+/// A quaternion (w, x, y, z) of norm within 1e-3 of 1, normalized (kept bit for bit when
+/// it is a unit quaternion to round-off, as a logged attitude is: a replay from it then
+/// starts where the run was).
 fn unit_quaternion(q: [f64; 4]) -> Option<UnitQuaternion<f64>> {
     let q = Quaternion::new(q[0], q[1], q[2], q[3]);
     let n = q.norm();
+    if (n - 1.0).abs() <= 8.0 * f64::EPSILON {
+        return Some(UnitQuaternion::new_unchecked(q));
+    }
     ((n - 1.0).abs() <= 1e-3).then(|| UnitQuaternion::from_quaternion(q))
+}
+
+/// The wing set's memory logged with a state (`memory.*` of `/vehicle/state`; `None` in a
+/// row without it: the step-start sampling, a restart, a log written before it).
+fn step_memory(
+    path: &Path,
+    t: &Table,
+    row: &[Option<String>],
+) -> Result<Option<flapsim::StepMemory>> {
+    let present = ["w", "x", "y", "z"].iter().any(|a| {
+        col(t, &format!("memory.world_from_body.{a}"))
+            .and_then(|i| row.get(i))
+            .is_some_and(Option::is_some)
+    });
+    if !present {
+        return Ok(None);
+    }
+    let step = num(path, TOPIC_STATE, row, col(t, "memory.step"), "memory.step")?;
+    Ok(Some(flapsim::StepMemory {
+        step: step as u64,
+        velocity_m_s: vec3(path, TOPIC_STATE, t, row, "memory.velocity_m_s")?,
+        rates_rad_s: vec3(path, TOPIC_STATE, t, row, "memory.rates_rad_s")?,
+        mid_rates_rad_s: vec3(path, TOPIC_STATE, t, row, "memory.mid_rates_rad_s")?,
+        world_from_body: quat(path, TOPIC_STATE, t, row, "memory.world_from_body")?,
+    }))
 }
 
 /// A topic's table, or an error naming what the fit needs it for.
@@ -206,7 +242,16 @@ impl FlightData {
     /// and `/vehicle/state` (the start states; without it they are estimated from the
     /// motion capture), the embedded model and, for `hover`, the disturbance's gust.
     pub fn from_mcap(path: impl AsRef<Path>) -> Result<Self> {
-        let path = path.as_ref();
+        Self::read_mcap(path.as_ref(), true)
+    }
+
+    /// [`FlightData::from_mcap`] for a resimulation: a log without motion capture is read
+    /// too when it holds the body's states (they are the reference then).
+    pub fn from_mcap_states(path: impl AsRef<Path>) -> Result<Self> {
+        Self::read_mcap(path.as_ref(), false)
+    }
+
+    fn read_mcap(path: &Path, need_mocap: bool) -> Result<Self> {
         let summary = read_summary(path).map_err(|e| log_err(path, e.to_string()))?;
         let md = &summary.metadata;
         let model_toml = md.get("model_toml").cloned().unwrap_or_default();
@@ -265,7 +310,18 @@ impl FlightData {
         };
         let wind = wind_spec.map(|w| (w, vehicle.initial_position_m));
 
-        let mocap_t = required_table(path, TOPIC_MOCAP, "its poses are the measurements")?;
+        // A log without motion capture still holds its states: a resimulation compares
+        // with those (a fit then finds no measurement and says so).
+        let mocap_t = match required_table(path, TOPIC_MOCAP, "its poses are the measurements") {
+            Ok(t) => t,
+            Err(_)
+                if !need_mocap
+                    && read_table(path, TOPIC_STATE).is_ok_and(|t| !t.rows.is_empty()) =>
+            {
+                Table::default()
+            }
+            Err(e) => return Err(e),
+        };
         let mut mocap = Vec::with_capacity(mocap_t.rows.len());
         for row in &mocap_t.rows {
             let t_s = num(
@@ -343,39 +399,47 @@ impl FlightData {
             wingbeat_controls[w].get_or_insert(c);
         }
 
-        let (starts, start_source) = match read_table(path, TOPIC_STATE) {
-            Ok(t) if !t.rows.is_empty() => {
-                let mut starts = Vec::new();
-                for row in &t.rows {
-                    let step = num(path, TOPIC_STATE, row, col(&t, "step"), "step")?;
-                    if !(step >= 0.0 && step < 1e15) || step as u64 % per != 0 {
-                        continue;
-                    }
-                    let attitude = quat(path, TOPIC_STATE, &t, row, "attitude")?;
-                    starts.push(WingbeatStart {
-                        wingbeat: step as u64 / per,
-                        state: State {
-                            position_m: vec3(path, TOPIC_STATE, &t, row, "position_m")?,
-                            world_from_body: attitude,
-                            velocity_m_s: vec3(path, TOPIC_STATE, &t, row, "velocity_m_s")?,
-                            angular_velocity_body_rad_s: vec3(
-                                path,
-                                TOPIC_STATE,
-                                &t,
-                                row,
-                                "body_rates_rad_s",
-                            )?,
-                        },
-                    });
+        let mut logged_states: Vec<(u64, State, Option<flapsim::StepMemory>)> = Vec::new();
+        if let Ok(t) = read_table(path, TOPIC_STATE) {
+            for row in &t.rows {
+                let step = num(path, TOPIC_STATE, row, col(&t, "step"), "step")?;
+                if !(step >= 0.0 && step < 1e15) {
+                    continue;
                 }
-                starts.sort_by_key(|s| s.wingbeat);
-                starts.dedup_by_key(|s| s.wingbeat);
-                (starts, StartSource::LoggedState)
+                logged_states.push((
+                    step as u64,
+                    State {
+                        position_m: vec3(path, TOPIC_STATE, &t, row, "position_m")?,
+                        world_from_body: quat(path, TOPIC_STATE, &t, row, "attitude")?,
+                        velocity_m_s: vec3(path, TOPIC_STATE, &t, row, "velocity_m_s")?,
+                        angular_velocity_body_rad_s: vec3(
+                            path,
+                            TOPIC_STATE,
+                            &t,
+                            row,
+                            "body_rates_rad_s",
+                        )?,
+                    },
+                    step_memory(path, &t, row)?,
+                ));
             }
-            _ => (
-                mocap_starts(&mocap, freq_hz, wingbeat_controls.len() as u64),
-                StartSource::Mocap,
-            ),
+            logged_states.sort_by_key(|s| s.0);
+            logged_states.dedup_by_key(|s| s.0);
+        }
+        let mut starts: Vec<WingbeatStart> = logged_states
+            .iter()
+            .filter(|(step, ..)| step % per == 0)
+            .map(|&(step, state, memory)| WingbeatStart {
+                wingbeat: step / per,
+                state,
+                memory,
+            })
+            .collect();
+        let start_source = if logged_states.is_empty() {
+            starts = mocap_starts(&mocap, freq_hz, wingbeat_controls.len() as u64);
+            StartSource::Mocap
+        } else {
+            StartSource::LoggedState
         };
         let controls_each_wingbeat = md.get("command").map(String::as_str) == Some("hover")
             && settings
@@ -396,6 +460,7 @@ impl FlightData {
             start_source,
             gust,
             wind,
+            logged_states,
         })
     }
 
@@ -441,6 +506,7 @@ impl FlightData {
             start_source: StartSource::Mocap,
             gust: None,
             wind: None,
+            logged_states: Vec::new(),
         })
     }
 
@@ -482,7 +548,11 @@ pub(crate) fn mocap_starts(
     for w in 0..wingbeats {
         let t = w as f64 / freq_hz;
         if let Some(state) = estimate_state(mocap, t) {
-            out.push(WingbeatStart { wingbeat: w, state });
+            out.push(WingbeatStart {
+                wingbeat: w,
+                state,
+                memory: None,
+            });
         }
     }
     out

@@ -40,6 +40,7 @@ pub use bag::BagRoles;
 pub use conventions::{BodyConvention, Conventions, QuaternionOrder, WorldConvention};
 pub use data::FlightData;
 pub use error::{Error, Result};
+pub use fit::resim::{ResimOptions, Resimulation, SegmentSummary, resimulate};
 pub use fit::{FitOptions, FitReport, ParamResult, Progress, StartStates, identify};
 pub use model_out::fitted_model_toml;
 pub use params::Param;

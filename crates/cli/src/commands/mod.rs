@@ -13,6 +13,7 @@ pub mod hover;
 pub mod identify;
 pub mod optimize;
 pub mod replay;
+pub mod resimulate;
 pub mod simulate;
 pub mod stability;
 pub mod status;

@@ -40,9 +40,41 @@ pub struct ReplayArgs {
     /// bit for bit; exit 1 on a difference, 2 if the log cannot be re-run.
     #[arg(long)]
     pub check: bool,
-    /// Replace existing --rrd / --csv output files.
+    /// Replace existing --rrd / --csv / --mcap output files.
     #[arg(long)]
     pub force: bool,
+    /// Fly MODEL (a TOML file or a built-in name; given alone, a flapwing log's own model)
+    /// beside the recorded flight, segment by segment from its recorded start states under
+    /// its recorded inputs, and print the residuals per segment (position, attitude, rate
+    /// RMS); `--mcap`/`--rrd` write both flights in one log.
+    #[arg(long, value_name = "MODEL", num_args = 0..=1, default_missing_value = "", help_heading = "Resimulation")]
+    pub resimulate: Option<String>,
+    /// With --resimulate: the recorded and the simulated flight as one MCAP file (frames
+    /// `real` and `sim`; Foxglove layout docs/foxglove/resimulate.json).
+    #[arg(long, value_name = "OUT.mcap", help_heading = "Resimulation")]
+    pub mcap: Option<PathBuf>,
+    /// With --resimulate: wingbeats per segment.
+    #[arg(
+        long = "segment-wingbeats",
+        default_value_t = 4,
+        help_heading = "Resimulation"
+    )]
+    pub segment_wingbeats: u32,
+    /// With --resimulate: whether each segment's start state is fitted (model held). auto:
+    /// fitted when estimated from the motion capture (a bag, a CSV), held when logged.
+    #[arg(
+        long = "start-states",
+        value_enum,
+        default_value = "auto",
+        help_heading = "Resimulation"
+    )]
+    pub start_states: crate::commands::identify::StartStatesArg,
+    /// With --resimulate: only the first this many seconds of the flight.
+    #[arg(long = "duration-s", help_heading = "Resimulation")]
+    pub duration_s: Option<f64>,
+    /// A ROS 2 bag's roles and conventions (for --resimulate).
+    #[command(flatten)]
+    pub roles: crate::flight_input::BagRoleArgs,
 }
 
 /// flightlog's bad-input errors become the CLI's bad input (exit 2).
@@ -76,7 +108,23 @@ pub fn run(args: ReplayArgs) -> Result<()> {
     if let Some(out) = &args.rrd {
         outputs.push(Named::new("--rrd", out));
     }
+    if let Some(out) = &args.mcap {
+        if args.resimulate.is_none() {
+            return Err(input_error(
+                "--mcap writes the comparison of --resimulate: give --resimulate MODEL too",
+            ));
+        }
+        outputs.push(Named::new("--mcap", out));
+    }
     crate::outputs::check(&[Named::new("FILE", &args.file)], &outputs, args.force)?;
+    if args.resimulate.is_some() {
+        return crate::commands::resimulate::run(&args);
+    }
+    if args.roles.names_bag_roles() {
+        return Err(input_error(
+            "the bag role flags (--pose-topic, --roles, ...) go with --resimulate MODEL",
+        ));
+    }
     // Read once, failing on bad input before any output is touched; a file that is MCAP but
     // not a flapwing log is read as a ROS 2 bag if it has ROS 2 channels. (`--check` reads
     // the log itself.)

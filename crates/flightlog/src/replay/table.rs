@@ -25,7 +25,7 @@ pub struct CsvStats {
 /// one column per leaf of the decoded message named by its dotted path
 /// (`pose.position.x`) in first-seen order; each cell the value's text exactly as logged
 /// (numbers, true/false, strings), `None` where a message lacks the field.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize)]
 pub struct Table {
     /// Column names.
     pub columns: Vec<String>,

@@ -63,6 +63,7 @@ use crate::error::Result;
 
 mod problem;
 mod report;
+pub mod resim;
 mod segments;
 mod types;
 
@@ -83,8 +84,8 @@ pub fn identify(
     observer: &mut dyn FnMut(&Progress) -> bool,
 ) -> Result<FitReport> {
     let started = std::time::Instant::now();
+    opts.check()?;
     let setup = setup(data, opts)?;
-    let n = setup.params.len();
     let starts: Vec<f64> = setup
         .params
         .iter()
@@ -99,49 +100,8 @@ pub fn identify(
     let mut x0 = x0;
     x0.resize(setup.unknowns(), 0.0);
     let n_all = x0.len();
-    let max_evals = (opts.patience * (n + 1)) as u64 + 1;
     let all: Vec<usize> = (0..n_all).collect();
-    let mut problem = Problem {
-        setup: &setup,
-        x: x0.clone(),
-        free: all.clone(),
-        r: RefCell::new(None),
-        h: opts.fd_step,
-        simulations: Cell::new(0),
-        iterations: Cell::new(0),
-        // Each residual evaluation may come with a Jacobian, and the final statistics take
-        // one more Jacobian and evaluation (filled in below).
-        max_simulations: 0,
-        observer: RefCell::new(observer),
-        stopped: Cell::new(false),
-    };
-    let jacobian = problem.jacobian_cost(n_all);
-    problem.max_simulations = max_evals * (1 + jacobian) + jacobian + 2;
-    let (r0, _) = setup.residuals(&x0);
-    problem.tell(1, None);
-    let cost_before: f64 = r0.iter().map(|v| v * v).sum();
-    // Parameters the measurements do not depend on at the start are held there (the
-    // solver would wander along their flat direction) and reported as not identifiable.
-    let j0 = problem.jacobian_at(&x0, &all);
-    let norms: Vec<f64> = (0..n).map(|i| j0.column(i).norm()).collect();
-    let max_norm = norms.iter().cloned().fold(0.0, f64::max);
-    problem.free = all
-        .iter()
-        .copied()
-        .filter(|&i| i >= n || norms[i] > NO_EFFECT * max_norm)
-        .collect();
-    let (problem, lm_termination) = if problem.free.iter().all(|&i| i >= n) {
-        (problem, None::<levenberg_marquardt::TerminationReason>)
-    } else {
-        let (p, report) = LevenbergMarquardt::new()
-            .with_patience(opts.patience)
-            // The parameters are already scaled to O(1) (Param::scale): a trust region in
-            // them keeps a parameter the data barely see from taking absurd trial values,
-            // which MINPACK's column-norm scaling would allow.
-            .with_scale_diag(false)
-            .minimize(problem);
-        (p, Some(report.termination))
-    };
+    let (problem, lm_termination, cost_before) = solve(&setup, x0, opts, observer);
     let interrupted = problem.stopped.get();
     let x = problem.x.clone();
     let (r, diverged_segments) = setup.residuals(&x);
@@ -219,4 +179,66 @@ pub fn identify(
         runtime_s: started.elapsed().as_secs_f64(),
         params,
     })
+}
+
+/// Levenberg-Marquardt over the unknowns of `setup` from `x0` (the parameters, then any
+/// start-state corrections): the problem at the solution, the solver's termination (`None`
+/// when there was nothing to fit) and the cost at `x0`. Parameters the measurements do not
+/// depend on at the start are held there (the solver would wander along their flat
+/// direction); when every parameter is held, nothing is fitted.
+fn solve<'s, 'a, 'o>(
+    setup: &'s segments::Setup<'a>,
+    x0: Vec<f64>,
+    opts: &FitOptions,
+    observer: &'o mut dyn FnMut(&Progress) -> bool,
+) -> (
+    Problem<'s, 'a, 'o>,
+    Option<levenberg_marquardt::TerminationReason>,
+    f64,
+) {
+    let n = setup.params.len();
+    let n_all = x0.len();
+    let max_evals = (opts.patience * (n + 1)) as u64 + 1;
+    let all: Vec<usize> = (0..n_all).collect();
+    let mut problem = Problem {
+        setup,
+        x: x0.clone(),
+        free: all.clone(),
+        r: RefCell::new(None),
+        h: opts.fd_step,
+        simulations: Cell::new(0),
+        iterations: Cell::new(0),
+        // Each residual evaluation may come with a Jacobian, and the final statistics take
+        // one more Jacobian and evaluation (filled in below).
+        max_simulations: 0,
+        observer: RefCell::new(observer),
+        stopped: Cell::new(false),
+    };
+    let jacobian = problem.jacobian_cost(n_all);
+    problem.max_simulations = max_evals * (1 + jacobian) + jacobian + 2;
+    let (r0, _) = setup.residuals(&x0);
+    problem.tell(1, None);
+    let cost_before: f64 = r0.iter().map(|v| v * v).sum();
+    if n > 0 {
+        let j0 = problem.jacobian_at(&x0, &all);
+        let norms: Vec<f64> = (0..n).map(|i| j0.column(i).norm()).collect();
+        let max_norm = norms.iter().cloned().fold(0.0, f64::max);
+        problem.free = all
+            .iter()
+            .copied()
+            .filter(|&i| i >= n || norms[i] > NO_EFFECT * max_norm)
+            .collect();
+    }
+    let nothing = problem.free.is_empty() || (n > 0 && problem.free.iter().all(|&i| i >= n));
+    if nothing {
+        return (problem, None, cost_before);
+    }
+    let (p, report) = LevenbergMarquardt::new()
+        .with_patience(opts.patience)
+        // The parameters are already scaled to O(1) (Param::scale): a trust region in
+        // them keeps a parameter the data barely see from taking absurd trial values,
+        // which MINPACK's column-norm scaling would allow.
+        .with_scale_diag(false)
+        .minimize(problem);
+    (p, Some(report.termination), cost_before)
 }

@@ -19,6 +19,8 @@ const STAMP_QUANTUM_S: f64 = 1e-9;
 #[derive(Debug, Clone)]
 pub(super) struct Segment {
     pub(super) state: State,
+    /// The wing set's memory of the step before the start, where the log holds it.
+    pub(super) memory: Option<flapsim::StepMemory>,
     /// First global step.
     pub(super) step0: u64,
     pub(super) controls: Vec<Controls>,
@@ -78,7 +80,7 @@ pub(super) struct Setup<'a> {
 
 /// A trial model: the vehicle at trial parameters and the sensors' trial biases.
 pub(super) struct Trial {
-    vehicle: Vehicle,
+    pub(super) vehicle: Vehicle,
     mocap_bias: Vector3<f64>,
     gyro_bias: Vector3<f64>,
     accel_bias: Vector3<f64>,
@@ -182,47 +184,42 @@ impl Setup<'_> {
         (r, diverged)
     }
 
-    /// Segment `k`'s weighted residuals (non-finite ones replaced by [`PENALTY`]) flown
-    /// from `start` on a trial model, and whether it diverged.
-    pub(super) fn segment_residuals(
-        &self,
-        trial: &Trial,
-        k: usize,
-        start: &State,
-    ) -> (Vec<f64>, bool) {
+    /// Segment `k` flown from `start` on a trial model: the state after each of its steps
+    /// (fewer when it diverged), and whether it diverged; `None` when the trial model cannot
+    /// start the segment.
+    pub(super) fn fly(&self, trial: &Trial, k: usize, start: &State) -> Option<(Vec<State>, bool)> {
         let seg = &self.segments[k];
-        let Trial {
-            vehicle,
-            mocap_bias,
-            gyro_bias,
-            accel_bias,
-        } = trial;
-        let n_res = 6 * seg.mocap.len() + 6 * seg.imu.len();
-        let fail = || (vec![PENALTY; n_res], true);
+        let vehicle = &trial.vehicle;
         // The vehicle starts with the first wingbeat's controls in force, its clock at the
         // segment's first step (the wing phases of the original run).
         let mut v = vehicle.clone();
         if v.apply_controls(&seg.controls[0]).is_err() {
-            return fail();
+            return None;
         }
         let Ok(mut sim) = Simulation::try_new(v, Mode::Free) else {
-            return fail();
+            return None;
         };
         if sim.start_at_step(seg.step0).is_err() {
-            return fail();
+            return None;
         }
         sim.set_state(start);
+        // A logged start with the wing set's memory continues as the run did, bit for bit
+        // (a corrected start is not the state that memory led to).
+        if let (false, Some(m)) = (self.fit_states, seg.memory)
+            && sim.set_step_memory(m).is_err()
+        {
+            return None;
+        }
         // The run's wind field, a function of the point and the time: the segment meets
         // the wind the run met (a fresh field per segment; its samples are generated again).
         if let Some((spec, reference)) = &self.data.wind {
             match flapsim::wind::Wind::from_spec(spec, &self.data.model_origin, *reference) {
                 Ok(w) => sim.set_wind_model(Some(w)),
-                Err(_) => return fail(),
+                Err(_) => return None,
             }
         }
         let per = vehicle.sim.steps_per_wingbeat;
         let mut states: Vec<State> = Vec::with_capacity(seg.steps);
-        let mut diverged = false;
         let mut in_force = seg.controls[0];
         for j in 0..seg.steps {
             if j % per == 0 {
@@ -243,12 +240,31 @@ impl Setup<'_> {
             }
             match sim.step() {
                 Ok(out) => states.push(out.state),
-                Err(_) => {
-                    diverged = true;
-                    break;
-                }
+                Err(_) => return Some((states, true)),
             }
         }
+        Some((states, false))
+    }
+
+    /// Segment `k`'s weighted residuals (non-finite ones replaced by [`PENALTY`]) flown
+    /// from `start` on a trial model, and whether it diverged.
+    pub(super) fn segment_residuals(
+        &self,
+        trial: &Trial,
+        k: usize,
+        start: &State,
+    ) -> (Vec<f64>, bool) {
+        let seg = &self.segments[k];
+        let Trial {
+            mocap_bias,
+            gyro_bias,
+            accel_bias,
+            ..
+        } = trial;
+        let n_res = 6 * seg.mocap.len() + 6 * seg.imu.len();
+        let Some((states, diverged)) = self.fly(trial, k, start) else {
+            return (vec![PENALTY; n_res], true);
+        };
         let last = states.last().copied().unwrap_or(*start);
         let at = |j: usize| states.get(j).copied().unwrap_or(last);
         let w = &self.weights;
@@ -282,23 +298,37 @@ impl Setup<'_> {
 
 /// Builds the segments and weights of a fit.
 pub(super) fn setup<'a>(data: &'a FlightData, opts: &FitOptions) -> Result<Setup<'a>> {
-    opts.check()?;
+    setup_for(data, opts, false)
+}
+
+/// [`setup`], for a resimulation when `resim`: a flight with logged states is compared with
+/// them, so its segments need no measurement and its model no sensors.
+pub(super) fn setup_for<'a>(
+    data: &'a FlightData,
+    opts: &FitOptions,
+    resim: bool,
+) -> Result<Setup<'a>> {
+    opts.check_settings()?;
+    let against_states = resim && !data.logged_states.is_empty();
     let origin = &data.model_origin;
     let base = VehicleSpec::from_toml(&data.model_toml, origin)
         .map_err(|e| Error::Model(format!("`{origin}` does not load: {e}")))?;
     let vehicle = base
         .build(origin)
         .map_err(|e| Error::Model(format!("`{origin}` does not load: {e}")))?;
-    let sensors = vehicle.sensors.ok_or_else(|| {
-        Error::Model(format!(
+    // A resimulation against logged states weighs nothing: a model without sensors will do.
+    let sensors = vehicle.sensors;
+    if sensors.is_none() && !against_states {
+        return Err(Error::Model(format!(
             "`{origin}` has no [sensors] table: the fit weighs each residual by the sensors' noise ([sensors.mocap] position_noise_m and attitude_noise_deg; see models/drosophila.toml)"
-        ))
-    })?;
-    let mocap = sensors.mocap.ok_or_else(|| {
-        Error::Model(format!(
+        )));
+    }
+    let mocap = sensors.and_then(|s| s.mocap);
+    if mocap.is_none() && !against_states {
+        return Err(Error::Model(format!(
             "`{origin}` has no [sensors.mocap] table: the fit weighs the motion-capture residuals by its position_noise_m and attitude_noise_deg"
-        ))
-    })?;
+        )));
+    }
     let use_imu = opts.use_imu;
     if use_imu && data.imu.is_empty() {
         return Err(Error::Log {
@@ -319,16 +349,27 @@ pub(super) fn setup<'a>(data: &'a FlightData, opts: &FitOptions) -> Result<Setup
         .map_err(|e| Error::Model(format!("`{origin}`: {e}")))?
         .dt_s();
     let floor = 1e-12;
+    let (pos, att, mocap_rate_hz) = mocap.map_or((1.0, 1.0, 1.0), |m| {
+        (m.position_noise_m, m.attitude_noise_rad, m.rate_hz)
+    });
+    let (gyro, accel, imu_rate_hz) = sensors.map_or((1.0, 1.0, 1.0), |s| {
+        let r = s.imu.rate_hz;
+        (
+            s.imu.gyro_noise_density * r.sqrt(),
+            s.imu.accel_noise_density * r.sqrt(),
+            r,
+        )
+    });
     let weights = Weights {
-        pos: mocap.position_noise_m.max(floor),
-        att: mocap.attitude_noise_rad.max(floor),
-        gyro: (sensors.imu.gyro_noise_density * sensors.imu.rate_hz.sqrt()).max(floor),
-        accel: (sensors.imu.accel_noise_density * sensors.imu.rate_hz.sqrt()).max(floor),
+        pos: pos.max(floor),
+        att: att.max(floor),
+        gyro: gyro.max(floor),
+        accel: accel.max(floor),
     };
     // A sample falls due at a step within a millionth of its period (flapsim's sensors), or
     // within a nanosecond: a ROS 2 bag's stamps are whole nanoseconds.
-    let mocap_tol = (1e-6 / mocap.rate_hz).max(STAMP_QUANTUM_S);
-    let imu_tol = (1e-6 / sensors.imu.rate_hz).max(STAMP_QUANTUM_S);
+    let mocap_tol = (1e-6 / mocap_rate_hz).max(STAMP_QUANTUM_S);
+    let imu_tol = (1e-6 / imu_rate_hz).max(STAMP_QUANTUM_S);
     let controls = controlled_wingbeats(data);
     let end_t = opts.max_duration_s.unwrap_or(f64::INFINITY);
     let k = u64::from(opts.segment_wingbeats);
@@ -381,11 +422,12 @@ pub(super) fn setup<'a>(data: &'a FlightData, opts: &FitOptions) -> Result<Setup
                 }
             }
         }
-        if seg_mocap.is_empty() && seg_imu.is_empty() {
+        if seg_mocap.is_empty() && seg_imu.is_empty() && !against_states {
             continue;
         }
         segments.push(Segment {
             state: start.state,
+            memory: start.memory,
             step0,
             controls: ctl,
             steps,
@@ -409,7 +451,7 @@ pub(super) fn setup<'a>(data: &'a FlightData, opts: &FitOptions) -> Result<Setup
         .map(|s| 6 * s.mocap.len() + 6 * s.imu.len())
         .sum();
     let scales: Vec<f64> = opts.params.iter().map(|p| p.scale(&base)).collect();
-    if m <= opts.params.len() {
+    if m <= opts.params.len() && !against_states {
         return Err(Error::Data(format!(
             "`{}`: {m} residuals cannot determine {} parameters (more measurements are needed)",
             data.source.display(),
@@ -430,7 +472,7 @@ pub(super) fn setup<'a>(data: &'a FlightData, opts: &FitOptions) -> Result<Setup
         } else {
             0
         };
-    if m <= unknowns {
+    if m <= unknowns && !(against_states && unknowns == 0) {
         return Err(Error::Data(format!(
             "`{}`: {m} residuals cannot determine {} parameters and {} start-state unknowns (more measurements or longer segments are needed)",
             data.source.display(),

@@ -73,8 +73,17 @@ impl Default for FitOptions {
 }
 
 impl FitOptions {
-    /// Checks the settings.
+    /// Checks the settings, a parameter to fit among them.
     pub fn check(&self) -> Result<()> {
+        self.check_settings()?;
+        if self.params.is_empty() {
+            return Err(Error::Setting("no parameter to fit".into()));
+        }
+        Ok(())
+    }
+
+    /// Checks the settings other than the parameters (a resimulation fits none).
+    pub(crate) fn check_settings(&self) -> Result<()> {
         if !(1..=1000).contains(&self.segment_wingbeats) {
             return Err(Error::Setting(format!(
                 "segment length {} wingbeats is not allowed: an integer in [1, 1000]",
@@ -99,9 +108,6 @@ impl FitOptions {
             return Err(Error::Setting(format!(
                 "duration {d} s is not allowed: a time > 0"
             )));
-        }
-        if self.params.is_empty() {
-            return Err(Error::Setting("no parameter to fit".into()));
         }
         Ok(())
     }

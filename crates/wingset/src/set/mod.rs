@@ -102,7 +102,7 @@ pub struct WingSet {
     sampling: LoadSampling,
     /// What the last step was given and took (the midpoint prediction's previous state;
     /// `None` after a restart).
-    prev_body: Option<PrevBody>,
+    prev_body: Option<StepMemory>,
     /// The body state the last step took its loads at ([`WingSet::sampled_state`]).
     sampled: State,
     /// I^-1 D: the body's rate damping over its inertia, when the host gave the inertia
@@ -114,20 +114,24 @@ pub struct WingSet {
     out: WingSetOutput,
 }
 
-/// The last step's body state, for [`LoadSampling::Midpoint`]'s prediction.
-#[derive(Debug, Clone, Copy)]
-struct PrevBody {
+/// The last step's body state, for [`LoadSampling::Midpoint`]'s prediction: the set's
+/// memory between steps. A host that restarts a run at a step (a replay from a logged
+/// state) and gives the set this memory of the step before continues bit for bit
+/// ([`WingSet::step_memory`], [`WingSet::set_step_memory`]); without it the first step
+/// after the restart takes its loads at the step's start (one step's O(dt^2) error).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepMemory {
     /// The step's index.
-    step: u64,
+    pub step: u64,
     /// The velocity it was given, world frame, m/s.
-    velocity_m_s: Vector3<f64>,
+    pub velocity_m_s: Vector3<f64>,
     /// The body rates it was given, rad/s.
-    rates_rad_s: Vector3<f64>,
+    pub rates_rad_s: Vector3<f64>,
     /// The body rates it took its loads at, rad/s.
-    mid_rates_rad_s: Vector3<f64>,
+    pub mid_rates_rad_s: Vector3<f64>,
     /// The body's attitude at the step's start as the set integrates it from the rates
     /// (trapezoidal rule; the host's own update is first order).
-    world_from_body: nalgebra::UnitQuaternion<f64>,
+    pub world_from_body: nalgebra::UnitQuaternion<f64>,
 }
 
 /// Builds a [`WingSet`] of prescribed-kinematics wings, one by one.
@@ -408,6 +412,25 @@ impl WingSet {
                 }
             }
         }
+    }
+
+    /// The memory the next step's midpoint prediction uses: the last step's body state
+    /// ([`StepMemory`]); `None` for the step-start sampling and after a restart.
+    pub fn step_memory(&self) -> Option<StepMemory> {
+        self.previous()
+    }
+
+    /// Gives the set the memory of the step before the next one (a restart from a logged
+    /// state that logged it too): an error unless the memory is of the step just before.
+    pub fn set_step_memory(&mut self, memory: StepMemory) -> Result<()> {
+        if memory.step + 1 != self.step {
+            return Err(Error::Input(format!(
+                "wing set: a step memory of step {} does not precede step {}",
+                memory.step, self.step
+            )));
+        }
+        self.prev_body = Some(memory);
+        Ok(())
     }
 
     /// Forgets the body states of earlier steps: the host moved the body other than by

@@ -18,7 +18,7 @@ use wingforce::{BodyMotion, KinematicLoads, Term, Wing};
 use super::body::{BodyLoad, State};
 use super::output::{WingSetOutput, zero_forces};
 use super::step_kinematics::StepKinematics;
-use super::{PrevBody, WingSet};
+use super::{StepMemory, WingSet};
 use crate::actuated::ActuatedWingOutput;
 use crate::controls::Controls;
 use crate::error::{Error, Result};
@@ -94,7 +94,7 @@ impl WingSet {
         self.out = out;
         r?;
         self.sampled = sampled;
-        self.prev_body = Some(PrevBody {
+        self.prev_body = Some(StepMemory {
             step: self.step,
             velocity_m_s: body.velocity_m_s,
             rates_rad_s: body.angular_velocity_body_rad_s,
@@ -141,7 +141,7 @@ impl WingSet {
 
     /// The last step's body state, when the midpoint prediction may use it (the step just
     /// before this one, not forgotten by a restart).
-    fn previous(&self) -> Option<PrevBody> {
+    pub(super) fn previous(&self) -> Option<StepMemory> {
         match (self.sampling, self.prev_body) {
             (LoadSampling::Midpoint, Some(p)) if p.step + 1 == self.step => Some(p),
             _ => None,
