@@ -8,7 +8,6 @@ use anyhow::Result;
 use flapwing_identify::bag::{ControlsRole, ImuRole, PoseRole};
 use flapwing_identify::{BagRoles, BodyConvention, FlightData, QuaternionOrder, WorldConvention};
 
-use crate::commands::identify::classify;
 use crate::error::input_error;
 
 /// The roles of a ROS 2 bag's topics and its frame conventions (flags over a roles file).
@@ -216,4 +215,13 @@ pub fn read_flight(
         data.wingbeat_controls.len()
     ));
     Ok((data, false))
+}
+
+/// flapwing-identify's bad-input errors become the CLI's bad input (exit 2).
+pub fn classify(e: flapwing_identify::Error) -> anyhow::Error {
+    if e.is_bad_input() {
+        input_error(e.to_string())
+    } else {
+        anyhow::Error::new(e)
+    }
 }

@@ -16,6 +16,7 @@ use anyhow::Result;
 use flapwing_identify::{FitOptions, Param, StartStates, fitted_model_toml, identify};
 
 use crate::error::input_error;
+use crate::flight_input::classify;
 
 /// Arguments of `flapwing identify`.
 #[derive(Debug, clap::Args)]
@@ -86,14 +87,6 @@ impl From<StartStatesArg> for StartStates {
             StartStatesArg::Fixed => StartStates::Fixed,
             StartStatesArg::Fitted => StartStates::Fitted,
         }
-    }
-}
-
-pub(crate) fn classify(e: flapwing_identify::Error) -> anyhow::Error {
-    if e.is_bad_input() {
-        input_error(e.to_string())
-    } else {
-        anyhow::Error::new(e)
     }
 }
 

@@ -43,38 +43,13 @@ pub struct ReplayArgs {
     /// Replace existing --rrd / --csv / --mcap output files.
     #[arg(long)]
     pub force: bool,
-    /// Fly MODEL (a TOML file or a built-in name; given alone, a flapwing log's own model)
-    /// beside the recorded flight, segment by segment from its recorded start states under
-    /// its recorded inputs, and print the residuals per segment (position, attitude, rate
-    /// RMS); `--mcap`/`--rrd` write both flights in one log.
-    #[arg(long, value_name = "MODEL", num_args = 0..=1, default_missing_value = "", help_heading = "Resimulation")]
-    pub resimulate: Option<String>,
     /// With --resimulate: the recorded and the simulated flight as one MCAP file (frames
     /// `real` and `sim`; Foxglove layout docs/foxglove/resimulate.json).
     #[arg(long, value_name = "OUT.mcap", help_heading = "Resimulation")]
     pub mcap: Option<PathBuf>,
-    /// With --resimulate: wingbeats per segment.
-    #[arg(
-        long = "segment-wingbeats",
-        default_value_t = 4,
-        help_heading = "Resimulation"
-    )]
-    pub segment_wingbeats: u32,
-    /// With --resimulate: whether each segment's start state is fitted (model held). auto:
-    /// fitted when estimated from the motion capture (a bag, a CSV), held when logged.
-    #[arg(
-        long = "start-states",
-        value_enum,
-        default_value = "auto",
-        help_heading = "Resimulation"
-    )]
-    pub start_states: crate::commands::identify::StartStatesArg,
-    /// With --resimulate: only the first this many seconds of the flight.
-    #[arg(long = "duration-s", help_heading = "Resimulation")]
-    pub duration_s: Option<f64>,
-    /// A ROS 2 bag's roles and conventions (for --resimulate).
+    /// Resimulation: `--resimulate [MODEL]` and its settings.
     #[command(flatten)]
-    pub roles: crate::flight_input::BagRoleArgs,
+    pub resim: crate::commands::resimulate::ResimArgs,
 }
 
 /// flightlog's bad-input errors become the CLI's bad input (exit 2).
@@ -109,7 +84,7 @@ pub fn run(args: ReplayArgs) -> Result<()> {
         outputs.push(Named::new("--rrd", out));
     }
     if let Some(out) = &args.mcap {
-        if args.resimulate.is_none() {
+        if args.resim.resimulate.is_none() {
             return Err(input_error(
                 "--mcap writes the comparison of --resimulate: give --resimulate MODEL too",
             ));
@@ -117,10 +92,21 @@ pub fn run(args: ReplayArgs) -> Result<()> {
         outputs.push(Named::new("--mcap", out));
     }
     crate::outputs::check(&[Named::new("FILE", &args.file)], &outputs, args.force)?;
-    if args.resimulate.is_some() {
-        return crate::commands::resimulate::run(&args);
+    if args.resim.resimulate.is_some() {
+        if args.check || args.csv.is_some() {
+            return Err(input_error(
+                "--resimulate compares the recorded flight with the model: it does not combine with --check or --csv",
+            ));
+        }
+        return crate::commands::resimulate::run(
+            &args.file,
+            &args.resim,
+            args.mcap.as_deref(),
+            args.rrd.as_deref(),
+            args.json,
+        );
     }
-    if args.roles.names_bag_roles() {
+    if args.resim.roles.names_bag_roles() {
         return Err(input_error(
             "the bag role flags (--pose-topic, --roles, ...) go with --resimulate MODEL",
         ));

@@ -5,25 +5,58 @@
 //! flapwing-identify's `resimulate` and flightlog's `compare`; this file parses, calls and
 //! prints.
 
+use std::path::Path;
+
 use anyhow::Result;
 use flapwing_identify::{ResimOptions, resimulate};
 use flightlog::compare::Comparison;
 
-use crate::commands::identify::classify;
-use crate::commands::replay::ReplayArgs;
-use crate::error::input_error;
+use crate::flight_input::classify;
 use crate::output::{print_json, print_stdout};
 
-/// Runs `replay --resimulate` (the outputs are already checked).
-pub fn run(args: &ReplayArgs) -> Result<()> {
-    if args.check || args.csv.is_some() {
-        return Err(input_error(
-            "--resimulate compares the recorded flight with the model: it does not combine with --check or --csv",
-        ));
-    }
+/// `replay`'s resimulation flags.
+#[derive(Debug, clap::Args)]
+pub struct ResimArgs {
+    /// Fly MODEL (a TOML file or a built-in name; given alone, a flapwing log's own model)
+    /// beside the recorded flight, segment by segment from its recorded start states under
+    /// its recorded inputs, and print the residuals per segment (position, attitude, rate
+    /// RMS); `--mcap`/`--rrd` write both flights in one log.
+    #[arg(long, value_name = "MODEL", num_args = 0..=1, default_missing_value = "", help_heading = "Resimulation")]
+    pub resimulate: Option<String>,
+    /// With --resimulate: wingbeats per segment.
+    #[arg(
+        long = "segment-wingbeats",
+        default_value_t = 4,
+        help_heading = "Resimulation"
+    )]
+    pub segment_wingbeats: u32,
+    /// With --resimulate: whether each segment's start state is fitted (model held). auto:
+    /// fitted when estimated from the motion capture (a bag, a CSV), held when logged.
+    #[arg(
+        long = "start-states",
+        value_enum,
+        default_value = "auto",
+        help_heading = "Resimulation"
+    )]
+    pub start_states: crate::commands::identify::StartStatesArg,
+    /// With --resimulate: only the first this many seconds of the flight.
+    #[arg(long = "duration-s", help_heading = "Resimulation")]
+    pub duration_s: Option<f64>,
+    /// A ROS 2 bag's roles and conventions (for --resimulate).
+    #[command(flatten)]
+    pub roles: crate::flight_input::BagRoleArgs,
+}
+
+/// Runs `replay FILE --resimulate` (the outputs `mcap` and `rrd` are already checked).
+pub fn run(
+    file: &Path,
+    args: &ResimArgs,
+    mcap: Option<&Path>,
+    rrd: Option<&Path>,
+    json: bool,
+) -> Result<()> {
     let model = args.resimulate.as_deref().filter(|m| !m.is_empty());
-    let (mut data, from_log) =
-        crate::flight_input::read_flight(&args.file, model, &args.roles, true)?;
+    let (mut data, from_log) = crate::flight_input::read_flight(file, model, &args.roles, true)?;
     if let (true, Some(m)) = (from_log, model) {
         let src = crate::vehicle::read_vehicle(Some(m))?;
         crate::vehicle::build_vehicle(&src)?;
@@ -33,7 +66,7 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
     if let Some(damage) = &data.damage {
         crate::output::note(&format!(
             "warning: `{}` is incomplete ({damage}); resimulating what was recovered from it",
-            args.file.display()
+            file.display()
         ));
     }
     let opts = ResimOptions {
@@ -58,7 +91,7 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
         summary_json: &summary_json,
     };
     let mut wrote = String::new();
-    if let Some(out) = &args.mcap {
+    if let Some(out) = mcap {
         // The outputs were checked (an existing one needs --force); the SDK creates anew.
         if out.exists() {
             std::fs::remove_file(out)
@@ -70,14 +103,14 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
             out.display()
         );
     }
-    if let Some(out) = &args.rrd {
+    if let Some(out) = rrd {
         flightlog::compare::write_rrd(out, &comparison)?;
         wrote += &format!(
             "wrote the recorded and the simulated flight to {}\n",
             out.display()
         );
     }
-    if args.json {
+    if json {
         print_json(&resim)?;
     } else {
         print_stdout(&format!("{resim}{wrote}"))?;
