@@ -104,7 +104,7 @@ class Flight:
         """kind: "pose_enu" (PoseStamped, ENU/FLU), "odom_ned" (Odometry + Imu, NED/FRD),
         "tf_wxyz" (TFMessage, ENU/FLU, scalar first in the x, y, z, w fields)."""
         with open(path, "wb") as f:
-            w = Writer(f)
+            w = Writer(f, chunk_size=64 * 1024)  # several chunks: a cut file keeps some
             ty = {"pose_enu": "geometry_msgs/PoseStamped", "odom_ned": "nav_msgs/Odometry",
                   "tf_wxyz": "tf2_msgs/TFMessage"}[kind]
             schema = register(w, ty)
@@ -334,3 +334,15 @@ def test_resimulation_of_a_bag_shows_what_identify_removes(run_flapwing, flight,
         for t in panel.get("topics", {}):
             assert t in topics, t
     assert (tmp_path / "cmp.rrd").stat().st_size > 1000
+
+
+def test_a_truncated_bag_warns_and_fits_what_it_recovered(run_flapwing, flight, tmp_path):
+    data = flight.bags["pose_enu"].read_bytes()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[: len(data) // 2])
+    proc = run_flapwing("identify", cut, "--model", flight.nominal, "--roles", flight.roles, "--pose-topic",
+                        "/mocap/fly", "--params", "inertia_yy_kg_m2", "--json", check=False)
+    assert proc.returncode in (0, 1), proc.stderr
+    assert "warning:" in proc.stderr and "is incomplete" in proc.stderr and "recovered" in proc.stderr, proc.stderr
+    report = json.loads(proc.stdout)
+    assert 0 < report["mocap_frames"] < len(flight.mocap)
