@@ -79,3 +79,13 @@ def test_the_sampling_is_named_and_restart_forgets_the_last_state(tmp_path):
     fresh.step(**rest)
     fresh.restart_motion()
     assert np.array_equal(fresh.step(**moving)["force_body_n"], fa)
+
+
+def test_a_step_coarser_than_the_stated_bound_is_flagged(tmp_path):
+    """models/drosophila.toml states 50 steps per wingbeat (the error-cost frontier's fewest
+    that keep 30 open-loop wingbeats within 0.01 deg and 0.1 % of a 3200-step run)."""
+    fly = flapwing.Vehicle("drosophila")
+    assert fly.accurate_steps_per_wingbeat == 50 and fly.coarse_step_warning is None
+    coarse = flapwing.Vehicle(model(tmp_path, 30, "midpoint"))
+    assert "30 steps per wingbeat, coarser than the 50" in coarse.coarse_step_warning
+    assert flapwing.Vehicle("robobee").accurate_steps_per_wingbeat is None

@@ -32,7 +32,16 @@ pub fn read_vehicle(model: Option<&str>) -> anyhow::Result<VehicleSource> {
 
 /// Parses and validates a vehicle; model errors are bad input (exit 2).
 pub fn build_vehicle(src: &VehicleSource) -> anyhow::Result<flapsim::Vehicle> {
-    flapsim::Vehicle::from_toml(&src.text, &src.origin).map_err(sim_error)
+    let v = flapsim::Vehicle::from_toml(&src.text, &src.origin).map_err(sim_error)?;
+    warn_coarse_step(&v);
+    Ok(v)
+}
+
+/// Says on stderr when `v` is stepped more coarsely than its model's stated accuracy bound.
+pub fn warn_coarse_step(v: &flapsim::Vehicle) {
+    if let Some(w) = v.coarse_step_warning() {
+        crate::output::note(&format!("warning: {w}"));
+    }
 }
 
 /// `--inflow`: an induced-flow model by name.

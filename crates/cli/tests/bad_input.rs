@@ -119,3 +119,59 @@ fn stability_step_override_out_of_range() {
     ]);
     assert_names(&run, &["--steps-per-wingbeat", "5", "20 to 100000"]);
 }
+
+/// A vehicle stepped more coarsely than its model file's stated accuracy bound
+/// (`sim.accurate_steps_per_wingbeat`, from the error-cost frontier) warns and still runs;
+/// at the bound it is silent; an impossible bound is refused naming the field.
+#[test]
+fn a_step_coarser_than_the_stated_bound_warns() {
+    let dir = tempfile::tempdir().unwrap();
+    let fly = flapsim::DROSOPHILA_TOML;
+    assert!(fly.contains("accurate_steps_per_wingbeat = 50"));
+    let with_steps = |n: usize| {
+        fly.replace(
+            "steps_per_wingbeat = 100\n",
+            &format!("steps_per_wingbeat = {n}\n"),
+        )
+    };
+    std::fs::write(dir.path().join("coarse.toml"), with_steps(30)).unwrap();
+    std::fs::write(dir.path().join("bound.toml"), with_steps(50)).unwrap();
+    let args = |m: &'static str| {
+        [
+            "simulate",
+            "--model",
+            m,
+            "--duration-s",
+            "0.005",
+            "--no-log",
+        ]
+    };
+    let run = flapwing_in(dir.path(), &args("coarse.toml"));
+    assert_eq!(run.code, 0, "{run:?}");
+    assert!(
+        run.stderr.contains(
+            "warning: `drosophila` is stepped at 30 steps per wingbeat, coarser than the 50"
+        ),
+        "{}",
+        run.stderr
+    );
+    let run = flapwing_in(dir.path(), &args("bound.toml"));
+    assert_eq!(run.code, 0, "{run:?}");
+    assert!(!run.stderr.contains("coarser than"), "{}", run.stderr);
+    let bad = fly.replace(
+        "accurate_steps_per_wingbeat = 50",
+        "accurate_steps_per_wingbeat = 5",
+    );
+    std::fs::write(dir.path().join("bad.toml"), bad).unwrap();
+    let run = flapwing_in(dir.path(), &args("bad.toml"));
+    assert_names(
+        &run,
+        &[
+            "bad.toml",
+            "sim.accurate_steps_per_wingbeat",
+            "5",
+            "[20, 100000]",
+        ],
+    );
+    let _ = flapwing;
+}

@@ -188,6 +188,17 @@ impl Vehicle {
     fn load_sampling(&self) -> &'static str {
         self.vehicle.load_sampling().name()
     }
+    /// The fewest steps per wingbeat holding the accuracy the model file states
+    /// (`[sim] accurate_steps_per_wingbeat`, from the error-cost frontier), or None.
+    #[getter]
+    fn accurate_steps_per_wingbeat(&self) -> Option<usize> {
+        self.vehicle.sim.accurate_steps_per_wingbeat
+    }
+    /// A warning when the vehicle is stepped more coarsely than that bound, else None.
+    #[getter]
+    fn coarse_step_warning(&self) -> Option<String> {
+        self.vehicle.coarse_step_warning()
+    }
     /// True for an actuated vehicle (wings driven by actuators, passive pitch).
     #[getter]
     fn actuated(&self) -> bool {

@@ -56,6 +56,7 @@ pub fn run(args: StabilityArgs) -> Result<()> {
             )));
         }
         vehicle.sim.steps_per_wingbeat = n;
+        crate::vehicle::warn_coarse_step(&vehicle);
     }
     let condition = args.condition.check(&vehicle)?;
     // Fail before the analysis if the plot cannot be written.

@@ -106,6 +106,17 @@ impl VehicleSpec {
                 )
                 .into());
         }
+        if let Some(n) = sim.accurate_steps_per_wingbeat
+            && !(20..=100_000).contains(&n)
+        {
+            return Err(v
+                .invalid(
+                    "sim.accurate_steps_per_wingbeat",
+                    n,
+                    "an integer in [20, 100000], like sim.steps_per_wingbeat",
+                )
+                .into());
+        }
         if !(1..=16).contains(&sim.solver_iterations) {
             return Err(v
                 .invalid(

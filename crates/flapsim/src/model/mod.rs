@@ -278,6 +278,19 @@ impl Vehicle {
         }
     }
 
+    /// A warning when the vehicle is stepped more coarsely than its model file's stated
+    /// accuracy bound (`[sim] accurate_steps_per_wingbeat`, from the error-cost frontier of
+    /// docs/speed.md); `None` at or above it, or without a bound.
+    pub fn coarse_step_warning(&self) -> Option<String> {
+        let n = self.sim.accurate_steps_per_wingbeat?;
+        (self.sim.steps_per_wingbeat < n).then(|| {
+            format!(
+                "`{}` is stepped at {} steps per wingbeat, coarser than the {n} its model file states for its accuracy (sim.accurate_steps_per_wingbeat, from the error-cost frontier in docs/speed.md): expect larger trajectory errors",
+                self.name, self.sim.steps_per_wingbeat
+            )
+        })
+    }
+
     /// Where in a step the wings' loads are taken: the model's `[sim] load_sampling`, else
     /// midpoint (second order) for prescribed wings and step-start for actuated ones. Why the
     /// actuated default stays first order, measured (docs/speed.md rows 25-26): over 30

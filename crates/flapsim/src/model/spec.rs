@@ -110,6 +110,11 @@ pub struct ControlSpec {
 pub struct SimSpec {
     /// Physics steps per wingbeat (at least 20 accepted).
     pub steps_per_wingbeat: usize,
+    /// The fewest steps per wingbeat that hold the accuracy the model file states, chosen
+    /// from the error-cost frontier (docs/speed.md): a vehicle stepped more coarsely warns
+    /// ([`crate::Vehicle::coarse_step_warning`]). Absent: no stated bound.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accurate_steps_per_wingbeat: Option<usize>,
     /// Where in a step the wings' loads are taken: `"midpoint"` (second order) or
     /// `"step_start"` (first order, the only one before issue 37; logs written before it
     /// replay with it). See [`wingset::sampling`]. Absent: midpoint for prescribed wings,
@@ -133,6 +138,7 @@ impl Default for SimSpec {
     fn default() -> Self {
         Self {
             steps_per_wingbeat: 100,
+            accurate_steps_per_wingbeat: None,
             load_sampling: None,
             solver_iterations: 1,
             ground: false,

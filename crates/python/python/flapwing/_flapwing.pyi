@@ -134,6 +134,13 @@ class Vehicle:
     def load_sampling(self) -> str:
         """`[sim] load_sampling`: "step_start" (first order) or "midpoint" (second order)."""
     @property
+    def accurate_steps_per_wingbeat(self) -> int | None:
+        """`[sim] accurate_steps_per_wingbeat`: the fewest steps per wingbeat holding the
+        model file's stated accuracy (from the error-cost frontier), or None."""
+    @property
+    def coarse_step_warning(self) -> str | None:
+        """A warning when the vehicle is stepped more coarsely than that bound, else None."""
+    @property
     def actuated(self) -> bool: ...
     @property
     def control_channels(self) -> list[str]:
