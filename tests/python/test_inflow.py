@@ -69,3 +69,24 @@ def test_states_can_be_set_only_where_the_wake_answers(tmp_path):
     assert frozen.inflow_states == []
     with pytest.raises(ValueError, match="no dynamic inflow"):
         frozen.set_inflow_states([(0.5, 0, 0)])
+
+
+def test_a_python_run_logs_the_inflow_where_the_wake_answers(tmp_path):
+    """`flapwing.Simulation(..., mcap=...)` writes `/inflow` for a dynamic-wake vehicle, as
+    `flapwing simulate` does: each logged step's pair states, the ones its loads were taken
+    at; a frozen-wake run has no such channel."""
+    log = tmp_path / "dyn.mcap"
+    sim = flapwing.Simulation(flapwing.Vehicle(dynamic_fly(tmp_path)), "free", mcap=str(log), log_rate_hz=None)
+    sim.run(120, record=False)
+    assert sim.close_log()["samples"] == 120
+    tables = flapwing.read_log(str(log), pandas=False)
+    inflow = tables["/inflow"]
+    assert len(inflow["log_time_ns"]) == 120
+    np.testing.assert_array_equal(inflow["log_time_ns"], tables["/vehicle/state"]["log_time_ns"])
+    w0 = [c for c in inflow if c.endswith("mean_m_s")]
+    assert w0 and np.all(inflow[w0[0]] > 0), list(inflow)
+    frozen = tmp_path / "frozen.mcap"
+    sim = flapwing.Simulation("drosophila", "free", mcap=str(frozen))
+    sim.run(20, record=False)
+    sim.close_log()
+    assert "/inflow" not in flapwing.read_log(str(frozen), pandas=False)

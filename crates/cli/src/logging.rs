@@ -278,23 +278,6 @@ pub fn record_wind(
     Ok(())
 }
 
-/// Logs each wing pair's dynamic inflow at the step at `t_s` if there is a recorder and the
-/// vehicle's wake answers (see [`Recorder::inflow`]): the states the step's loads were taken
-/// at.
-pub fn record_inflow(
-    rec: &mut Option<Recorder>,
-    t_s: f64,
-    sim: &flapsim::Simulation,
-) -> anyhow::Result<()> {
-    let inflow = &sim.wing_set().output().inflow;
-    if let Some(r) = rec.as_mut()
-        && !inflow.is_empty()
-    {
-        r.inflow(t_s, inflow)?;
-    }
-    Ok(())
-}
-
 /// With `--report-flushed`: says on stderr how much of the run newly reached the MCAP file
 /// since the last report (`reported` holds the samples last said).
 pub fn report_flushed(rec: &Option<Recorder>, reported: &mut u64) {

@@ -232,6 +232,9 @@ impl Simulation {
                 let opts = flightlog::LogOptions {
                     mcap: Some(path),
                     log_rate_hz,
+                    // A vehicle whose wake answers logs its pairs' inflow (`/inflow`), as
+                    // `flapwing simulate` does.
+                    inflow: v.vehicle.inflow_model() == wingforce::InflowModel::Dynamic,
                     ..flightlog::LogOptions::default()
                 };
                 Some(flightlog::Recorder::create(&opts, &info, &v.vehicle).map_err(log_err)?)

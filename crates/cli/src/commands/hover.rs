@@ -235,8 +235,7 @@ pub fn run(args: HoverArgs) -> Result<()> {
             .and_then(|()| match log_wind {
                 true => crate::logging::record_wind(&mut rec, out.t_s, step.sim),
                 false => Ok(()),
-            })
-            .and_then(|()| crate::logging::record_inflow(&mut rec, out.t_s, step.sim));
+            });
         if let Err(e) = logged {
             log_error = Some(e);
             return false;

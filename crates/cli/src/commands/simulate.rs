@@ -150,8 +150,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             .and_then(|()| match log_wind {
                 true => crate::logging::record_wind(&mut rec, t_s, &sim),
                 false => Ok(()),
-            })
-            .and_then(|()| crate::logging::record_inflow(&mut rec, t_s, &sim));
+            });
         if let Err(e) = logged {
             log_error = Some(e);
             result = Ok(false);

@@ -247,7 +247,8 @@ impl Recorder {
 
     /// Takes one step's output with the wing set's output of the same step (every wing's
     /// forces and actuator state, e.g. `Simulation::wing_set().output()` after the step);
-    /// logs it if the decimation picks it. For any number of wings; errors as
+    /// logs it if the decimation picks it, with the pairs' inflow states where the wake
+    /// answers (`/inflow`, when the options ask for it). For any number of wings; errors as
     /// [`Recorder::record`], and when `wings` does not hold the vehicle's wings.
     pub fn record_wings(&mut self, out: &StepOutput, wings: &WingSetOutput) -> Result<()> {
         let n = self.vehicle.wings.len();
@@ -260,7 +261,11 @@ impl Recorder {
             )));
         }
         let actuated = (!wings.actuated.is_empty()).then_some(&wings.actuated[..]);
-        self.record_inner(out, &wings.wings, actuated)
+        self.record_inner(out, &wings.wings, actuated)?;
+        if !wings.inflow.is_empty() {
+            self.inflow(out.t_s, &wings.inflow)?;
+        }
+        Ok(())
     }
 
     fn record_inner(
