@@ -337,7 +337,11 @@ mod tests {
         ];
         for (toml, mode) in models {
             let vehicle = Vehicle::from_toml(toml, "model.toml").unwrap();
-            let builder = SampleBuilder::new(WingStatic::of(&vehicle), vehicle.weight_n());
+            let builder = SampleBuilder::new(
+                WingStatic::of(&vehicle),
+                vehicle.weight_n(),
+                vehicle.sim.steps_per_wingbeat as u64,
+            );
             let arrows = ForceArrows::of(&vehicle);
             let mut sim = Simulation::new(vehicle, mode);
             let (mut s, mut a) = (Sample::default(), SceneUpdate::default());
@@ -355,7 +359,11 @@ mod tests {
     #[test]
     fn one_pass_encoding_of_special_values() {
         let vehicle = Vehicle::from_toml(flapsim::DROSOPHILA_TOML, "d.toml").unwrap();
-        let builder = SampleBuilder::new(WingStatic::of(&vehicle), vehicle.weight_n());
+        let builder = SampleBuilder::new(
+            WingStatic::of(&vehicle),
+            vehicle.weight_n(),
+            vehicle.sim.steps_per_wingbeat as u64,
+        );
         let arrows = ForceArrows::of(&vehicle);
         let mut sim = Simulation::new(vehicle, Mode::Free);
         let mut out = *sim.step().unwrap();

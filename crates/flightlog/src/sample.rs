@@ -161,16 +161,20 @@ pub(crate) struct SampleBuilder {
     /// Each wing's frame name.
     frames: Vec<String>,
     weight_n: f64,
+    /// Steps per wingbeat: a state at a wingbeat's first step carries the wing set's step
+    /// memory (where a replay restarts a segment), the others do not need it.
+    steps_per_wingbeat: u64,
 }
 
 impl SampleBuilder {
-    pub fn new(wings: Vec<WingStatic>, weight_n: f64) -> Self {
+    pub fn new(wings: Vec<WingStatic>, weight_n: f64, steps_per_wingbeat: u64) -> Self {
         let layout = WingLayout::new(wings.len());
         let frames = (0..wings.len()).map(|i| layout.frame(i)).collect();
         Self {
             wings,
             frames,
             weight_n,
+            steps_per_wingbeat: steps_per_wingbeat.max(1),
         }
     }
 
@@ -251,18 +255,21 @@ impl SampleBuilder {
             applied_force_body_n: Some(f.into()),
             applied_moment_body_nm: Some((&out.total.moment_nm).into()),
             lift_over_weight: (st.world_from_body * f).z / self.weight_n,
-            memory: out.memory.map(|m| proto::StepMemory {
-                step: m.step,
-                velocity_m_s: Some((&m.velocity_m_s).into()),
-                rates_rad_s: Some((&m.rates_rad_s).into()),
-                mid_rates_rad_s: Some((&m.mid_rates_rad_s).into()),
-                world_from_body: Some(proto::Quaternion {
-                    x: m.world_from_body.i,
-                    y: m.world_from_body.j,
-                    z: m.world_from_body.k,
-                    w: m.world_from_body.w,
+            memory: out
+                .memory
+                .filter(|_| out.step % self.steps_per_wingbeat == 0)
+                .map(|m| proto::StepMemory {
+                    step: m.step,
+                    velocity_m_s: Some((&m.velocity_m_s).into()),
+                    rates_rad_s: Some((&m.rates_rad_s).into()),
+                    mid_rates_rad_s: Some((&m.mid_rates_rad_s).into()),
+                    world_from_body: Some(proto::Quaternion {
+                        x: m.world_from_body.i,
+                        y: m.world_from_body.j,
+                        z: m.world_from_body.k,
+                        w: m.world_from_body.w,
+                    }),
                 }),
-            }),
         };
 
         let c = &out.controls;

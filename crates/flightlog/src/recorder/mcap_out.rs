@@ -198,7 +198,11 @@ pub(super) fn open_mcap(
         chunk_samples: 0,
         upto: Flushed::default(),
         encoder: SampleEncoder::new(
-            SampleBuilder::new(WingStatic::of(vehicle), vehicle.weight_n()),
+            SampleBuilder::new(
+                WingStatic::of(vehicle),
+                vehicle.weight_n(),
+                vehicle.sim.steps_per_wingbeat as u64,
+            ),
             ForceArrows::of(vehicle),
             crate::scene::wing_scene(vehicle, 0),
         ),

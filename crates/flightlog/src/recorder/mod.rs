@@ -167,7 +167,11 @@ impl Recorder {
             #[cfg(feature = "live")]
             live,
             #[cfg(any(feature = "rerun", feature = "live"))]
-            builder: SampleBuilder::new(WingStatic::of(vehicle), vehicle.weight_n()),
+            builder: SampleBuilder::new(
+                WingStatic::of(vehicle),
+                vehicle.weight_n(),
+                vehicle.sim.steps_per_wingbeat as u64,
+            ),
             #[cfg(any(feature = "rerun", feature = "live"))]
             sample: Sample::default(),
             #[cfg(feature = "live")]
