@@ -98,6 +98,10 @@ pub struct FlightData {
     /// Every logged body state (a flapwing log's `/vehicle/state`: (step, state)), the
     /// recorded flight a resimulation is compared with; empty for a CSV and a bag.
     pub logged_states: Vec<(u64, State, Option<flapsim::StepMemory>)>,
+    /// The trim the run's vehicle was built at (a `hover` log's settings): a replay builds
+    /// its vehicle the same way (`flapsim::trim::trimmed_vehicle`) before setting the logged
+    /// controls, so that it retraces the run bit for bit.
+    pub trim: Option<flapsim::trim::Trim>,
 }
 
 fn log_err(path: &Path, detail: impl Into<String>) -> Error {
@@ -279,6 +283,9 @@ impl FlightData {
             .get("settings")
             .and_then(|s| serde_json::from_str(s).ok())
             .unwrap_or(serde_json::Value::Null);
+        let trim = settings
+            .get("trim")
+            .and_then(|t| serde_json::from_value::<flapsim::trim::Trim>(t.clone()).ok());
         let aoa_rad = settings
             .pointer("/trim/controls/aoa_rad")
             .and_then(serde_json::Value::as_f64)
@@ -461,6 +468,7 @@ impl FlightData {
             gust,
             wind,
             logged_states,
+            trim,
         })
     }
 
@@ -507,6 +515,7 @@ impl FlightData {
             gust: None,
             wind: None,
             logged_states: Vec::new(),
+            trim: None,
         })
     }
 

@@ -173,6 +173,7 @@ impl FlightData {
             gust: None,
             wind: None,
             logged_states: Vec::new(),
+            trim: None,
         })
     }
 }

@@ -192,10 +192,17 @@ impl Setup<'_> {
         let vehicle = &trial.vehicle;
         // The vehicle starts with the first wingbeat's controls in force, its clock at the
         // segment's first step (the wing phases of the original run).
-        let mut v = vehicle.clone();
-        if v.apply_controls(&seg.controls[0]).is_err() {
-            return None;
-        }
+        // A run trimmed first (a hover) built its vehicle at the trim and set its controls
+        // on the running simulation: the replay does the same, bit for bit; otherwise the
+        // first wingbeat's controls are the vehicle's.
+        let v = match &self.data.trim {
+            Some(t) => flapsim::trim::trimmed_vehicle(vehicle, t).ok()?,
+            None => {
+                let mut v = vehicle.clone();
+                v.apply_controls(&seg.controls[0]).ok()?;
+                v
+            }
+        };
         let Ok(mut sim) = Simulation::try_new(v, Mode::Free) else {
             return None;
         };
@@ -220,7 +227,11 @@ impl Setup<'_> {
         }
         let per = vehicle.sim.steps_per_wingbeat;
         let mut states: Vec<State> = Vec::with_capacity(seg.steps);
-        let mut in_force = seg.controls[0];
+        let mut in_force = self
+            .data
+            .trim
+            .as_ref()
+            .map_or(seg.controls[0], |t| t.controls);
         for j in 0..seg.steps {
             if j % per == 0 {
                 let c = seg.controls[j / per];
