@@ -75,3 +75,30 @@ def test_bad_input_is_a_value_error_naming_it():
         wings.set_controls(amplitude_rad=-10.0)
     out = wings.step(**good)
     assert np.all(np.isfinite(out["force_body_n"])) and wings.steps == 1
+
+
+def test_the_lean_step_writes_the_same_wrench_and_checks_its_arrays():
+    """`WingSet.step_wrench(state13, out6)` writes the total `step` returns, bit for bit, on
+    two sets fed the same states; bad arrays are ValueErrors naming the argument."""
+    import numpy as np
+
+    a, b = flapwing.WingSet("drosophila"), flapwing.WingSet("drosophila")
+    s = flapwing.Simulation("drosophila", "free").state
+    x = np.concatenate([s["position_m"], s["world_from_body_wxyz"], s["velocity_m_s"],
+                        s["angular_velocity_body_rad_s"]])
+    out = np.zeros(6)
+    for k in range(30):
+        x[7] = 0.01 * k  # a changing forward velocity
+        r = a.step(x[0:3], x[3:7], x[7:10], x[10:13])
+        assert b.step_wrench(x, out) is None
+        np.testing.assert_array_equal(out[:3], r["force_body_n"])
+        np.testing.assert_array_equal(out[3:], r["moment_body_nm"])
+    assert a.steps == b.steps == 30
+    for state, o, needle in [(x[:12], out, "`state` has 12 values"), (x, np.zeros(5), "`out` has 5 values"),
+                             (np.where(np.arange(13) == 8, np.nan, x), out, "`velocity_m_s[1]` must be finite"),
+                             (np.where(np.arange(13) == 3, 2.0, x), out, "unit quaternion")]:
+        with pytest.raises(ValueError, match=needle.replace("[", r"\[").replace("]", r"\]")):
+            b.step_wrench(state, o)
+    assert b.steps == 30, "a refused step is not taken"
+    with pytest.raises(TypeError):
+        b.step_wrench(x.astype(np.float32), out)

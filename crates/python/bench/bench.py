@@ -10,10 +10,12 @@ in one run (this VM's speed drifts by up to 2x from minute to minute):
    interleaved with the Rust free-flight run of 1 (alternating which goes first), whose
    wingbeat rate gives a per-round ratio that the machine's load cancels out of; and the
    episode length the zero action reaches.
-3. `WingSet.step` from Python (the force element for a Python host: the body's state in as
-   lists, the loads out as a dict of numpy arrays): seconds per call over N calls fed the
-   trimmed fly's hovering state, against the Rust run of 1 per step (a whole `Simulation`
-   step: the element, rapier and the summary), interleaved; the ratio of each pair.
+3. `WingSet.step` (the force element for a Python host: the body's state in as lists, the
+   loads out as a dict of numpy arrays) and the lean `WingSet.step_wrench` (one state array
+   in, the wrench into a preallocated array) from Python: seconds per call over N calls fed
+   the trimmed fly's hovering state, against the Rust run of 1 per step (a whole
+   `Simulation` step: the element, rapier and the summary), the three interleaved; the
+   ratio of each pair.
 
 Run from the repository root: `python3 crates/python/bench/bench.py` (after
 `pip install ./crates/python`; set CARGO_TARGET_DIR as for the build).
@@ -57,6 +59,20 @@ def wingset_step_seconds(v, n: int = STEPS) -> float:
     return (time.perf_counter() - t) / n
 
 
+def wingset_step_wrench_seconds(v, n: int = STEPS) -> float:
+    """Seconds per `WingSet.step_wrench` call (the lean step: one state array in, the wrench
+    into a preallocated array), the body held at the trim state."""
+    wings = flapwing.WingSet(v)
+    s = flapwing.Simulation(v, "free").state
+    x = np.concatenate([s["position_m"], s["world_from_body_wxyz"], s["velocity_m_s"],
+                        s["angular_velocity_body_rad_s"]]).astype(np.float64)
+    out = np.zeros(6)
+    t = time.perf_counter()
+    for _ in range(n):
+        wings.step_wrench(x, out)
+    return (time.perf_counter() - t) / n
+
+
 def hover_wingbeats_per_s(env, wingbeats: int = 2000, lengths: list | None = None) -> float:
     env.reset(seed=0)
     a = np.zeros(4)
@@ -88,20 +104,19 @@ def main() -> None:
         ratios.append(b / a)
     q = np.percentile(ratios, [25, 50, 75])
     print(f"Python run(N) / Rust, {STEPS} steps: median {q[1]:.3f}x [quartiles {q[0]:.3f} {q[2]:.3f}]")
-    per_call, per_step = [], []
+    per_call, per_lean, per_step = [], [], []
     for k in range(ROUNDS):
-        if k % 2 == 0:
-            a = wingset_step_seconds(v)
-            b = rust_seconds(exe) / STEPS
-        else:
-            b = rust_seconds(exe) / STEPS
-            a = wingset_step_seconds(v)
-        per_call.append(a)
-        per_step.append(b)
-    q = np.percentile(np.array(per_call) / np.array(per_step), [25, 50, 75])
-    print(f"WingSet.step from Python: median {1e6 * np.median(per_call):.2f} us per call; "
-          f"the Rust Simulation step {1e6 * np.median(per_step):.2f} us; ratio median "
-          f"{q[1]:.2f}x [quartiles {q[0]:.2f} {q[2]:.2f}]")
+        # The three in a rotating order, so that the machine's drift falls on each alike.
+        runs = [lambda: per_call.append(wingset_step_seconds(v)),
+                lambda: per_lean.append(wingset_step_wrench_seconds(v)),
+                lambda: per_step.append(rust_seconds(exe) / STEPS)]
+        for i in range(3):
+            runs[(k + i) % 3]()
+    for name, calls in [("WingSet.step", per_call), ("WingSet.step_wrench", per_lean)]:
+        q = np.percentile(np.array(calls) / np.array(per_step), [25, 50, 75])
+        print(f"{name} from Python: median {1e6 * np.median(calls):.2f} us per call; "
+              f"the Rust Simulation step {1e6 * np.median(per_step):.2f} us; ratio median "
+              f"{q[1]:.2f}x [quartiles {q[0]:.2f} {q[2]:.2f}]")
     env = gym.make("flapwing/Hover-v0")
     hover_wingbeats_per_s(env, 200)  # warm up
     wingbeats = STEPS / 100  # the Rust run's wingbeats (100 steps per wingbeat)

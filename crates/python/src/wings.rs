@@ -145,36 +145,14 @@ impl WingSet {
         velocity_m_s: &Bound<'py, PyAny>,
         angular_velocity_body_rad_s: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let v3 = |name: &str, o: &Bound<'py, PyAny>| -> PyResult<Vector3<f64>> {
-            let a = vector(name, o, Some(3))?;
-            finite(name, &a)?;
-            Ok(Vector3::new(a[0], a[1], a[2]))
-        };
-        let q = vector("world_from_body_wxyz", world_from_body_wxyz, Some(4))?;
-        finite("world_from_body_wxyz", &q)?;
-        let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if (norm - 1.0).abs() > 1e-6 {
-            return Err(PyValueError::new_err(format!(
-                "`world_from_body_wxyz` must be a unit quaternion (w, x, y, z), got norm {norm}; allowed: |q| within 1e-6 of 1"
-            )));
-        }
-        let state = flapsim::State {
-            position_m: v3("position_m", position_m)?,
-            world_from_body: UnitQuaternion::new_normalize(Quaternion::new(q[0], q[1], q[2], q[3])),
-            velocity_m_s: v3("velocity_m_s", velocity_m_s)?,
-            angular_velocity_body_rad_s: v3(
-                "angular_velocity_body_rad_s",
-                angular_velocity_body_rad_s,
-            )?,
-        };
-        let out = self
-            .set
-            .step(&state)
-            .map_err(|e| match e.is_load_overflow() {
-                // The caller's state or wind, not a run of ours: a bad argument.
-                true => PyValueError::new_err(format!("wing set: {}", e.reason())),
-                false => sim_err(e),
-            })?;
+        let v3 = |name: &str, o: &Bound<'py, PyAny>| vector(name, o, Some(3));
+        let state = body_state([
+            &v3("position_m", position_m)?,
+            &vector("world_from_body_wxyz", world_from_body_wxyz, Some(4))?,
+            &v3("velocity_m_s", velocity_m_s)?,
+            &v3("angular_velocity_body_rad_s", angular_velocity_body_rad_s)?,
+        ])?;
+        let out = self.set.step(&state).map_err(step_err)?;
         let d = load_dict(py, &out.total)?;
         let terms = PyDict::new(py);
         for term in wingforce::Term::ALL {
@@ -192,5 +170,79 @@ impl WingSet {
         d.set_item("t_s", out.t_s)?;
         d.set_item("phase", out.phase)?;
         Ok(d)
+    }
+
+    /// The lean step for a host's inner loop: the body's state as one float64 array of 13
+    /// (position_m 3, world_from_body_wxyz 4, velocity_m_s 3, angular_velocity_body_rad_s 3)
+    /// and the wrench written into `out`, a float64 array of 6 (force_body_n 3 then
+    /// moment_body_nm 3, the same total `step` returns), with nothing else built. Checks as
+    /// `step`: each value finite, the quaternion a unit one within 1e-6, and a load overflow
+    /// a ValueError with the step not taken.
+    #[pyo3(signature = (state, out))]
+    fn step_wrench(
+        &mut self,
+        state: numpy::PyReadonlyArray1<'_, f64>,
+        mut out: numpy::PyReadwriteArray1<'_, f64>,
+    ) -> PyResult<()> {
+        let x = state.as_slice().map_err(|_| {
+            PyValueError::new_err("`state` must be a contiguous float64 array of 13")
+        })?;
+        if x.len() != 13 {
+            return Err(PyValueError::new_err(format!(
+                "`state` has {} values; allowed 13: position_m (3), world_from_body_wxyz (4), velocity_m_s (3), angular_velocity_body_rad_s (3)",
+                x.len()
+            )));
+        }
+        let o = out.as_slice_mut().map_err(|_| {
+            PyValueError::new_err("`out` must be a contiguous, writable float64 array of 6")
+        })?;
+        if o.len() != 6 {
+            return Err(PyValueError::new_err(format!(
+                "`out` has {} values; allowed 6: force_body_n (3) then moment_body_nm (3)",
+                o.len()
+            )));
+        }
+        let state = body_state([&x[0..3], &x[3..7], &x[7..10], &x[10..13]])?;
+        let total = self.set.step(&state).map_err(step_err)?.total;
+        o[..3].copy_from_slice(total.force_n.as_slice());
+        o[3..].copy_from_slice(total.moment_nm.as_slice());
+        Ok(())
+    }
+}
+
+/// The argument names of a body state's parts, in order.
+const STATE_PARTS: [&str; 4] = [
+    "position_m",
+    "world_from_body_wxyz",
+    "velocity_m_s",
+    "angular_velocity_body_rad_s",
+];
+
+/// A body state from its parts (position, quaternion w x y z, velocity, body rates): each
+/// finite, the quaternion a unit one within 1e-6, or a ValueError naming the part.
+fn body_state(parts: [&[f64]; 4]) -> PyResult<flapsim::State> {
+    for (name, p) in STATE_PARTS.iter().zip(parts) {
+        finite(name, p)?;
+    }
+    let [p, q, v, w] = parts;
+    let norm = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if (norm - 1.0).abs() > 1e-6 {
+        return Err(PyValueError::new_err(format!(
+            "`world_from_body_wxyz` must be a unit quaternion (w, x, y, z), got norm {norm}; allowed: |q| within 1e-6 of 1"
+        )));
+    }
+    Ok(flapsim::State {
+        position_m: Vector3::from_column_slice(p),
+        world_from_body: UnitQuaternion::new_normalize(Quaternion::new(q[0], q[1], q[2], q[3])),
+        velocity_m_s: Vector3::from_column_slice(v),
+        angular_velocity_body_rad_s: Vector3::from_column_slice(w),
+    })
+}
+
+/// A wing-set step's error: a load overflow is the caller's state or wind, a bad argument.
+fn step_err(e: flapsim::Error) -> PyErr {
+    match e.is_load_overflow() {
+        true => PyValueError::new_err(format!("wing set: {}", e.reason())),
+        false => sim_err(e),
     }
 }

@@ -288,6 +288,10 @@ class WingSet:
         drag from the model's drag area, also on its own as body_drag), terms,
         wing_inertia, wing_forces_body_n (n_wings x 3), t_s, phase. A body state or wind
         whose loads overflow raises ValueError."""
+    def step_wrench(self, state: FloatArray, out: FloatArray) -> None:
+        """The lean step: `state` a float64 array of 13 (position_m, world_from_body_wxyz,
+        velocity_m_s, angular_velocity_body_rad_s), the wrench written into `out`, a float64
+        array of 6 (force_body_n then moment_body_nm, the total `step` returns)."""
 
 
 class HoverTask:
