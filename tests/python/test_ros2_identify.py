@@ -196,6 +196,20 @@ def assert_truth_inside(report):
         assert lo <= TRUE[p["name"]] <= hi, (p["name"], TRUE[p["name"]], p["ci95"])
 
 
+def test_replay_summarises_each_bag(run_flapwing, flight):
+    types = {"pose_enu": "geometry_msgs/msg/PoseStamped", "odom_ned": "nav_msgs/msg/Odometry",
+             "tf_wxyz": "tf2_msgs/msg/TFMessage"}
+    for kind, bag in flight.bags.items():
+        summary = json.loads(run_flapwing("replay", bag, "--json").stdout)
+        topics = {t["topic"]: t for t in summary["topics"]}
+        assert topics["/mocap/fly"]["message_type"] == types[kind]
+        assert topics["/mocap/fly"]["message_count"] == len(flight.mocap)
+        assert topics["/drive"]["message_type"] == "std_msgs/msg/Float64MultiArray"
+        assert topics["/drive"]["message_count"] == len(flight.controls)
+        assert all(t["problem"] is None for t in topics.values())
+        assert ("/imu" in topics) == (kind == "odom_ned")
+
+
 def test_a_bag_is_identified_as_its_flapwing_log(run_flapwing, flight):
     from_log, _ = fit(run_flapwing, flight.log, "--model", flight.nominal)
     assert_truth_inside(from_log)

@@ -28,7 +28,8 @@ pub struct BagRoleArgs {
         help_heading = "ROS 2 bags"
     )]
     pub child_frame: Option<String>,
-    /// The bag's IMU topic (sensor_msgs/msg/Imu), used with --imu.
+    /// The bag's IMU topic (sensor_msgs/msg/Imu): its mean specific force checks the
+    /// world frame; `identify --imu` fits to its samples, a resimulation compares its rates.
     #[arg(long = "imu-topic", value_name = "TOPIC", help_heading = "ROS 2 bags")]
     pub imu_topic: Option<String>,
     /// The bag's controls topic (a Float64MultiArray holds the vehicle's four control
