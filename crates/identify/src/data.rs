@@ -476,14 +476,7 @@ impl FlightData {
     /// `model_toml` (from `model_origin`).
     pub fn from_csv(path: impl AsRef<Path>, model_toml: &str, model_origin: &str) -> Result<Self> {
         let path = path.as_ref();
-        let vehicle = Vehicle::from_toml(model_toml, model_origin)
-            .map_err(|e| Error::Model(format!("`{model_origin}` does not load: {e}")))?;
-        check_supported(&vehicle, path)?;
-        if vehicle.wind.is_some() {
-            return Err(Error::Model(format!(
-                "`{model_origin}` has a [wind] field; a CSV flight is replayed in still air: remove it"
-            )));
-        }
+        let vehicle = recorded_vehicle(path, model_toml, model_origin, "a CSV flight")?;
         let (freq_hz, _) = timing(&vehicle);
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             what: "read",
@@ -526,6 +519,26 @@ impl FlightData {
             _ => 0.0,
         }
     }
+}
+
+/// The vehicle `model_toml` (from `model_origin`) that flew `what` at `path`, a recording
+/// with no wind field of its own: it must load, be one the fit can replay, and have no
+/// `[wind]` (a recorded flight is replayed in still air).
+pub(crate) fn recorded_vehicle(
+    path: &Path,
+    model_toml: &str,
+    model_origin: &str,
+    what: &str,
+) -> Result<Vehicle> {
+    let vehicle = Vehicle::from_toml(model_toml, model_origin)
+        .map_err(|e| Error::Model(format!("`{model_origin}` does not load: {e}")))?;
+    check_supported(&vehicle, path)?;
+    if vehicle.wind.is_some() {
+        return Err(Error::Model(format!(
+            "`{model_origin}` has a [wind] field; {what} is replayed in still air: remove it"
+        )));
+    }
+    Ok(vehicle)
 }
 
 /// Vehicles the fit can replay: prescribed kinematics (an actuated vehicle's wings carry a

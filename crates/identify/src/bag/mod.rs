@@ -17,11 +17,11 @@
 
 use std::path::Path;
 
-use flapsim::{Controls, Vehicle};
+use flapsim::Controls;
 use flightlog::ros2::bag::read_bag;
 
 use crate::conventions::Conventions;
-use crate::data::{FlightData, StartSource, check_supported, mocap_starts, timing};
+use crate::data::{FlightData, StartSource, mocap_starts, recorded_vehicle, timing};
 use crate::error::{Error, Result};
 use crate::frames::{ImuFrame, MocapFrame};
 
@@ -47,14 +47,7 @@ impl FlightData {
         roles: &BagRoles,
     ) -> Result<Self> {
         let path = path.as_ref();
-        let vehicle = Vehicle::from_toml(model_toml, model_origin)
-            .map_err(|e| Error::Model(format!("`{model_origin}` does not load: {e}")))?;
-        check_supported(&vehicle, path)?;
-        if vehicle.wind.is_some() {
-            return Err(Error::Model(format!(
-                "`{model_origin}` has a [wind] field; a recorded flight is replayed in still air: remove it"
-            )));
-        }
+        let vehicle = recorded_vehicle(path, model_toml, model_origin, "a bag's flight")?;
         let bag = read_bag(path).map_err(|e| Error::Log {
             path: path.to_owned(),
             detail: e.to_string(),

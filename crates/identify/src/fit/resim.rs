@@ -118,9 +118,13 @@ impl Rms {
         self.pos += r.position_error_m.powi(2);
         self.att += r.attitude_error_deg.powi(2);
         if let Some(e) = r.rate_error_rad_s {
-            self.rate_n += 1;
-            self.rate += e * e;
+            self.add_rate(e);
         }
+    }
+
+    fn add_rate(&mut self, e: f64) {
+        self.rate_n += 1;
+        self.rate += e * e;
     }
 
     fn summary(&self, index: usize, start_s: f64, end_s: f64, diverged: bool) -> SegmentSummary {
@@ -249,10 +253,8 @@ pub fn resimulate(
                 }
                 let s = at((step - seg.step0) as usize);
                 let e = (s.angular_velocity_body_rad_s - f.gyro_rad_s).norm();
-                rms.rate_n += 1;
-                rms.rate += e * e;
-                all.rate_n += 1;
-                all.rate += e * e;
+                rms.add_rate(e);
+                all.add_rate(e);
             }
         }
         segments.push(rms.summary(k, seg.step0 as f64 * dt_s, end as f64 * dt_s, diverged));
