@@ -33,6 +33,17 @@ impl From<&nalgebra::Vector3<f64>> for Vector3 {
     }
 }
 
+impl From<&nalgebra::UnitQuaternion<f64>> for Quaternion {
+    fn from(q: &nalgebra::UnitQuaternion<f64>) -> Self {
+        Self {
+            x: q.i,
+            y: q.j,
+            z: q.k,
+            w: q.w,
+        }
+    }
+}
+
 #[derive(Clone, Copy, PartialEq, prost::Message)]
 pub struct Quaternion {
     #[prost(double, tag = "1")]

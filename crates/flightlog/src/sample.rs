@@ -14,7 +14,6 @@ use wingforce::wing::WingFrame;
 
 use crate::proto;
 use crate::schema::{FRAME_BODY, FRAME_WORLD, WingLayout};
-use crate::sensor_msg::quaternion;
 
 /// Simulation time in integer nanoseconds (0 for negative or non-finite times).
 pub(crate) fn time_ns(t_s: f64) -> u64 {
@@ -241,7 +240,7 @@ impl SampleBuilder {
             phase: out.phase,
             position_m: Some((&st.position_m).into()),
             velocity_m_s: Some((&st.velocity_m_s).into()),
-            attitude: Some(quaternion(&st.world_from_body)),
+            attitude: Some((&st.world_from_body).into()),
             euler_deg: Some(proto::Euler {
                 roll: roll.to_degrees(),
                 pitch: pitch.to_degrees(),
@@ -259,7 +258,7 @@ impl SampleBuilder {
                     velocity_m_s: Some((&m.velocity_m_s).into()),
                     rates_rad_s: Some((&m.rates_rad_s).into()),
                     mid_rates_rad_s: Some((&m.mid_rates_rad_s).into()),
-                    world_from_body: Some(quaternion(&m.world_from_body)),
+                    world_from_body: Some((&m.world_from_body).into()),
                 }),
         };
 

@@ -14,12 +14,7 @@ pub(crate) enum SensorMessage {
 }
 
 pub(crate) fn quaternion(q: &UnitQuaternion<f64>) -> proto::Quaternion {
-    proto::Quaternion {
-        x: q.i,
-        y: q.j,
-        z: q.k,
-        w: q.w,
-    }
+    q.into()
 }
 
 /// Roll, pitch (nose up positive) and yaw in degrees, as `/vehicle/state` gives them
