@@ -102,6 +102,10 @@ pub struct FlightData {
     /// its vehicle the same way (`flapsim::trim::trimmed_vehicle`) before setting the logged
     /// controls, so that it retraces the run bit for bit.
     pub trim: Option<flapsim::trim::Trim>,
+    /// An actuated vehicle's wings started the run at rest at step 0 (a log of any run but
+    /// a hover: `simulate`, Python); a hover, a CSV and a bag start them on their periodic
+    /// motion (a flight recorded in the middle of a hover).
+    pub wings_at_rest_at_start: bool,
 }
 
 fn log_err(path: &Path, detail: impl Into<String>) -> Error {
@@ -275,7 +279,6 @@ impl FlightData {
                 format!("the model embedded in the log does not load: {e}"),
             )
         })?;
-        check_supported(&vehicle, path)?;
         let (freq_hz, per) = timing(&vehicle);
         // The hover settings: trim (the angle-of-attack offset the controls message lacks)
         // and the disturbance's gust.
@@ -453,8 +456,10 @@ impl FlightData {
                 .get("open_loop")
                 .and_then(serde_json::Value::as_bool)
                 != Some(true);
+        let wings_at_rest_at_start = md.get("command").map(String::as_str) != Some("hover");
         Ok(Self {
             controls_each_wingbeat,
+            wings_at_rest_at_start,
             damage: summary.damage.clone(),
             source: path.to_owned(),
             format: "mcap",
@@ -476,7 +481,7 @@ impl FlightData {
     /// `model_toml` (from `model_origin`).
     pub fn from_csv(path: impl AsRef<Path>, model_toml: &str, model_origin: &str) -> Result<Self> {
         let path = path.as_ref();
-        let vehicle = recorded_vehicle(path, model_toml, model_origin, "a CSV flight")?;
+        let vehicle = recorded_vehicle(model_toml, model_origin, "a CSV flight")?;
         let (freq_hz, _) = timing(&vehicle);
         let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
             what: "read",
@@ -509,6 +514,7 @@ impl FlightData {
             wind: None,
             logged_states: Vec::new(),
             trim: None,
+            wings_at_rest_at_start: false,
         })
     }
 
@@ -521,39 +527,22 @@ impl FlightData {
     }
 }
 
-/// The vehicle `model_toml` (from `model_origin`) that flew `what` at `path`, a recording
-/// with no wind field of its own: it must load, be one the fit can replay, and have no
+/// The vehicle `model_toml` (from `model_origin`) that flew `what`, a recording
+/// with no wind field of its own: it must load and have no
 /// `[wind]` (a recorded flight is replayed in still air).
 pub(crate) fn recorded_vehicle(
-    path: &Path,
     model_toml: &str,
     model_origin: &str,
     what: &str,
 ) -> Result<Vehicle> {
     let vehicle = Vehicle::from_toml(model_toml, model_origin)
         .map_err(|e| Error::Model(format!("`{model_origin}` does not load: {e}")))?;
-    check_supported(&vehicle, path)?;
     if vehicle.wind.is_some() {
         return Err(Error::Model(format!(
             "`{model_origin}` has a [wind] field; {what} is replayed in still air: remove it"
         )));
     }
     Ok(vehicle)
-}
-
-/// Vehicles the fit can replay: prescribed kinematics (an actuated vehicle's wings carry a
-/// hinge and actuator state that a segment restart would need as well).
-pub(crate) fn check_supported(vehicle: &Vehicle, path: &Path) -> Result<()> {
-    if vehicle.actuation.is_some() {
-        return Err(log_err(
-            path,
-            format!(
-                "the vehicle `{}` is actuated; identification replays vehicles with prescribed wing kinematics only (an actuated wing's hinge and actuator state at each segment start is not logged)",
-                vehicle.name
-            ),
-        ));
-    }
-    Ok(())
 }
 
 /// Frames used on each side of a wingbeat start by [`estimate_state`].

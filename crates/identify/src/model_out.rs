@@ -10,13 +10,22 @@ use crate::error::{Error, Result};
 use crate::fit::FitReport;
 use crate::params::Param;
 
+/// The table at the dotted path `name` (e.g. `actuation.hinge`), made where missing.
 fn table<'d>(doc: &'d mut DocumentMut, name: &str) -> Result<&'d mut Table> {
-    if doc.get(name).is_none() {
-        doc.insert(name, Item::Table(Table::new()));
+    let not_table = || Error::Model(format!("`{name}` in the model file is not a table"));
+    let mut t = doc.as_table_mut();
+    for part in name.split('.') {
+        if t.get(part).is_none() {
+            let mut sub = Table::new();
+            sub.set_implicit(true);
+            t.insert(part, Item::Table(sub));
+        }
+        t = t
+            .get_mut(part)
+            .and_then(Item::as_table_mut)
+            .ok_or_else(not_table)?;
     }
-    doc.get_mut(name)
-        .and_then(Item::as_table_mut)
-        .ok_or_else(|| Error::Model(format!("`{name}` in the model file is not a table")))
+    Ok(t)
 }
 
 fn set_comment(t: &mut Table, key: &str, comment: &str) {
@@ -114,24 +123,31 @@ pub fn fitted_model_toml(model_toml: &str, report: &FitReport, command: &str) ->
                     &note(&format!("body.inertia_diag_kg_m2[{i}]"), String::new()),
                 );
             }
-            Param::Mass => {
-                let t = table(&mut doc, "body")?;
-                set_number(t, "mass_kg", None, p.fitted)?;
-                set_comment(t, "mass_kg", &note("body.mass_kg", String::new()));
-            }
-            Param::AirDensity => {
-                let t = table(&mut doc, "fluid")?;
-                set_number(t, "density_kg_m3", None, p.fitted)?;
-                set_comment(
-                    t,
-                    "density_kg_m3",
-                    &note("fluid.density_kg_m3", String::new()),
-                );
-            }
-            Param::RotationalCoefficient => {
-                let t = table(&mut doc, "aero")?;
-                set_number(t, "c_rot", None, p.fitted)?;
-                set_comment(t, "c_rot", &note("aero.c_rot", String::new()));
+            Param::Mass
+            | Param::AirDensity
+            | Param::RotationalCoefficient
+            | Param::HingeStiffness
+            | Param::HingeDamping
+            | Param::StrokeStiffness
+            | Param::ForcePerVolt
+            | Param::TorqueConstant
+            | Param::WingStrokeInertia
+            | Param::StopRestitution => {
+                let field = param.model_field().unwrap_or_default();
+                let (path, key) = field.rsplit_once('.').unwrap_or(("", field));
+                let mut extra = String::new();
+                if param == Param::TorqueConstant
+                    && let Some(m) = spec.actuation.as_ref().and_then(|a| a.dc_motor)
+                {
+                    let ke = m.back_emf_v_s_rad / m.torque_constant_nm_a * p.fitted;
+                    set_number(table(&mut doc, path)?, "back_emf_v_s_rad", None, ke)?;
+                    extra = format!(
+                        "# (back_emf_v_s_rad scaled with it to {ke:.6e} V s/rad: equal in SI for an ideal DC motor)\n"
+                    );
+                }
+                let t = table(&mut doc, path)?;
+                set_number(t, key, None, p.fitted)?;
+                set_comment(t, key, &note(field, extra));
             }
             Param::StrokePlaneTilt => {
                 let t = table(&mut doc, "hinge")?;

@@ -10,13 +10,22 @@
 //! | `air_density_kg_m3` | a scale of every aerodynamic term at once (and of the Reynolds number) | `fluid.density_kg_m3` |
 //! | `rotational_coefficient` | C_rot, the scale of the rotational-circulation term | `aero.c_rot` |
 //! | `stroke_plane_tilt_rad` | stroke-plane tilt relative to the body (written in degrees) | `hinge.stroke_plane_tilt_deg` |
+//! | `hinge_stiffness_nm_rad` | an actuated wing's pitch-hinge stiffness | `actuation.hinge.stiffness_nm_rad` |
+//! | `hinge_damping_nm_s_rad` | an actuated wing's pitch-hinge damping | `actuation.hinge.damping_nm_s_rad` |
+//! | `stroke_stiffness_nm_rad` | the stroke's torsional spring (the hummingbird's flexure) | `actuation.stroke.flexure_nm_rad` |
+//! | `force_per_volt_n_v` | a piezo actuator's blocked force per volt | `actuation.piezo.force_per_volt_n_v` |
+//! | `torque_constant_nm_a` | a DC motor's torque constant; its back-EMF constant scales with it (equal in SI for an ideal motor) | `actuation.dc_motor.torque_constant_nm_a`, `back_emf_v_s_rad` |
+//! | `wing_stroke_inertia_kg_m2` | an actuated wing's inertia about the stroke axis | `actuation.wing_inertia.stroke_inertia_kg_m2` |
+//! | `stop_restitution` | the pitch stops' coefficient of restitution | `actuation.hinge.stop.restitution` |
 //! | `mocap_bias_x_m`, `mocap_bias_y_m`, `mocap_bias_z_m` | a constant offset of the motion capture's positions, world | (measurement) |
 //! | `gyro_bias_x_rad_s`, `gyro_bias_y_rad_s`, `gyro_bias_z_rad_s` | the gyroscope's constant bias, body | (measurement) |
 //! | `accel_bias_x_m_s2`, `accel_bias_y_m_s2`, `accel_bias_z_m_s2` | the accelerometer's constant bias, body | (measurement) |
 //!
 //! The fit works on each parameter divided by its scale ([`Param::scale`]): the nominal
 //! value's magnitude, or for a parameter whose nominal value is 0 a typical size (1 % of the
-//! body length for a CoM offset, the sensor's noise for a bias).
+//! body length for a CoM offset, the sensor's noise for a bias, 0.1 for a restitution, an
+//! estimate of its size). An actuated wing's parameter needs a model with that part
+//! ([`Param::check_model`]).
 
 use flapsim::VehicleSpec;
 use serde::Serialize;
@@ -45,6 +54,20 @@ pub enum Param {
     RotationalCoefficient,
     /// Stroke-plane tilt, rad.
     StrokePlaneTilt,
+    /// Pitch-hinge stiffness of an actuated wing, N m/rad.
+    HingeStiffness,
+    /// Pitch-hinge damping of an actuated wing, N m s/rad.
+    HingeDamping,
+    /// Stroke spring of an actuated wing, N m/rad.
+    StrokeStiffness,
+    /// Piezo force per volt, N/V.
+    ForcePerVolt,
+    /// DC motor torque constant, N m/A (the back-EMF constant scales with it).
+    TorqueConstant,
+    /// Wing inertia about the stroke axis, kg m^2.
+    WingStrokeInertia,
+    /// Pitch stops' coefficient of restitution.
+    StopRestitution,
     /// Motion-capture position bias, world axis k, m.
     MocapBias(usize),
     /// Gyroscope bias, body axis k, rad/s.
@@ -74,6 +97,13 @@ impl Param {
             Param::AirDensity,
             Param::RotationalCoefficient,
             Param::StrokePlaneTilt,
+            Param::HingeStiffness,
+            Param::HingeDamping,
+            Param::StrokeStiffness,
+            Param::ForcePerVolt,
+            Param::TorqueConstant,
+            Param::WingStrokeInertia,
+            Param::StopRestitution,
         ];
         v.extend((0..3).map(Param::MocapBias));
         v.extend((0..3).map(Param::GyroBias));
@@ -93,6 +123,13 @@ impl Param {
             Param::AirDensity => "air_density_kg_m3".into(),
             Param::RotationalCoefficient => "rotational_coefficient".into(),
             Param::StrokePlaneTilt => "stroke_plane_tilt_rad".into(),
+            Param::HingeStiffness => "hinge_stiffness_nm_rad".into(),
+            Param::HingeDamping => "hinge_damping_nm_s_rad".into(),
+            Param::StrokeStiffness => "stroke_stiffness_nm_rad".into(),
+            Param::ForcePerVolt => "force_per_volt_n_v".into(),
+            Param::TorqueConstant => "torque_constant_nm_a".into(),
+            Param::WingStrokeInertia => "wing_stroke_inertia_kg_m2".into(),
+            Param::StopRestitution => "stop_restitution".into(),
             Param::MocapBias(k) => format!("mocap_bias_{}_m", AXES[k]),
             Param::GyroBias(k) => format!("gyro_bias_{}_rad_s", AXES[k]),
             Param::AccelBias(k) => format!("accel_bias_{}_m_s2", AXES[k]),
@@ -158,6 +195,13 @@ impl Param {
             Param::AirDensity => spec.fluid.density_kg_m3,
             Param::RotationalCoefficient => spec.aero.c_rot,
             Param::StrokePlaneTilt => spec.hinge.stroke_plane_tilt_deg.to_radians(),
+            Param::HingeStiffness
+            | Param::HingeDamping
+            | Param::StrokeStiffness
+            | Param::ForcePerVolt
+            | Param::TorqueConstant
+            | Param::WingStrokeInertia
+            | Param::StopRestitution => self.actuation_value(spec).unwrap_or(0.0),
             Param::ComOffsetX
             | Param::ComOffsetZ
             | Param::MocapBias(_)
@@ -188,6 +232,7 @@ impl Param {
                 .map(|s| s.imu.accel_bias_mg * 1e-3 * 9.80665)
                 .filter(|x| *x > 0.0)
                 .unwrap_or(0.1),
+            Param::StopRestitution => 0.1,
             // A zero nominal value of a positive quantity: the build rejects it anyway.
             _ => 1.0,
         }
@@ -204,6 +249,32 @@ impl Param {
             Param::AirDensity => spec.fluid.density_kg_m3 = value,
             Param::RotationalCoefficient => spec.aero.c_rot = value,
             Param::StrokePlaneTilt => spec.hinge.stroke_plane_tilt_deg = value.to_degrees(),
+            Param::TorqueConstant => {
+                if let Some(m) = spec.actuation.as_mut().and_then(|a| a.dc_motor.as_mut()) {
+                    let base_kt = base
+                        .actuation
+                        .as_ref()
+                        .and_then(|a| a.dc_motor)
+                        .map_or(value, |b| b.torque_constant_nm_a);
+                    let ke_per_kt = base
+                        .actuation
+                        .as_ref()
+                        .and_then(|a| a.dc_motor)
+                        .map_or(1.0, |b| b.back_emf_v_s_rad / base_kt);
+                    m.torque_constant_nm_a = value;
+                    m.back_emf_v_s_rad = ke_per_kt * value;
+                }
+            }
+            Param::HingeStiffness
+            | Param::HingeDamping
+            | Param::StrokeStiffness
+            | Param::ForcePerVolt
+            | Param::WingStrokeInertia
+            | Param::StopRestitution => {
+                if let Some(x) = self.actuation_field(spec) {
+                    *x = value;
+                }
+            }
             // The hinge moves by minus the CoM offset relative to the CoM.
             Param::ComOffsetX => {
                 spec.hinge.left_in_body_m[0] = base.hinge.left_in_body_m[0] - value;
@@ -224,7 +295,56 @@ impl Param {
             Param::RotationalCoefficient => "aero.c_rot",
             Param::StrokePlaneTilt => "hinge.stroke_plane_tilt_deg",
             Param::ComOffsetX | Param::ComOffsetZ => "hinge.left_in_body_m",
+            Param::HingeStiffness => "actuation.hinge.stiffness_nm_rad",
+            Param::HingeDamping => "actuation.hinge.damping_nm_s_rad",
+            Param::StrokeStiffness => "actuation.stroke.flexure_nm_rad",
+            Param::ForcePerVolt => "actuation.piezo.force_per_volt_n_v",
+            Param::TorqueConstant => "actuation.dc_motor.torque_constant_nm_a",
+            Param::WingStrokeInertia => "actuation.wing_inertia.stroke_inertia_kg_m2",
+            Param::StopRestitution => "actuation.hinge.stop.restitution",
             _ => return None,
         })
+    }
+
+    /// An actuated wing's parameter in `spec`: the field, `None` when the model lacks the
+    /// part (no `[actuation]`, another actuator, no stops) or for another parameter.
+    fn actuation_field(self, spec: &mut VehicleSpec) -> Option<&mut f64> {
+        let a = spec.actuation.as_mut()?;
+        Some(match self {
+            Param::HingeStiffness => &mut a.hinge.stiffness_nm_rad,
+            Param::HingeDamping => &mut a.hinge.damping_nm_s_rad,
+            Param::StrokeStiffness => &mut a.stroke.flexure_nm_rad,
+            Param::ForcePerVolt => &mut a.piezo.as_mut()?.force_per_volt_n_v,
+            Param::TorqueConstant => &mut a.dc_motor.as_mut()?.torque_constant_nm_a,
+            Param::WingStrokeInertia => &mut a.wing_inertia.stroke_inertia_kg_m2,
+            Param::StopRestitution => &mut a.hinge.stop.as_mut()?.restitution,
+            _ => return None,
+        })
+    }
+
+    /// [`Param::actuation_field`]'s value.
+    fn actuation_value(self, spec: &VehicleSpec) -> Option<f64> {
+        self.actuation_field(&mut spec.clone()).map(|x| *x)
+    }
+
+    /// Whether the model `spec` (from `origin`) has what the parameter changes: an actuated
+    /// wing's parameter needs its part of `[actuation]`.
+    pub fn check_model(self, spec: &VehicleSpec, origin: &str) -> Result<()> {
+        if self.actuation_value(spec).is_some() || self.model_field().is_none() {
+            return Ok(());
+        }
+        let Some(field) = self.model_field().filter(|f| f.starts_with("actuation.")) else {
+            return Ok(());
+        };
+        let part = field.rsplit_once('.').map_or(field, |(t, _)| t);
+        Err(Error::Setting(format!(
+            "parameter `{}` changes `{field}`, but `{origin}` has no [{part}] table{}",
+            self.name(),
+            if spec.actuation.is_none() {
+                " (its wings have prescribed kinematics)"
+            } else {
+                ""
+            }
+        )))
     }
 }

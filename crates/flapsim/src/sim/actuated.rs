@@ -1,6 +1,18 @@
 //! An actuated vehicle in the [`Simulation`]: the wing states the analyses set and read.
 
 use super::Simulation;
+use wingforce::Wing;
+use wingset::actuated::dynamics::DynamicWing;
+
+/// An actuated vehicle's wings at one step: the hinge and actuator states, the drive, the
+/// drive period's bookkeeping and the stroke reference (the wake-capture inputs).
+#[derive(Debug, Clone)]
+pub struct ActuatedWings {
+    /// The wings' dynamics.
+    pub dynamic: Vec<DynamicWing>,
+    /// The wings, with their stroke reference.
+    pub wings: Vec<Wing>,
+}
 
 impl Simulation {
     /// Continues an actuated vehicle's wings from a periodic motion found at a frozen body
@@ -9,6 +21,23 @@ impl Simulation {
     /// before the first step. Does nothing for prescribed kinematics.
     pub fn start_wings_from(&mut self, p: &crate::actuated::PeriodicWings) {
         self.wings.start_dynamic_from(&p.dynamic, &p.wings);
+    }
+
+    /// An actuated vehicle's wings now (their dynamics, and the wings with the stroke
+    /// reference measured on the way): what a simulation restarted here continues from
+    /// ([`Simulation::continue_wings`]); `None` for prescribed kinematics.
+    pub fn wings_now(&self) -> Option<ActuatedWings> {
+        Some(ActuatedWings {
+            dynamic: self.wings.dynamic_wings()?.to_vec(),
+            wings: self.wings.wings().to_vec(),
+        })
+    }
+
+    /// Continues an actuated vehicle's wings from another simulation's
+    /// ([`Simulation::wings_now`]), at a step of the same drive phase; call it before the
+    /// first step. Does nothing for prescribed kinematics.
+    pub fn continue_wings(&mut self, w: &ActuatedWings) {
+        self.wings.start_dynamic_from(&w.dynamic, &w.wings);
     }
 
     /// The wings' dynamic states (left, right) of an actuated vehicle.

@@ -47,7 +47,7 @@ impl FlightData {
         roles: &BagRoles,
     ) -> Result<Self> {
         let path = path.as_ref();
-        let vehicle = recorded_vehicle(path, model_toml, model_origin, "a bag's flight")?;
+        let vehicle = recorded_vehicle(model_toml, model_origin, "a bag's flight")?;
         let bag = read_bag(path).map_err(|e| Error::Log {
             path: path.to_owned(),
             detail: e.to_string(),
@@ -167,6 +167,7 @@ impl FlightData {
             wind: None,
             logged_states: Vec::new(),
             trim: None,
+            wings_at_rest_at_start: false,
         })
     }
 }

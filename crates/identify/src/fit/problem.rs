@@ -48,7 +48,7 @@ impl Problem<'_, '_, '_> {
         let m = self.setup.m;
         let n_params = self.setup.params.len();
         let (setup, h) = (self.setup, self.h);
-        let (r0, _) = setup.residuals(x);
+        let (r0, _, wings) = setup.residuals_and_wings(x);
         let (params, states): (Vec<(usize, usize)>, Vec<(usize, usize)>) = which
             .iter()
             .copied()
@@ -93,8 +93,11 @@ impl Problem<'_, '_, '_> {
                     let mut xm = x.to_vec();
                     xp[i] += h;
                     xm[i] -= h;
-                    let (rp, _) = setup.segment_residuals(&trial, k, &setup.start_state(k, &xp));
-                    let (rm, _) = setup.segment_residuals(&trial, k, &setup.start_state(k, &xm));
+                    // An actuated vehicle's wings start as they did at `x` (a start-state
+                    // correction's effect on the next segment's wings is left out).
+                    let w = wings.get(k).and_then(Option::as_ref);
+                    let (rp, _) = setup.segment_residuals(&trial, k, &setup.start_state(k, &xp), w);
+                    let (rm, _) = setup.segment_residuals(&trial, k, &setup.start_state(k, &xm), w);
                     let col = rp
                         .iter()
                         .zip(&rm)

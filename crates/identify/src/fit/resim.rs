@@ -184,9 +184,14 @@ pub fn resimulate(
     let mut residuals = Vec::new();
     let mut segments = Vec::new();
     let mut all = Rms::default();
+    let mut carried = None;
     for (k, seg) in setup.segments.iter().enumerate() {
         let start = setup.start_state(k, &x);
-        let (states, diverged) = setup.fly(&trial, k, &start).unwrap_or((Vec::new(), true));
+        let wings = setup.wings_at_start(k, carried.take());
+        let (states, diverged, end) = setup
+            .fly(&trial, k, &start, wings.as_ref())
+            .unwrap_or((Vec::new(), true, None));
+        carried = end;
         let last = states.last().copied().unwrap_or(start);
         let at = |j: usize| states.get(j).copied().unwrap_or(last);
         let end = seg.step0 + seg.steps as u64;

@@ -58,6 +58,17 @@ pub(super) struct Weights {
 /// a rotation vector in body axes), velocity (3, world), body rates (3).
 pub(super) const STATE_UNKNOWNS: usize = 12;
 
+/// An actuated vehicle's wings where a segment ended: what the next segment continues
+/// from (see [`Setup::fly`]).
+#[derive(Debug, Clone)]
+pub(super) struct Carried {
+    pub(super) wings: flapsim::sim::ActuatedWings,
+    /// The controls in force (the drive the wings carry).
+    pub(super) in_force: Controls,
+    /// The global step they are at.
+    pub(super) step: u64,
+}
+
 /// Everything fixed during a fit.
 pub(super) struct Setup<'a> {
     pub(super) data: &'a FlightData,
@@ -159,14 +170,39 @@ impl Setup<'_> {
     /// Weighted residuals at scaled unknowns `x`, and the segments that diverged
     /// (`usize::MAX` when the parameters make the model invalid).
     pub(super) fn residuals(&self, x: &[f64]) -> (Vec<f64>, usize) {
-        let penalty = || (vec![PENALTY; self.m], usize::MAX);
+        let (r, diverged, _) = self.residuals_and_wings(x);
+        (r, diverged)
+    }
+
+    /// [`Setup::residuals`], and each segment's start wings of an actuated vehicle (what a
+    /// segment flown again alone continues from: see [`Setup::fly`]).
+    pub(super) fn residuals_and_wings(&self, x: &[f64]) -> (Vec<f64>, usize, Vec<Option<Carried>>) {
+        let penalty = || (vec![PENALTY; self.m], usize::MAX, Vec::new());
         let Some(trial) = self.trial(x) else {
             return penalty();
         };
-        let per_segment: Vec<(Vec<f64>, bool)> = (0..self.segments.len())
-            .into_par_iter()
-            .map(|k| self.segment_residuals(&trial, k, &self.start_state(k, x)))
-            .collect();
+        let (per_segment, wings): (Vec<(Vec<f64>, bool)>, Vec<Option<Carried>>) =
+            if trial.vehicle.actuation.is_some() {
+                // The wings' states chain from segment to segment: flown in order.
+                let mut carried: Option<Carried> = None;
+                let mut out = Vec::with_capacity(self.segments.len());
+                let mut starts = Vec::with_capacity(self.segments.len());
+                for k in 0..self.segments.len() {
+                    let at_start = self.wings_at_start(k, carried.take());
+                    let flown =
+                        self.segment_flown(&trial, k, &self.start_state(k, x), at_start.as_ref());
+                    starts.push(at_start);
+                    carried = flown.1;
+                    out.push(flown.0);
+                }
+                (out, starts)
+            } else {
+                let out = (0..self.segments.len())
+                    .into_par_iter()
+                    .map(|k| self.segment_flown(&trial, k, &self.start_state(k, x), None).0)
+                    .collect();
+                (out, Vec::new())
+            };
         let mut r = Vec::with_capacity(self.m);
         let mut diverged = 0;
         for (v, d) in per_segment {
@@ -181,13 +217,33 @@ impl Setup<'_> {
                 *x = PENALTY;
             }
         }
-        (r, diverged)
+        (r, diverged, wings)
+    }
+
+    /// The wings segment `k` continues from: those the previous segment ended with when it
+    /// ends where `k` starts (and did not diverge), else none (fresh wings, see
+    /// [`Setup::fly`]).
+    pub(super) fn wings_at_start(&self, k: usize, previous: Option<Carried>) -> Option<Carried> {
+        previous.filter(|c| c.step == self.segments[k].step0)
     }
 
     /// Segment `k` flown from `start` on a trial model: the state after each of its steps
-    /// (fewer when it diverged), and whether it diverged; `None` when the trial model cannot
-    /// start the segment.
-    pub(super) fn fly(&self, trial: &Trial, k: usize, start: &State) -> Option<(Vec<State>, bool)> {
+    /// (fewer when it diverged), whether it diverged, and an actuated vehicle's wings at its
+    /// end; `None` when the trial model cannot start the segment.
+    ///
+    /// An actuated vehicle's wings (hinge and actuator states) are not measured: the model
+    /// carries them. A segment continues the wings `wings` the previous one ended with; a
+    /// segment without (the first, or after a gap or a divergence) starts them on their
+    /// periodic motion settled at rest under its first controls, as a hover starts
+    /// (`flapsim::control::run_hover`), or at rest at step 0 of a run that started them there
+    /// (a `simulate` log). A segment's body restart leaves the wings as they were.
+    pub(super) fn fly(
+        &self,
+        trial: &Trial,
+        k: usize,
+        start: &State,
+        wings: Option<&Carried>,
+    ) -> Option<(Vec<State>, bool, Option<Carried>)> {
         let seg = &self.segments[k];
         let vehicle = &trial.vehicle;
         // The vehicle starts with the first wingbeat's controls in force, its clock at the
@@ -203,11 +259,26 @@ impl Setup<'_> {
                 v
             }
         };
+        let actuated = v.actuation.is_some();
+        let fresh_wings = match wings {
+            None if actuated && !(self.data.wings_at_rest_at_start && seg.step0 == 0) => Some(
+                flapsim::actuated::periodic::settle_at_rest(&v)
+                    .ok()
+                    .flatten()?,
+            ),
+            _ => None,
+        };
         let Ok(mut sim) = Simulation::try_new(v, Mode::Free) else {
             return None;
         };
         if sim.start_at_step(seg.step0).is_err() {
             return None;
+        }
+        if let Some(p) = &fresh_wings {
+            sim.start_wings_from(p);
+        }
+        if let Some(c) = wings {
+            sim.continue_wings(&c.wings);
         }
         sim.set_state(start);
         // A logged start with the wing set's memory continues as the run did, bit for bit
@@ -227,11 +298,15 @@ impl Setup<'_> {
         }
         let per = vehicle.sim.steps_per_wingbeat;
         let mut states: Vec<State> = Vec::with_capacity(seg.steps);
-        let mut in_force = self
-            .data
-            .trim
-            .as_ref()
-            .map_or(seg.controls[0], |t| t.controls);
+        // Continued wings carry the drive of the controls the previous segment ended with.
+        let mut in_force = match wings {
+            Some(c) => c.in_force,
+            None => self
+                .data
+                .trim
+                .as_ref()
+                .map_or(seg.controls[0], |t| t.controls),
+        };
         for j in 0..seg.steps {
             if j % per == 0 {
                 let c = seg.controls[j / per];
@@ -251,20 +326,38 @@ impl Setup<'_> {
             }
             match sim.step() {
                 Ok(out) => states.push(out.state),
-                Err(_) => return Some((states, true)),
+                Err(_) => return Some((states, true, None)),
             }
         }
-        Some((states, false))
+        let end = sim.wings_now().map(|wings| Carried {
+            wings,
+            in_force,
+            step: seg.step0 + seg.steps as u64,
+        });
+        Some((states, false, end))
     }
 
     /// Segment `k`'s weighted residuals (non-finite ones replaced by [`PENALTY`]) flown
-    /// from `start` on a trial model, and whether it diverged.
+    /// from `start` on a trial model, and whether it diverged; an actuated vehicle's wings
+    /// continue from `wings` (see [`Setup::fly`]).
     pub(super) fn segment_residuals(
         &self,
         trial: &Trial,
         k: usize,
         start: &State,
+        wings: Option<&Carried>,
     ) -> (Vec<f64>, bool) {
+        self.segment_flown(trial, k, start, wings).0
+    }
+
+    /// [`Setup::segment_residuals`], and an actuated vehicle's wings at the segment's end.
+    fn segment_flown(
+        &self,
+        trial: &Trial,
+        k: usize,
+        start: &State,
+        wings: Option<&Carried>,
+    ) -> ((Vec<f64>, bool), Option<Carried>) {
         let seg = &self.segments[k];
         let Trial {
             mocap_bias,
@@ -273,8 +366,8 @@ impl Setup<'_> {
             ..
         } = trial;
         let n_res = 6 * seg.mocap.len() + 6 * seg.imu.len();
-        let Some((states, diverged)) = self.fly(trial, k, start) else {
-            return (vec![PENALTY; n_res], true);
+        let Some((states, diverged, end)) = self.fly(trial, k, start, wings) else {
+            return ((vec![PENALTY; n_res], true), None);
         };
         let last = states.last().copied().unwrap_or(*start);
         let at = |j: usize| states.get(j).copied().unwrap_or(last);
@@ -303,7 +396,7 @@ impl Setup<'_> {
                 *x = PENALTY;
             }
         }
-        (r, diverged)
+        ((r, diverged), end)
     }
 }
 
@@ -324,6 +417,9 @@ pub(super) fn setup_for<'a>(
     let origin = &data.model_origin;
     let base = VehicleSpec::from_toml(&data.model_toml, origin)
         .map_err(|e| Error::Model(format!("`{origin}` does not load: {e}")))?;
+    for p in &opts.params {
+        p.check_model(&base, origin)?;
+    }
     let vehicle = base
         .build(origin)
         .map_err(|e| Error::Model(format!("`{origin}` does not load: {e}")))?;
@@ -391,8 +487,19 @@ pub(super) fn setup_for<'a>(
         if w0 < next_free {
             continue;
         }
+        // An actuated vehicle's wings chain from segment to segment (see `Setup::fly`): its
+        // segment runs on to the next wingbeat start with a known state.
+        let w_end = if vehicle.actuation.is_some() {
+            data.starts
+                .iter()
+                .map(|s| s.wingbeat)
+                .find(|&w| w >= w0 + k)
+                .unwrap_or(w0 + k)
+        } else {
+            w0 + k
+        };
         let mut ctl = Vec::new();
-        for w in w0..w0 + k {
+        for w in w0..w_end {
             let t_end = (w + 1) as f64 / freq_hz;
             match controls.get(&w) {
                 Some(c) if t_end <= end_t + 1e-12 => ctl.push(*c),
@@ -445,7 +552,7 @@ pub(super) fn setup_for<'a>(
             mocap: seg_mocap,
             imu: seg_imu,
         });
-        next_free = w0 + k;
+        next_free = w_end;
     }
     if segments.is_empty() {
         return Err(Error::Data(format!(

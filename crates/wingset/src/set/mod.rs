@@ -488,19 +488,15 @@ impl WingSet {
     /// kinematics are evaluated are then those of that longer run, bit for bit, and so are
     /// later control changes (they restart the wingbeat bookkeeping at the same phase): a
     /// segment of a logged run restarted from its logged state replays it exactly
-    /// (flapwing-identify). Errors: steps were already taken, or the wings are actuated
-    /// (their dynamic state would be needed too).
+    /// (flapwing-identify). Actuated wings keep their own clock and state: continue them
+    /// from that step's ([`WingSet::start_dynamic_from`]), or they start from rest there.
+    /// Errors: steps were already taken.
     pub fn start_at_step(&mut self, step: u64) -> Result<()> {
         if self.step != 0 {
             return Err(Error::Input(format!(
                 "wing set: start_at_step({step}) after {} steps were taken; call it before the first step",
                 self.step
             )));
-        }
-        if self.dynamic.is_some() {
-            return Err(Error::Input(
-                "wing set: start_at_step needs prescribed kinematics (actuated wings carry a dynamic state)".into(),
-            ));
         }
         if let Some(c) = self.pending.take() {
             self.apply_controls(&c)?;
