@@ -36,21 +36,31 @@ pub fn vehicle_body(vehicle: &Vehicle) -> RigidBodyBuilder {
         i[(1, 2)],
         i[(2, 2)],
     ]);
-    // parry's `with_inertia_matrix` diagonalizes the tensor; for some diagonal tensors (Ixx >
-    // Iyy, e.g. [4.3e-13, 8.1e-14, 3.53e-13]) its principal frame came out wrong: that body
-    // pitched exactly as one with [8.1e-14, 4.3e-13, 3.53e-13] (found by flapwing-identify's
-    // inertia fits). Its result is kept where it reproduces the tensor (so runs of models it
-    // got right stay bit for bit those of earlier versions and their logs); a diagonal
-    // tensor it gets wrong is given as its own principal frame instead.
+    // parry's `with_inertia_matrix` diagonalizes the tensor, and for some tensors its
+    // principal frame comes out wrong: a diagonal [4.3e-13, 8.1e-14, 3.53e-13] pitched
+    // exactly as [8.1e-14, 4.3e-13, 3.53e-13], and the hummingbird's tensor (with its Ixz)
+    // with any Iyy above its Ixx pitched as one whose Iyy is its Ixx (both found by
+    // flapwing-identify's inertia fits). Its result is kept where it reproduces the tensor
+    // (so runs of models it got right stay bit for bit those of earlier versions and their
+    // logs); a diagonal tensor it gets wrong is given as its own principal frame, any other
+    // as nalgebra's symmetric eigen-decomposition.
     let parry = MassProperties::with_inertia_matrix(Vector::ZERO, vehicle.mass_kg, inertia);
-    let props = if i[(0, 2)] == 0.0 && i[(2, 0)] == 0.0 && !reproduces(&parry, &inertia) {
+    let props = if reproduces(&parry, &inertia) {
+        parry
+    } else if i[(0, 2)] == 0.0 && i[(2, 0)] == 0.0 {
         MassProperties::new(
             Vector::ZERO,
             vehicle.mass_kg,
             Vector::new(i[(0, 0)], i[(1, 1)], i[(2, 2)]),
         )
     } else {
-        parry
+        let (moments, body_from_principal) = principal_axes(i);
+        MassProperties::with_principal_inertia_frame(
+            Vector::ZERO,
+            vehicle.mass_kg,
+            to_glam(&moments),
+            quat_to_glam(&body_from_principal),
+        )
     };
     let q = quat_to_glam(&vehicle.initial_attitude);
     RigidBodyBuilder::dynamic()
@@ -62,6 +72,21 @@ pub fn vehicle_body(vehicle: &Vehicle) -> RigidBodyBuilder {
         .angvel(to_glam(
             &(vehicle.initial_attitude * vehicle.initial_angular_velocity_rad_s),
         ))
+}
+
+/// The principal moments of the inertia tensor `i` (body axes) and the rotation from its
+/// principal axes to the body's (a proper rotation: a reflected eigenvector is flipped).
+fn principal_axes(i: &nalgebra::Matrix3<f64>) -> (Vector3<f64>, nalgebra::UnitQuaternion<f64>) {
+    let eig = nalgebra::SymmetricEigen::new(*i);
+    let mut axes = eig.eigenvectors;
+    if axes.determinant() < 0.0 {
+        axes.column_mut(2).neg_mut();
+    }
+    let rotation = nalgebra::Rotation3::from_matrix_unchecked(axes);
+    (
+        eig.eigenvalues,
+        nalgebra::UnitQuaternion::from_rotation_matrix(&rotation),
+    )
 }
 
 /// True when mass properties' principal moments in their principal frame give back the

@@ -231,3 +231,42 @@ fn bad_input_is_named() {
         .to_string();
     assert!(e.contains("allowed: a dynamic body"), "{e}");
 }
+
+/// Euler's equations from rest: a body at zero angular velocity under a torque tau gains
+/// I dw/dt = tau (the gyroscopic term w x I w is zero), so one step of dt gives
+/// w = dt I^-1 tau for any inertia tensor. Checked on the hummingbird's tensor (with its Ixz)
+/// at Iyy below and above its Ixx, where parry's diagonalization gave the body the pitch
+/// inertia of Ixx instead (found by flapwing-identify), and on a diagonal tensor with
+/// Ixx > Iyy, its other wrong case. It fails if `vehicle_body` gives rapier a principal frame
+/// that does not reproduce the tensor.
+#[test]
+fn a_torque_from_rest_turns_the_body_by_its_inverse_inertia() {
+    let base = Vehicle::from_toml(flapsim::HUMMINGBIRD_TOML, "hummingbird").unwrap();
+    let dt_s = 1e-4;
+    for (diag, ixz) in [
+        ([4238.1285e-9, 3970.1646e-9, 2440.9505e-9], -16.55e-9),
+        ([4238.1285e-9, 4764.19752e-9, 2440.9505e-9], -16.55e-9),
+        ([4.3e-13, 8.1e-14, 3.53e-13], 0.0),
+    ] {
+        let mut v = base.clone();
+        v.inertia_kg_m2 = nalgebra::Matrix3::new(
+            diag[0], 0.0, ixz, //
+            0.0, diag[1], 0.0, //
+            ixz, 0.0, diag[2],
+        );
+        v.initial_attitude = UnitQuaternion::identity();
+        v.initial_velocity_m_s = Vector3::zeros();
+        v.initial_angular_velocity_rad_s = Vector3::zeros();
+        let mut world = UserWorld::new(dt_s, 0.0, 4);
+        let h = world.bodies.insert(vehicle_body(&v));
+        let tau = Vector3::new(0.3, 1.0, -0.2) * diag[1];
+        world.bodies[h].add_torque(flapsim::frames::to_glam(&tau), true);
+        world.step();
+        let w = flapsim::frames::from_glam(world.bodies[h].angvel());
+        let expected = v.inertia_kg_m2.try_inverse().unwrap() * tau * dt_s;
+        assert!(
+            (w - expected).norm() <= 1e-9 * expected.norm(),
+            "inertia {diag:?}, Ixz {ixz:e}: w {w:?}, expected {expected:?}"
+        );
+    }
+}

@@ -188,9 +188,10 @@ pub fn resimulate(
     for (k, seg) in setup.segments.iter().enumerate() {
         let start = setup.start_state(k, &x);
         let wings = setup.wings_at_start(k, carried.take());
-        let (states, diverged, end) = setup
-            .fly(&trial, k, &start, wings.as_ref())
-            .unwrap_or((Vec::new(), true, None));
+        let (states, diverged, end) =
+            setup
+                .fly(&trial, k, &start, wings.as_ref())
+                .unwrap_or((Vec::new(), true, None));
         carried = end;
         let last = states.last().copied().unwrap_or(start);
         let at = |j: usize| states.get(j).copied().unwrap_or(last);

@@ -199,7 +199,10 @@ impl Setup<'_> {
             } else {
                 let out = (0..self.segments.len())
                     .into_par_iter()
-                    .map(|k| self.segment_flown(&trial, k, &self.start_state(k, x), None).0)
+                    .map(|k| {
+                        self.segment_flown(&trial, k, &self.start_state(k, x), None)
+                            .0
+                    })
                     .collect();
                 (out, Vec::new())
             };
