@@ -47,9 +47,11 @@ pub struct IdentifyArgs {
     /// The solver stops after this many times (n + 1) residual evaluations.
     #[arg(long, default_value_t = 30)]
     pub patience: usize,
-    /// Central-difference step of the Jacobian, fraction of each parameter's scale.
-    #[arg(long = "fd-step", default_value_t = 1e-3)]
-    pub fd_step: f64,
+    /// Central-difference step of the Jacobian, fraction of each parameter's scale
+    /// [default: 1e-3; 1e-2 for wings with hinge stops, whose strikes make the motion
+    /// jagged on a finer scale]
+    #[arg(long = "fd-step")]
+    pub fd_step: Option<f64>,
     /// Whether each segment's start state is fitted too (12 unknowns per segment: full
     /// multiple shooting). auto: fitted when the starts are estimated from the motion
     /// capture (a CSV flight), held when a log holds the state.

@@ -34,8 +34,8 @@
 //! trust region), chosen over argmin because argmin has no Levenberg-Marquardt (only
 //! Gauss-Newton) and this one is the reference algorithm for small dense problems like this.
 //! It works on the parameters divided by their scales ([`crate::params::Param::scale`]). The
-//! Jacobian is by central differences with a step of [`FitOptions::fd_step`] (default 1e-3)
-//! of each parameter's scale: 0.1 % of an inertia, 25 nm of a fruit fly's CoM offset; the
+//! Jacobian is by central differences with a step of [`FitOptions::fd_step`] (default 1e-3,
+//! 1e-2 for wings with hinge stops: [`STOPS_FD_STEP`]) of each parameter's scale: 0.1 % of an inertia, 25 nm of a fruit fly's CoM offset; the
 //! truncation error is second order in it (1e-6 relative) and the simulation is
 //! deterministic, so no noise is differenced. Each evaluation runs every segment, in
 //! parallel (rayon).
@@ -67,7 +67,10 @@ pub mod resim;
 mod segments;
 mod types;
 
-pub use types::{FitOptions, FitReport, NO_EFFECT, PENALTY, ParamResult, Progress, StartStates};
+pub use types::{
+    DEFAULT_FD_STEP, FitOptions, FitReport, NO_EFFECT, PENALTY, ParamResult, Progress,
+    STOPS_FD_STEP, StartStates,
+};
 
 use problem::Problem;
 pub use report::t_quantile;
@@ -173,7 +176,7 @@ pub fn identify(
         termination,
         condition_number,
         t_quantile: t,
-        fd_step: opts.fd_step,
+        fd_step: setup.fd_step,
         diverged_segments,
         interrupted,
         runtime_s: started.elapsed().as_secs_f64(),
@@ -205,7 +208,7 @@ fn solve<'s, 'a, 'o>(
         x: x0.clone(),
         free: all.clone(),
         r: RefCell::new(None),
-        h: opts.fd_step,
+        h: setup.fd_step,
         simulations: Cell::new(0),
         iterations: Cell::new(0),
         // Each residual evaluation may come with a Jacobian, and the final statistics take

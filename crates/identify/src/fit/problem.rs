@@ -65,25 +65,6 @@ impl Problem<'_, '_, '_> {
                 xm[i] -= h;
                 let (rp, dp) = setup.residuals(&xp);
                 let (rm, dm) = setup.residuals(&xm);
-                if std::env::var_os("ZZ").is_some() {
-                    let n: f64 = rp
-                        .iter()
-                        .zip(&rm)
-                        .map(|(a, b)| (a - b) * (a - b))
-                        .sum::<f64>()
-                        .sqrt();
-                    let n0: f64 = rp
-                        .iter()
-                        .zip(&r0)
-                        .map(|(a, b)| (a - b) * (a - b))
-                        .sum::<f64>()
-                        .sqrt();
-                    eprintln!(
-                        "col {i}: dp {dp} dm {dm} |rp-rm| {n:e} |rp-r0| {n0:e} at {:?} r0 {:e}",
-                        setup.values(&xp),
-                        r0.iter().map(|x| x * x).sum::<f64>()
-                    );
-                }
                 let (a, b, d) = match (dp == usize::MAX, dm == usize::MAX) {
                     (false, false) => (&rp, &rm, 2.0 * h),
                     (true, false) => (&r0, &rm, h),

@@ -161,7 +161,7 @@ pub fn resimulate(
         params: Vec::new(),
         segment_wingbeats: opts.segment_wingbeats,
         use_imu: false,
-        fd_step: 1e-3,
+        fd_step: None,
         patience: opts.patience,
         max_duration_s: opts.max_duration_s,
         start_states: opts.start_states,

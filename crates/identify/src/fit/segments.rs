@@ -85,6 +85,8 @@ pub(super) struct Setup<'a> {
     pub(super) state_scales: [f64; STATE_UNKNOWNS],
     pub(super) weights: Weights,
     pub(super) dt_s: f64,
+    /// The Jacobian's central-difference step ([`FitOptions::fd_step`] resolved).
+    pub(super) fd_step: f64,
     pub(super) gravity_m_s2: f64,
     pub(super) m: usize,
 }
@@ -621,6 +623,17 @@ pub(super) fn setup_for<'a>(
         state_scales,
         weights,
         dt_s,
+        fd_step: opts.fd_step.unwrap_or_else(|| {
+            let stops = vehicle
+                .actuation
+                .as_ref()
+                .is_some_and(|a| a.dynamics.hinge.contact.is_some());
+            if stops {
+                super::types::STOPS_FD_STEP
+            } else {
+                super::types::DEFAULT_FD_STEP
+            }
+        }),
         gravity_m_s2: vehicle.gravity_m_s2,
         m,
     })
