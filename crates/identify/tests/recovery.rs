@@ -449,7 +449,11 @@ fn actuated_recovery(truth: &str, nominal: &str, duration_s: f64, params: &str, 
     let fitted_in = |p: Param| p.nominal(&spec);
     for p in &r.params {
         let param = Param::parse(&p.name).unwrap();
-        assert!((fitted_in(param) / p.fitted - 1.0).abs() < 1e-6, "{}", p.name);
+        assert!(
+            (fitted_in(param) / p.fitted - 1.0).abs() < 1e-6,
+            "{}",
+            p.name
+        );
     }
 }
 
