@@ -23,7 +23,6 @@ pub use crate::wings::{BodyLoad, State};
 use crate::wings::{FromVehicle, WingSet, WingSetOutput};
 
 mod actuated;
-pub use actuated::ActuatedWings;
 
 /// Which degrees of freedom the body has.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

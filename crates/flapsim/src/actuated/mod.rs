@@ -38,7 +38,7 @@ pub use dynamics::{
     ActuatedWingOutput, DynamicWing, Hinge, Stroke, WingDynamics, WingInertia, WingState, WingStep,
 };
 pub use motion::{MotionRecorder, MotionSample, RecordedMotion, WingMotion};
-pub use periodic::{PERIODIC_TOLERANCE_RAD, PeriodicWings, settle};
+pub use periodic::{ActuatedWings, PERIODIC_TOLERANCE_RAD, PeriodicWings, settle};
 pub use response::{
     FrequencyResponse, ResponseOptions, ResponsePoint, TetheredRun, frequency_response,
     run_tethered,

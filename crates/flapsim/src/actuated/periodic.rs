@@ -26,6 +26,18 @@ use wingset::actuated::dynamics::{DynamicWing, WingState};
 /// periodic, rad (0.06 deg).
 pub const PERIODIC_TOLERANCE_RAD: f64 = 1e-3;
 
+/// An actuated vehicle's wings at one step: the hinge and actuator states, the drive, the
+/// drive period's bookkeeping and the stroke reference (the wake-capture inputs); what a
+/// simulation restarted at that step continues from (`Simulation::wings_now`,
+/// `Simulation::continue_wings`).
+#[derive(Debug, Clone)]
+pub struct ActuatedWings {
+    /// The wings' dynamics.
+    pub dynamic: Vec<DynamicWing>,
+    /// The wings, with their stroke reference.
+    pub wings: Vec<Wing>,
+}
+
 /// Two wings on their periodic motion at a frozen body state.
 #[derive(Debug, Clone)]
 pub struct PeriodicWings {

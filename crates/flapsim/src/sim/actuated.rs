@@ -1,18 +1,7 @@
 //! An actuated vehicle in the [`Simulation`]: the wing states the analyses set and read.
 
 use super::Simulation;
-use wingforce::Wing;
-use wingset::actuated::dynamics::DynamicWing;
-
-/// An actuated vehicle's wings at one step: the hinge and actuator states, the drive, the
-/// drive period's bookkeeping and the stroke reference (the wake-capture inputs).
-#[derive(Debug, Clone)]
-pub struct ActuatedWings {
-    /// The wings' dynamics.
-    pub dynamic: Vec<DynamicWing>,
-    /// The wings, with their stroke reference.
-    pub wings: Vec<Wing>,
-}
+use crate::actuated::ActuatedWings;
 
 impl Simulation {
     /// Continues an actuated vehicle's wings from a periodic motion found at a frozen body

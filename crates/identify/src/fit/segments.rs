@@ -62,7 +62,7 @@ pub(super) const STATE_UNKNOWNS: usize = 12;
 /// from (see [`Setup::fly`]).
 #[derive(Debug, Clone)]
 pub(super) struct Carried {
-    pub(super) wings: flapsim::sim::ActuatedWings,
+    pub(super) wings: flapsim::actuated::ActuatedWings,
     /// The controls in force (the drive the wings carry).
     pub(super) in_force: Controls,
     /// The global step they are at.
