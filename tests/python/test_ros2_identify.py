@@ -362,58 +362,84 @@ def test_a_truncated_bag_warns_and_fits_what_it_recovered(run_flapwing, flight, 
     assert 0 < report["mocap_frames"] < len(flight.mocap)
 
 
-# The RoboBee (piezo drive, flexure hinges) at 150 Hz (at the file's 120 Hz its trim needs
-# 102 V of its 100 V limit), its motion capture at 1 kHz with the model's noise: the true
-# robot's hinge stiffness x 1.2, force per volt x 1.1 and pitch inertia x 1.2.
-BEE_TRUE = {"hinge_stiffness_nm_rad": 9.0e-6, "force_per_volt_n_v": 8.25e-4, "inertia_yy_kg_m2": 1.608e-9}
+
+# The actuated robots, their motion capture at 1 kHz with the model's noise. The RoboBee
+# (piezo drive, flexure hinges) at 150 Hz (at the file's 120 Hz its trim needs 102 V of its
+# 100 V limit): its hinge stiffness x 1.2, force per volt x 1.1 and pitch inertia x 1.2. The
+# hummingbird (DC motors, a stroke spring, pitch stops): its stroke spring x 1.2, motor
+# constant x 1.1 (torque and back-EMF constants together, as the parameter scales them) and
+# pitch inertia x 1.2.
+ROBOTS = {
+    "robobee": {
+        "edit": [("freq_hz = 120.0", "freq_hz = 150.0"), ("freq_hz = 120.0", "freq_hz = 150.0")],
+        "truth": [("stiffness_nm_rad =", "stiffness_nm_rad = 9.0e-6"),
+                  ("force_per_volt_n_v =", "force_per_volt_n_v = 8.25e-4"),
+                  ("inertia_diag_kg_m2 =", "inertia_diag_kg_m2 = [1.42e-9, 1.608e-9, 0.45e-9]")],
+        "true": {"hinge_stiffness_nm_rad": 9.0e-6, "force_per_volt_n_v": 8.25e-4, "inertia_yy_kg_m2": 1.608e-9},
+        "freq_hz": 150.0, "steps": 100, "duration_s": "0.15",
+    },
+    "hummingbird": {
+        "edit": [],
+        "truth": [("flexure_nm_rad =", f"flexure_nm_rad = {0.013384289 * 1.2:e}"),
+                  ("torque_constant_nm_a =", f"torque_constant_nm_a = {1.75e-3 * 1.1:e}"),
+                  ("back_emf_v_s_rad =", f"back_emf_v_s_rad = {1.75e-3 * 1.1:e}"),
+                  ("inertia_diag_kg_m2 =", f"inertia_diag_kg_m2 = [4238.1285e-9, {3970.1646e-9 * 1.2:e}, 2440.9505e-9]")],
+        "true": {"stroke_stiffness_nm_rad": 0.013384289 * 1.2, "torque_constant_nm_a": 1.75e-3 * 1.1,
+                 "inertia_yy_kg_m2": 3970.1646e-9 * 1.2},
+        "freq_hz": 34.0, "steps": 200, "duration_s": "0.2",
+    },
+}
 
 
-def test_an_actuated_robot_is_identified_from_its_bag(run_flapwing, tmp_path):
+@pytest.mark.parametrize("robot", list(ROBOTS))
+def test_an_actuated_robot_is_identified_from_its_bag(run_flapwing, tmp_path, robot):
     """The drive's voltages (bias, amplitude, their left-minus-right and the second
-    harmonic, the RoboBee's four control channels) are the known input on a
-    Float64MultiArray topic; the wings' hinge and actuator states are the model's own."""
-    t = (ROOT / "models" / "robobee.toml").read_text().replace("freq_hz = 120.0", "freq_hz = 150.0")
+    harmonic, the robots' four control channels) are the known input on a
+    Float64MultiArray topic; the wings' hinge and actuator states are the model's own. The
+    fit recovers the truth from the bag (start states fitted) as from the flapwing log."""
+    r = ROBOTS[robot]
+    t = (ROOT / "models" / f"{robot}.toml").read_text()
+    for start, line in r["edit"]:
+        t = t.replace(start, line, 1)
     t = replace(t, "rate_hz = 200.0", "rate_hz = 1000.0")
-    nominal = tmp_path / "bee.toml"
+    nominal = tmp_path / "nominal.toml"
     nominal.write_text(t)
-    t = replace(t, "stiffness_nm_rad =", "stiffness_nm_rad = 9.0e-6")
-    t = replace(t, "force_per_volt_n_v =", "force_per_volt_n_v = 8.25e-4")
-    t = replace(t, "inertia_diag_kg_m2 =", "inertia_diag_kg_m2 = [1.42e-9, 1.608e-9, 0.45e-9]")
-    truth = tmp_path / "bee_truth.toml"
+    for start, line in r["truth"]:
+        t = replace(t, start, line)
+    truth = tmp_path / "truth.toml"
     truth.write_text(t)
-    log = tmp_path / "bee.mcap"
-    run_flapwing("hover", "--model", truth, "--mcap", log, "--duration-s", "0.15")
+    log = tmp_path / "robot.mcap"
+    run_flapwing("hover", "--model", truth, "--mcap", log, "--duration-s", r["duration_s"])
     mocap = rows(run_flapwing, log, "/sensors/mocap", tmp_path)
     drive = {}
-    for r in rows(run_flapwing, log, "/vehicle/controls", tmp_path):
-        w = int(r["step"]) // 100  # 100 steps per wingbeat (models/robobee.toml)
-        drive.setdefault(w, (round(w * 1e9 / 150.0), [r["drive.bias_v"], r["drive.amplitude_v"],
-                                                      r["drive.diff_amplitude_v"], r["drive.diff_second_harmonic"]]))
-    bag = tmp_path / "bee_bag.mcap"
+    for c in rows(run_flapwing, log, "/vehicle/controls", tmp_path):
+        w = int(c["step"]) // r["steps"]
+        drive.setdefault(w, (round(w * 1e9 / r["freq_hz"]), [c["drive.bias_v"], c["drive.amplitude_v"],
+                                                            c["drive.diff_amplitude_v"],
+                                                            c["drive.diff_second_harmonic"]]))
+    bag = tmp_path / "bag.mcap"
     with open(bag, "wb") as f:
         w = Writer(f)
         pose, arr = register(w, "geometry_msgs/PoseStamped"), register(w, "std_msgs/Float64MultiArray")
         events = [(T0_NS + t_rel, "/drive", arr, {"layout": {"dim": [], "data_offset": 0}, "data": data})
                   for t_rel, data in drive.values()]
-        for r in mocap:
-            t_ns = T0_NS + round(r["t_sample_s"] * 1e9)
-            events.append((t_ns, "/mocap/bee", pose, {
+        for m in mocap:
+            t_ns = T0_NS + round(m["t_sample_s"] * 1e9)
+            events.append((t_ns, "/mocap/robot", pose, {
                 "header": {"stamp": stamp(t_ns), "frame_id": "world"},
-                "pose": {"position": {k: r[f"position_m.{k}"] for k in "xyz"},
-                         "orientation": {k: r[f"attitude.{k}"] for k in "xyzw"}}}))
+                "pose": {"position": {k: m[f"position_m.{k}"] for k in "xyz"},
+                         "orientation": {k: m[f"attitude.{k}"] for k in "xyzw"}}}))
         for t_ns, topic, sch, msg in sorted(events, key=lambda e: (e[0], e[1])):
             w.write_message(topic, sch, msg, log_time=t_ns, publish_time=t_ns)
         w.finish()
-    params = ["--params", ",".join(BEE_TRUE), "--json"]
-    for source, extra in [(log, []), (bag, ["--model", nominal, "--pose-topic", "/mocap/bee",
-                                            "--controls-topic", "/drive"])]:
-        if source == log:  # the log embeds the true model: fit from the nominal one
-            extra = ["--model", nominal]
-        proc = run_flapwing("identify", source, *extra, *params)
+    # The log embeds the true model: both fits start from the nominal one.
+    for source, extra in [(log, []), (bag, ["--pose-topic", "/mocap/robot", "--controls-topic", "/drive"])]:
+        proc = run_flapwing("identify", source, "--model", nominal, *extra, "--params", ",".join(r["true"]),
+                            "--json")
         report = json.loads(proc.stdout)
         assert report["converged"], report["termination"]
         assert 0.8 < report["rms_after"] < 1.2, report["rms_after"]
         for p in report["params"]:
-            print(source.name, p["name"], p["fitted"], p["ci95"])
+            print(robot, source.name, p["name"], p["fitted"], p["ci95"], report["runtime_s"])
             assert p["identifiable"]
-            assert p["ci95"][0] <= BEE_TRUE[p["name"]] <= p["ci95"][1], (source.name, p)
+            assert p["ci95"][0] <= r["true"][p["name"]] <= p["ci95"][1], (source.name, p)

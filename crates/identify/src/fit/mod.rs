@@ -65,6 +65,7 @@ mod problem;
 mod report;
 pub mod resim;
 mod segments;
+mod setup;
 mod types;
 
 pub use types::{
@@ -75,7 +76,7 @@ pub use types::{
 use problem::Problem;
 pub use report::t_quantile;
 use report::{describe, statistics};
-use segments::setup;
+use setup::setup;
 
 /// Fits `opts.params` to `data` (see the module docs). `observer` sees the progress after
 /// every evaluation and stops the fit by returning false (the report then says

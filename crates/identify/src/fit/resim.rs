@@ -22,7 +22,7 @@ use serde::Serialize;
 use crate::data::{FlightData, StartSource};
 use crate::error::{Error, Result};
 
-use super::segments::{setup_for, step_at};
+use super::setup::{setup_for, step_at};
 use super::types::{FitOptions, Progress, StartStates};
 
 /// Settings of a resimulation.
