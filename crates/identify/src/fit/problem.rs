@@ -7,7 +7,7 @@ use nalgebra::DMatrix;
 use nalgebra_lm::{Dyn, Owned};
 use rayon::prelude::*;
 
-use super::segments::{STATE_UNKNOWNS, Setup};
+use super::segments::{STATE_UNKNOWNS, Setup, WingStart};
 use super::types::Progress;
 
 pub(super) type LmVector = nalgebra_lm::DVector<f64>;
@@ -95,7 +95,7 @@ impl Problem<'_, '_, '_> {
                     xm[i] -= h;
                     // An actuated vehicle's wings start as they did at `x` (a start-state
                     // correction's effect on the next segment's wings is left out).
-                    let w = wings.get(k).and_then(Option::as_ref);
+                    let w = wings.get(k).unwrap_or(&WingStart::Own);
                     let (rp, _) = setup.segment_residuals(&trial, k, &setup.start_state(k, &xp), w);
                     let (rm, _) = setup.segment_residuals(&trial, k, &setup.start_state(k, &xm), w);
                     let col = rp

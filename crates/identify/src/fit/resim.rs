@@ -187,10 +187,10 @@ pub fn resimulate(
     let mut carried = None;
     for (k, seg) in setup.segments.iter().enumerate() {
         let start = setup.start_state(k, &x);
-        let wings = setup.wings_at_start(k, carried.take());
+        let wings = setup.wings_at_start(&trial, k, carried.take());
         let (states, diverged, end) =
             setup
-                .fly(&trial, k, &start, wings.as_ref())
+                .fly(&trial, k, &start, &wings)
                 .unwrap_or((Vec::new(), true, None));
         carried = end;
         let last = states.last().copied().unwrap_or(start);

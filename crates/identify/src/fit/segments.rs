@@ -48,6 +48,17 @@ pub(super) struct Carried {
     pub(super) step: u64,
 }
 
+/// How an actuated vehicle's wings start a segment (see [`Setup::fly`]).
+#[derive(Debug, Clone)]
+pub(super) enum WingStart {
+    /// As the simulation starts them: prescribed kinematics, or actuated wings at rest.
+    Own,
+    /// From these wings.
+    From(Carried),
+    /// Actuated wings with no periodic motion at the trial parameters.
+    Failed,
+}
+
 /// Everything fixed during a fit.
 pub(super) struct Setup<'a> {
     pub(super) data: &'a FlightData,
@@ -156,22 +167,21 @@ impl Setup<'_> {
     }
 
     /// [`Setup::residuals`], and each segment's start wings of an actuated vehicle (what a
-    /// segment flown again alone continues from: see [`Setup::fly`]).
-    pub(super) fn residuals_and_wings(&self, x: &[f64]) -> (Vec<f64>, usize, Vec<Option<Carried>>) {
+    /// segment flown again alone continues from: see [`Setup::fly`]; empty otherwise).
+    pub(super) fn residuals_and_wings(&self, x: &[f64]) -> (Vec<f64>, usize, Vec<WingStart>) {
         let penalty = || (vec![PENALTY; self.m], usize::MAX, Vec::new());
         let Some(trial) = self.trial(x) else {
             return penalty();
         };
-        let (per_segment, wings): (Vec<(Vec<f64>, bool)>, Vec<Option<Carried>>) =
+        let (per_segment, wings): (Vec<(Vec<f64>, bool)>, Vec<WingStart>) =
             if trial.vehicle.actuation.is_some() {
                 // The wings' states chain from segment to segment: flown in order.
                 let mut carried: Option<Carried> = None;
                 let mut out = Vec::with_capacity(self.segments.len());
                 let mut starts = Vec::with_capacity(self.segments.len());
                 for k in 0..self.segments.len() {
-                    let at_start = self.wings_at_start(k, carried.take());
-                    let flown =
-                        self.segment_flown(&trial, k, &self.start_state(k, x), at_start.as_ref());
+                    let at_start = self.wings_at_start(&trial, k, carried.take());
+                    let flown = self.segment_flown(&trial, k, &self.start_state(k, x), &at_start);
                     starts.push(at_start);
                     carried = flown.1;
                     out.push(flown.0);
@@ -181,7 +191,7 @@ impl Setup<'_> {
                 let out = (0..self.segments.len())
                     .into_par_iter()
                     .map(|k| {
-                        self.segment_flown(&trial, k, &self.start_state(k, x), None)
+                        self.segment_flown(&trial, k, &self.start_state(k, x), &WingStart::Own)
                             .0
                     })
                     .collect();
@@ -204,64 +214,92 @@ impl Setup<'_> {
         (r, diverged, wings)
     }
 
-    /// The wings segment `k` continues from: those the previous segment ended with when it
-    /// ends where `k` starts (and did not diverge), else none (fresh wings, see
-    /// [`Setup::fly`]).
-    pub(super) fn wings_at_start(&self, k: usize, previous: Option<Carried>) -> Option<Carried> {
-        previous.filter(|c| c.step == self.segments[k].step0)
+    /// The vehicle segment `k` is flown with, its clock at the segment's first step (the
+    /// wing phases of the original run). A run trimmed first (a hover) built its vehicle at
+    /// the trim and set its controls on the running simulation: the replay does the same, bit
+    /// for bit; otherwise the first wingbeat's controls are the vehicle's.
+    fn segment_vehicle(&self, trial: &Trial, k: usize) -> Option<Vehicle> {
+        match &self.data.trim {
+            Some(t) => flapsim::trim::trimmed_vehicle(&trial.vehicle, t).ok(),
+            None => {
+                let mut v = trial.vehicle.clone();
+                v.apply_controls(&self.segments[k].controls[0]).ok()?;
+                Some(v)
+            }
+        }
     }
 
-    /// Segment `k` flown from `start` on a trial model: the state after each of its steps
-    /// (fewer when it diverged), whether it diverged, and an actuated vehicle's wings at its
-    /// end; `None` when the trial model cannot start the segment.
-    ///
-    /// An actuated vehicle's wings (hinge and actuator states) are not measured: the model
-    /// carries them. A segment continues the wings `wings` the previous one ended with; a
-    /// segment without (the first, or after a gap or a divergence) starts them on their
-    /// periodic motion settled at rest under its first controls, as a hover starts
+    /// The controls in force when segment `k`'s vehicle is built ([`Setup::segment_vehicle`]).
+    fn built_in_force(&self, k: usize) -> Controls {
+        self.data
+            .trim
+            .as_ref()
+            .map_or(self.segments[k].controls[0], |t| t.controls)
+    }
+
+    /// The wings segment `k` starts from. An actuated vehicle's wings (hinge and actuator
+    /// states) are not measured: the model carries them. A segment continues the wings the
+    /// previous one ended with (`previous`, when it ends where `k` starts); a segment without
+    /// (the first, or after a gap or a divergence) starts them on their periodic motion
+    /// settled at rest under its first controls, as a hover starts
     /// (`flapsim::control::run_hover`), or at rest at step 0 of a run that started them there
     /// (a `simulate` log). A segment's body restart leaves the wings as they were.
+    pub(super) fn wings_at_start(
+        &self,
+        trial: &Trial,
+        k: usize,
+        previous: Option<Carried>,
+    ) -> WingStart {
+        let seg = &self.segments[k];
+        if let Some(c) = previous.filter(|c| c.step == seg.step0) {
+            return WingStart::From(c);
+        }
+        if trial.vehicle.actuation.is_none() || (self.data.wings_at_rest_at_start && seg.step0 == 0)
+        {
+            return WingStart::Own;
+        }
+        let settled = self.segment_vehicle(trial, k).and_then(|v| {
+            flapsim::actuated::periodic::settle_at_rest(&v)
+                .ok()
+                .flatten()
+        });
+        match settled {
+            Some(p) => WingStart::From(Carried {
+                wings: flapsim::actuated::ActuatedWings {
+                    dynamic: p.dynamic.to_vec(),
+                    wings: p.wings.to_vec(),
+                },
+                in_force: self.built_in_force(k),
+                step: seg.step0,
+            }),
+            None => WingStart::Failed,
+        }
+    }
+
+    /// Segment `k` flown from `start` on a trial model, its wings from `wings`
+    /// ([`Setup::wings_at_start`]): the state after each of its steps (fewer when it
+    /// diverged), whether it diverged, and an actuated vehicle's wings at its end; `None`
+    /// when the trial model cannot start the segment.
     pub(super) fn fly(
         &self,
         trial: &Trial,
         k: usize,
         start: &State,
-        wings: Option<&Carried>,
+        wings: &WingStart,
     ) -> Option<(Vec<State>, bool, Option<Carried>)> {
         let seg = &self.segments[k];
         let vehicle = &trial.vehicle;
-        // The vehicle starts with the first wingbeat's controls in force, its clock at the
-        // segment's first step (the wing phases of the original run).
-        // A run trimmed first (a hover) built its vehicle at the trim and set its controls
-        // on the running simulation: the replay does the same, bit for bit; otherwise the
-        // first wingbeat's controls are the vehicle's.
-        let v = match &self.data.trim {
-            Some(t) => flapsim::trim::trimmed_vehicle(vehicle, t).ok()?,
-            None => {
-                let mut v = vehicle.clone();
-                v.apply_controls(&seg.controls[0]).ok()?;
-                v
-            }
-        };
-        let actuated = v.actuation.is_some();
-        let fresh_wings = match wings {
-            None if actuated && !(self.data.wings_at_rest_at_start && seg.step0 == 0) => Some(
-                flapsim::actuated::periodic::settle_at_rest(&v)
-                    .ok()
-                    .flatten()?,
-            ),
-            _ => None,
-        };
+        if matches!(wings, WingStart::Failed) {
+            return None;
+        }
+        let v = self.segment_vehicle(trial, k)?;
         let Ok(mut sim) = Simulation::try_new(v, Mode::Free) else {
             return None;
         };
         if sim.start_at_step(seg.step0).is_err() {
             return None;
         }
-        if let Some(p) = &fresh_wings {
-            sim.start_wings_from(p);
-        }
-        if let Some(c) = wings {
+        if let WingStart::From(c) = wings {
             sim.continue_wings(&c.wings);
         }
         sim.set_state(start);
@@ -284,12 +322,8 @@ impl Setup<'_> {
         let mut states: Vec<State> = Vec::with_capacity(seg.steps);
         // Continued wings carry the drive of the controls the previous segment ended with.
         let mut in_force = match wings {
-            Some(c) => c.in_force,
-            None => self
-                .data
-                .trim
-                .as_ref()
-                .map_or(seg.controls[0], |t| t.controls),
+            WingStart::From(c) => c.in_force,
+            _ => self.built_in_force(k),
         };
         for j in 0..seg.steps {
             if j % per == 0 {
@@ -323,13 +357,13 @@ impl Setup<'_> {
 
     /// Segment `k`'s weighted residuals (non-finite ones replaced by [`PENALTY`]) flown
     /// from `start` on a trial model, and whether it diverged; an actuated vehicle's wings
-    /// continue from `wings` (see [`Setup::fly`]).
+    /// start from `wings` (see [`Setup::wings_at_start`]).
     pub(super) fn segment_residuals(
         &self,
         trial: &Trial,
         k: usize,
         start: &State,
-        wings: Option<&Carried>,
+        wings: &WingStart,
     ) -> (Vec<f64>, bool) {
         self.segment_flown(trial, k, start, wings).0
     }
@@ -340,7 +374,7 @@ impl Setup<'_> {
         trial: &Trial,
         k: usize,
         start: &State,
-        wings: Option<&Carried>,
+        wings: &WingStart,
     ) -> ((Vec<f64>, bool), Option<Carried>) {
         let seg = &self.segments[k];
         let Trial {
