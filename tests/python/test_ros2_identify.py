@@ -387,9 +387,6 @@ ROBOTS = {
         "true": {"stroke_stiffness_nm_rad": 0.013384289 * 1.2, "torque_constant_nm_a": 1.75e-3 * 1.1,
                  "inertia_yy_kg_m2": 3970.1646e-9 * 1.2},
         "freq_hz": 34.0, "steps": 200, "duration_s": "0.2",
-        # One segment over the 7 wingbeats: 12 start-state unknowns instead of 24 (the fit
-        # took 55 s on two segments).
-        "bag_args": ["--segment-wingbeats", "8"],
     },
 }
 
@@ -436,8 +433,7 @@ def test_an_actuated_robot_is_identified_from_its_bag(run_flapwing, tmp_path, ro
             w.write_message(topic, sch, msg, log_time=t_ns, publish_time=t_ns)
         w.finish()
     # The log embeds the true model: both fits start from the nominal one.
-    bag_args = ["--pose-topic", "/mocap/robot", "--controls-topic", "/drive", *r.get("bag_args", [])]
-    for source, extra in [(log, []), (bag, bag_args)]:
+    for source, extra in [(log, []), (bag, ["--pose-topic", "/mocap/robot", "--controls-topic", "/drive"])]:
         proc = run_flapwing("identify", source, "--model", nominal, *extra, "--params", ",".join(r["true"]),
                             "--json")
         report = json.loads(proc.stdout)
