@@ -330,6 +330,14 @@ impl Param {
     /// Whether the model `spec` (from `origin`) has what the parameter changes: an actuated
     /// wing's parameter needs its part of `[actuation]`.
     pub fn check_model(self, spec: &VehicleSpec, origin: &str) -> Result<()> {
+        // Restitution 0 is the inelastic constraint, another contact law: its neighbourhood
+        // is not a compliant contact's, and the fit would see no effect there.
+        if self == Param::StopRestitution && self.actuation_value(spec) == Some(0.0) {
+            return Err(Error::Setting(format!(
+                "parameter `stop_restitution` needs a compliant stop: `{origin}` has restitution 0, the perfectly inelastic constraint; start the fit from a restitution in [{}, 1] (actuation.hinge.stop.restitution)",
+                flapsim::actuated::stop::RESTITUTION_FLOOR
+            )));
+        }
         if self.actuation_value(spec).is_some() || self.model_field().is_none() {
             return Ok(());
         }

@@ -126,3 +126,41 @@ fn imu_parameters_need_the_imu() {
         .to_string();
     assert!(e.contains("--imu"), "{e}");
 }
+
+/// An actuated wing's parameter on a model without that part, and a stop restitution fitted
+/// from the inelastic constraint (restitution 0, another contact law), are refused with the
+/// table the parameter needs.
+#[test]
+fn actuated_parameters_need_their_part_of_the_model() {
+    let check = |p: &str, toml: &str, origin: &str| {
+        let spec = flapsim::VehicleSpec::from_toml(toml, origin).unwrap();
+        Param::parse(p)
+            .unwrap()
+            .check_model(&spec, origin)
+            .map_err(|e| e.to_string())
+    };
+    let e = check("force_per_volt_n_v", flapsim::DROSOPHILA_TOML, "drosophila").unwrap_err();
+    assert!(
+        e.contains("actuation.piezo.force_per_volt_n_v")
+            && e.contains("no [actuation.piezo] table")
+            && e.contains("prescribed kinematics"),
+        "{e}"
+    );
+    let e = check("torque_constant_nm_a", flapsim::ROBOBEE_TOML, "robobee").unwrap_err();
+    assert!(e.contains("no [actuation.dc_motor] table"), "{e}");
+    let e = check("stop_restitution", flapsim::ROBOBEE_TOML, "robobee").unwrap_err();
+    assert!(e.contains("no [actuation.hinge.stop] table"), "{e}");
+    let e = check("stop_restitution", flapsim::HUMMINGBIRD_TOML, "hummingbird").unwrap_err();
+    assert!(
+        e.contains("restitution 0") && e.contains("[0.01, 1]"),
+        "{e}"
+    );
+    check(
+        "torque_constant_nm_a",
+        flapsim::HUMMINGBIRD_TOML,
+        "hummingbird",
+    )
+    .unwrap();
+    check("hinge_stiffness_nm_rad", flapsim::ROBOBEE_TOML, "robobee").unwrap();
+    check("inertia_yy_kg_m2", flapsim::DROSOPHILA_TOML, "drosophila").unwrap();
+}

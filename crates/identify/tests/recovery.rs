@@ -501,3 +501,37 @@ fn the_hummingbird_stroke_spring_motor_and_inertia_are_recovered() {
         &[k, kt, iyy],
     );
 }
+
+/// The RoboBee's hinge damping x 1.5 and wing stroke inertia x 1.1 beside its hinge
+/// stiffness, from a 0.15 s hover seen by a 1 kHz motion capture with the model's noise
+/// (at its 200 Hz, 0.1 s, the damping and the stiffness trade off: the damping's interval
+/// missed the truth). Measured: 12 iterations, 1.6 s; damping 7.59e-9 [6.41e-9, 8.76e-9].
+#[test]
+fn the_robobee_hinge_damping_and_wing_inertia_are_recovered() {
+    let nominal = common::replace_line(&robobee_150hz(), "rate_hz = 200.0", "rate_hz = 1000.0");
+    let t = set_value(&nominal, "damping_nm_s_rad", "6.75e-9");
+    let truth = set_value(&t, "stroke_inertia_kg_m2", "56.21e-12");
+    actuated_recovery(
+        &truth,
+        &nominal,
+        0.15,
+        "hinge_damping_nm_s_rad,wing_stroke_inertia_kg_m2,hinge_stiffness_nm_rad",
+        &[6.75e-9, 56.21e-12, 7.5e-6],
+    );
+}
+
+/// The hummingbird's pitch stops with restitution 0.3, fitted from a compliant start of 0.1
+/// (restitution 0 is the inelastic constraint, refused as a start), beside its pitch
+/// inertia. Measured: 11 iterations, 7.2 s; 0.268 [0.221, 0.315].
+#[test]
+fn the_hummingbird_stop_restitution_is_recovered() {
+    let nominal = set_value(flapsim::HUMMINGBIRD_TOML, "restitution", "0.1");
+    let truth = set_value(flapsim::HUMMINGBIRD_TOML, "restitution", "0.3");
+    actuated_recovery(
+        &truth,
+        &nominal,
+        0.2,
+        "stop_restitution,inertia_yy_kg_m2",
+        &[0.3, 3970.1646e-9],
+    );
+}

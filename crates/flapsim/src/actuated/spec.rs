@@ -111,6 +111,20 @@ impl HingeSpec {
                     .within_open_low(&g("angle_deg"), s.angle_deg, 0.0, 179.0)?
                     .to_radians();
                 let e = v.within(&g("restitution"), s.restitution, 0.0, 1.0)?;
+                // A compliant contact cannot restitute less than the floor (the stop
+                // module's doc): a smaller value would be realised as the floor.
+                if e > 0.0 && e < wingset::actuated::stop::RESTITUTION_FLOOR {
+                    return Err(v
+                        .invalid(
+                            &g("restitution"),
+                            e,
+                            &format!(
+                                "0 (the perfectly inelastic stop, a constraint) or a number in [{}, 1] (a compliant contact: one without memory cannot restitute less)",
+                                wingset::actuated::stop::RESTITUTION_FLOOR
+                            ),
+                        )
+                        .into());
+                }
                 if e == 0.0 {
                     // The perfectly inelastic stop is a constraint: it has no contact law.
                     for (name, given) in [
