@@ -496,6 +496,13 @@ fn bad_stop_values_are_named_and_old_files_keep_their_meaning() {
             "[0, 1]",
         ),
         (
+            // Below the floor a compliant contact cannot go (no silent 0.01).
+            h.replace("restitution = 0.0", "restitution = 0.005"),
+            "actuation.hinge.stop.restitution",
+            "0.005",
+            "or a number in [0.01, 1]",
+        ),
+        (
             c.replace("contact_time_s = 2.0e-4", "stiffness_nm_rad = -2.0"),
             "actuation.hinge.stop.stiffness_nm_rad",
             "-2",
