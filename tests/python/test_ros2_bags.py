@@ -290,3 +290,62 @@ def test_read_log_of_bad_bags(tmp_path, run_flapwing):
     cli = run_flapwing("replay", cut, "--csv", "/mocap/pose", tmp_path / "p.csv")
     assert str(rec[0].message).split(": ", 1)[1] in cli.stderr
     assert tables["/mocap/pose"]["log_time_ns"].tolist() == [int(r["log_time_ns"]) for r in read_csv(tmp_path / "p.csv")]
+
+
+# geometry_msgs/msg/PoseStamped as rosidl writes it in IDL (rosbag2 stores a type defined in
+# IDL with a `ros2idl` schema), with its dependencies after `=` lines and `IDL:` headers.
+POSE_IDL = "\n".join([
+    '#include "geometry_msgs/msg/Pose.idl"\n#include "std_msgs/msg/Header.idl"\n'
+    "module geometry_msgs {\n  module msg {\n"
+    '    @verbatim (language="comment", text="A Pose with reference coordinate frame and timestamp")\n'
+    "    struct PoseStamped {\n      std_msgs::msg::Header header;\n\n      geometry_msgs::msg::Pose pose;\n"
+    "    };\n  };\n};\n",
+    "=" * 80 + "\nIDL: std_msgs/msg/Header\n"
+    '#include "builtin_interfaces/msg/Time.idl"\nmodule std_msgs {\n  module msg {\n'
+    "    struct Header {\n      builtin_interfaces::msg::Time stamp;\n      string frame_id;\n    };\n  };\n};\n",
+    "=" * 80 + "\nIDL: builtin_interfaces/msg/Time\nmodule builtin_interfaces {\n  module msg {\n"
+    "    struct Time {\n      int32 sec;\n      uint32 nanosec;\n    };\n  };\n};\n",
+    "=" * 80 + "\nIDL: geometry_msgs/msg/Pose\nmodule geometry_msgs {\n  module msg {\n"
+    "    struct Pose {\n      geometry_msgs::msg::Point position;\n"
+    "      geometry_msgs::msg::Quaternion orientation;\n    };\n  };\n};\n",
+    "=" * 80 + "\nIDL: geometry_msgs/msg/Point\nmodule geometry_msgs {\n  module msg {\n"
+    "    struct Point {\n      double x;\n      double y;\n      double z;\n    };\n  };\n};\n",
+    "=" * 80 + "\nIDL: geometry_msgs/msg/Quaternion\nmodule geometry_msgs {\n  module msg {\n"
+    "    struct Quaternion {\n      @default (value=0.0)\n      double x;\n      @default (value=0.0)\n"
+    "      double y;\n      @default (value=0.0)\n      double z;\n      @default (value=1.0)\n      double w;\n"
+    "    };\n  };\n};\n",
+])
+
+
+def test_a_ros2idl_topic_reads_as_its_msg_twin(tmp_path, run_flapwing):
+    """The same CDR messages under a `ros2msg` and a `ros2idl` schema: the summary decodes
+    both and the CSV exports are the same table."""
+    from mcap_ros2._dynamic import serialize_dynamic
+    encode = serialize_dynamic("geometry_msgs/msg/PoseStamped", schema_text("geometry_msgs/PoseStamped"))
+    encode = encode["geometry_msgs/msg/PoseStamped"]
+    bag = tmp_path / "idl.mcap"
+    with open(bag, "wb") as f:
+        w = McapWriter(f)
+        w.start(profile="ros2", library="flapwing test")
+        channels = {}
+        for topic, encoding, data in [("/pose_msg", "ros2msg", schema_text("geometry_msgs/PoseStamped")),
+                                      ("/pose_idl", "ros2idl", POSE_IDL)]:
+            s = w.register_schema(name="geometry_msgs/msg/PoseStamped", encoding=encoding, data=data.encode())
+            channels[topic] = w.register_channel(topic=topic, message_encoding="cdr", schema_id=s)
+        for i in range(20):
+            t_ns = T0_NS + i * 5_000_000
+            data = encode(pose_msg(i, t_ns))
+            for c in channels.values():
+                w.add_message(channel_id=c, log_time=t_ns, data=data, publish_time=t_ns)
+        w.finish()
+    summary = json.loads(run_flapwing("replay", bag, "--json").stdout)
+    topics = {t["topic"]: t for t in summary["topics"]}
+    for t in ("/pose_msg", "/pose_idl"):
+        assert topics[t]["problem"] is None, topics[t]
+        assert topics[t]["message_type"] == "geometry_msgs/msg/PoseStamped"
+        assert topics[t]["message_count"] == 20
+    run_flapwing("replay", bag, "--csv", "/pose_msg", tmp_path / "msg.csv")
+    run_flapwing("replay", bag, "--csv", "/pose_idl", tmp_path / "idl.csv")
+    a, b = read_csv(tmp_path / "msg.csv"), read_csv(tmp_path / "idl.csv")
+    assert a == b and len(a) == 20
+    assert float(b[7]["pose.position.x"]) == 0.1 * 7 and b[7]["header.frame_id"] == "world"

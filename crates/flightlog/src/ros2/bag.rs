@@ -30,9 +30,11 @@ pub struct BagChannel {
 }
 
 impl BagChannel {
-    /// True for a ROS 2 channel: a `ros2msg` schema and CDR messages.
+    /// True for a ROS 2 channel: a `ros2msg` or `ros2idl` schema and CDR messages.
     pub fn is_ros2(&self) -> bool {
-        self.schema_encoding == SCHEMA_ROS2MSG && self.message_encoding == MESSAGE_CDR
+        (self.schema_encoding == SCHEMA_ROS2MSG
+            || self.schema_encoding == super::idl::SCHEMA_ROS2IDL)
+            && self.message_encoding == MESSAGE_CDR
     }
 }
 

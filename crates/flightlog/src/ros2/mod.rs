@@ -12,6 +12,7 @@
 
 pub mod bag;
 pub mod cdr;
+pub mod idl;
 pub mod summary;
 #[cfg(test)]
 mod tests;

@@ -83,12 +83,16 @@ fn message_type(c: &BagChannel) -> std::result::Result<MessageType, String> {
     if !c.is_ros2() {
         return Err(format!(
             "schema encoding `{}` with message encoding `{}` is not decoded (allowed: \
-             `ros2msg` schemas with `cdr` messages)",
+             `ros2msg` or `ros2idl` schemas with `cdr` messages)",
             c.schema_encoding, c.message_encoding
         ));
     }
     let text = std::str::from_utf8(&c.schema_data)
         .map_err(|e| format!("the schema is not UTF-8 text: {e}"))?;
+    if c.schema_encoding == super::idl::SCHEMA_ROS2IDL {
+        let bundle = super::idl::msg_bundle(&c.schema_name, text)?;
+        return MessageType::parse(&c.schema_name, &bundle);
+    }
     MessageType::parse(&c.schema_name, text)
 }
 
