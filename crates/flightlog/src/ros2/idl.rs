@@ -73,14 +73,15 @@ fn sections(idl: &str) -> Vec<String> {
     let mut lines = idl.lines().peekable();
     while let Some(line) = lines.next() {
         let t = line.trim();
-        if t.len() >= 3 && t.chars().all(|c| c == '=') {
-            if let Some(next) = lines.peek()
-                && next.trim_start().starts_with("IDL:")
-            {
-                lines.next();
-                out.push(String::new());
-                continue;
-            }
+        if t.len() >= 3
+            && t.chars().all(|c| c == '=')
+            && lines
+                .peek()
+                .is_some_and(|next| next.trim_start().starts_with("IDL:"))
+        {
+            lines.next();
+            out.push(String::new());
+            continue;
         }
         let last = out.len() - 1;
         out[last].push_str(line);
