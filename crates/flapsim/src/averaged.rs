@@ -63,16 +63,17 @@ fn step_loads(
     out: &mut Vec<WingForces>,
 ) {
     let w = 1.0 / steps as f64;
-    let midpoint = vehicle.load_sampling() == wingset::LoadSampling::Midpoint;
+    let rule = vehicle.load_sampling().step_rule();
     let dt_s = w / vehicle.freq_hz();
     let phase = k as f64 * w;
     out.clear();
     out.extend(wings.iter().map(|wing| {
-        if midpoint {
-            let s = wing.kinematic_loads_over_step(phase, (k + 1) as f64 * w, dt_s);
-            wing.evaluate_with(&s.mean, motion)
-        } else {
-            wing.evaluate(phase, motion)
+        match rule {
+            Some(rule) => {
+                let s = wing.loads_over_step(phase, (k + 1) as f64 * w, dt_s, rule);
+                wing.evaluate_with(&s.mean, motion)
+            }
+            None => wing.evaluate(phase, motion),
         }
     }));
 }

@@ -12,7 +12,6 @@ use rapier3d_f64::na::Unit;
 use rapier3d_f64::prelude::*;
 use serde::{Deserialize, Serialize};
 use wingforce::WingForces;
-use wingset::LoadSampling;
 
 use crate::actuated::ActuatedWingOutput;
 use crate::error::{Error, Result};
@@ -474,7 +473,7 @@ impl Simulation {
         rb.add_force(to_glam(&(q * out.total.force_n + drag_n)), false);
         rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
         self.world.step();
-        if self.wings.load_sampling() == LoadSampling::Midpoint {
+        if self.wings.load_sampling().is_second_order() {
             self.trapezoid_pose(&out.state);
         }
         self.out.insert(out)

@@ -64,7 +64,7 @@ impl FromVehicle for WingSet {
             vehicle.controls,
         )?;
         set.set_load_sampling(vehicle.load_sampling());
-        if vehicle.load_sampling() == wingset::LoadSampling::Midpoint {
+        if vehicle.load_sampling().is_second_order() {
             set.set_body_inertia_kg_m2(Some(vehicle.inertia_kg_m2));
         }
         Ok(set)

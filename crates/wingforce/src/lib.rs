@@ -48,5 +48,5 @@ pub use model::{AeroSpec, FluidSpec, WingModelSpec, WingSpec};
 pub use planform::{Geometry, GeometryOverrides, PlanformSpec};
 pub use wing::{
     AeroOptions, BodyMotion, Fluid, KinematicLoads, Mount, Side, StepKinematicLoads,
-    StrokeReference, Term, TermForce, Wing, WingForces, WingFrame,
+    StepRule, StrokeReference, Term, TermForce, Wing, WingForces, WingFrame,
 };

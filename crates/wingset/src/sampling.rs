@@ -54,20 +54,30 @@ pub enum LoadSampling {
     /// The loads at the step's start (first order; the only one before issue 37).
     StepStart,
     /// The loads at the step's midpoint, the body's state there predicted (second order;
-    /// the default).
-    #[default]
+    /// the default from issue 37's first stop until the step mean; logs written with it
+    /// replay with it bit for bit).
     Midpoint,
+    /// As `Midpoint`, with the kinematic terms' means on pieces of at most
+    /// [`wingforce::MAX_PIECE_PHASE`] of the wingbeat and the translational term's still-air
+    /// quadrature error at the midpoint added to its one sample (second order; the default).
+    #[default]
+    StepMean,
 }
 
 impl LoadSampling {
     /// Both, in the order the documentation lists them.
-    pub const ALL: [LoadSampling; 2] = [LoadSampling::StepStart, LoadSampling::Midpoint];
+    pub const ALL: [LoadSampling; 3] = [
+        LoadSampling::StepStart,
+        LoadSampling::Midpoint,
+        LoadSampling::StepMean,
+    ];
 
     /// The name in model files, logs and reports.
     pub fn name(self) -> &'static str {
         match self {
             LoadSampling::StepStart => "step_start",
             LoadSampling::Midpoint => "midpoint",
+            LoadSampling::StepMean => "step_mean",
         }
     }
 
@@ -78,14 +88,27 @@ impl LoadSampling {
 
     /// The allowed names, for error messages.
     pub fn allowed() -> &'static str {
-        "\"midpoint\" (second order, the default) or \"step_start\" (first order)"
+        "\"step_mean\" (second order, the default), \"midpoint\" (second order, without the step mean's refinements) or \"step_start\" (first order)"
     }
 
     /// The fraction of the step at which the kinematics are sampled.
     pub(crate) fn step_fraction(self) -> f64 {
+        if self.is_second_order() { 0.5 } else { 0.0 }
+    }
+
+    /// Whether the loads represent the step (the body's state predicted at its midpoint):
+    /// [`LoadSampling::Midpoint`] and [`LoadSampling::StepMean`].
+    pub fn is_second_order(self) -> bool {
+        self != LoadSampling::StepStart
+    }
+
+    /// How a prescribed wing's kinematic loads represent the step (wingforce's
+    /// [`wingforce::StepRule`]); `None` for the step-start sampling.
+    pub fn step_rule(self) -> Option<wingforce::StepRule> {
         match self {
-            LoadSampling::StepStart => 0.0,
-            LoadSampling::Midpoint => 0.5,
+            LoadSampling::StepStart => None,
+            LoadSampling::Midpoint => Some(wingforce::StepRule::Midpoint),
+            LoadSampling::StepMean => Some(wingforce::StepRule::StepMean),
         }
     }
 }

@@ -301,7 +301,7 @@ impl Vehicle {
     pub fn load_sampling(&self) -> wingset::LoadSampling {
         self.sim.load_sampling.unwrap_or(match self.actuation {
             Some(_) => wingset::LoadSampling::StepStart,
-            None => wingset::LoadSampling::Midpoint,
+            None => wingset::LoadSampling::StepMean,
         })
     }
 

@@ -319,6 +319,9 @@ impl Wing {
         let mut terms = k.terms;
         terms[0] = frame.term(f_tr, m_tr, c.q_ref_s_n, k.phase.downstroke);
         c.to_body(&mut terms[0]);
+        if k.terms[0] != TermForce::default() {
+            terms[0].add(&k.terms[0]);
+        }
         let mut total = TermForce::default();
         for t in &terms {
             total.add(t);

@@ -21,6 +21,7 @@ pub use crate::forces::{KinematicLoads, StepKinematicLoads, WingForces};
 pub use crate::frame::WingFrame;
 pub use crate::mount::{BodyMotion, Fluid, Mount, Side};
 pub use crate::terms::{Term, TermForce};
+pub use step_mean::{MAX_PIECE_PHASE, StepRule};
 
 mod evaluate;
 mod step_mean;

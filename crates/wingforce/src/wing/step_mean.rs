@@ -39,6 +39,7 @@ use nalgebra::Vector3;
 use super::Wing;
 use crate::forces::StepKinematicLoads;
 use crate::frame::WingFrame;
+use crate::mount::BodyMotion;
 use crate::terms::{Term, TermForce};
 
 /// Three-point Gauss-Legendre nodes on [0, 1] and their weights.
@@ -48,6 +49,22 @@ const GAUSS3: [(f64, f64); 3] = [
     (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0),
 ];
 
+/// How [`Wing::loads_over_step`] represents a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepRule {
+    /// The kinematic terms by three-point Gauss-Legendre on each side of a reversal; the
+    /// translational term left to the caller's one sample at the midpoint.
+    Midpoint,
+    /// As `Midpoint` on pieces of at most [`MAX_PIECE_PHASE`], and the translational term's
+    /// still-air quadrature error at the midpoint carried as a correction in the
+    /// translational entry, which [`Wing::evaluate_with`] adds to its midpoint sample.
+    StepMean,
+}
+
+/// Longest piece of a step, wingbeat fraction, that [`StepRule::StepMean`] integrates by one
+/// three-point rule.
+pub const MAX_PIECE_PHASE: f64 = 0.01;
+
 impl Wing {
     /// The kinematic loads that represent a step of `dt_s` from wingbeat phase
     /// `phase_start` to `phase_end` (see the module documentation).
@@ -56,6 +73,17 @@ impl Wing {
         phase_start: f64,
         phase_end: f64,
         dt_s: f64,
+    ) -> StepKinematicLoads {
+        self.loads_over_step(phase_start, phase_end, dt_s, StepRule::Midpoint)
+    }
+
+    /// The loads that represent a step under `rule` ([`StepRule`]).
+    pub fn loads_over_step(
+        &self,
+        phase_start: f64,
+        phase_end: f64,
+        dt_s: f64,
+        rule: StepRule,
     ) -> StepKinematicLoads {
         let k = &self.kinematics;
         let side = self.mount.side;
@@ -90,11 +118,28 @@ impl Wing {
         let mut sums = [TermForce::default(); 4];
         // The added mass's moment: the remainder R's mean (stroke frame), the rest exactly.
         let mut remainder_s = Vector3::zeros();
+        let max_piece = match rule {
+            StepRule::Midpoint => f64::INFINITY,
+            StepRule::StepMean => MAX_PIECE_PHASE,
+        };
+        let correct = rule == StepRule::StepMean;
+        let mut translational = TermForce::default();
         for piece in cuts[..n_cuts].windows(2) {
-            let (p0, p1) = (piece[0], piece[1]);
+            let (q0, q1) = (piece[0], piece[1]);
+            let parts = ((q1 - q0) / max_piece).ceil().max(1.0) as usize;
+            for part in 0..parts {
+            let p0 = q0 + (q1 - q0) * part as f64 / parts as f64;
+            let p1 = q0 + (q1 - q0) * (part + 1) as f64 / parts as f64;
             for (x, w) in GAUSS3 {
                 let node = self.kinematic_loads(p0 + x * (p1 - p0));
                 let weight = w * (p1 - p0) / span;
+                if correct {
+                    let t = &self.evaluate_with(&node, &BodyMotion::default()).terms[0];
+                    translational.force_n += weight * t.force_n;
+                    translational.moment_hinge_nm += weight * t.moment_hinge_nm;
+                    translational.c_l += weight * t.c_l;
+                    translational.c_d += weight * t.c_d;
+                }
                 if let Some((_, r)) = self.added_mass_moment_parts(&node.frame) {
                     remainder_s += weight * r;
                 }
@@ -107,6 +152,16 @@ impl Wing {
                     t.c_d += weight * n.c_d;
                 }
             }
+            }
+        }
+        if correct {
+            let at_mid = &self.evaluate_with(&mean, &BodyMotion::default()).terms[0];
+            mean.terms[0] = TermForce {
+                force_n: translational.force_n - at_mid.force_n,
+                moment_hinge_nm: translational.moment_hinge_nm - at_mid.moment_hinge_nm,
+                c_l: translational.c_l - at_mid.c_l,
+                c_d: translational.c_d - at_mid.c_d,
+            };
         }
         mean.terms[1..].copy_from_slice(&sums[1..]);
         let i = Term::AddedMass as usize;

@@ -8,7 +8,6 @@ use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root, illinois_root};
 /// Most segments (touches and releases) of one sub-step on an inelastic stop.
 const MAX_STOP_EVENTS: usize = 64;
 use crate::error::{Error, Result};
-use crate::sampling::LoadSampling;
 
 impl DynamicWing {
     /// Advances the structure over one sub-step of length `h`: away from the stops, one
@@ -32,7 +31,7 @@ impl DynamicWing {
     ) -> Result<[f64; 4]> {
         let Some(stop) = self.model().hinge.contact else {
             // Second order (LoadSampling::Midpoint): the loads taken afresh at every stage.
-            let stage = (self.load_sampling() == LoadSampling::Midpoint).then_some(reheld);
+            let stage = self.load_sampling().is_second_order().then_some(reheld);
             let y = self.rk4(t0, y0, h, held, Some(k1a), stage).0;
             nodes.push((t0 + h, y, false));
             return Ok(y);

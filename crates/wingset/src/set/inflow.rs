@@ -87,7 +87,7 @@ impl PairInflows {
         for p in &mut self.pairs {
             p.refresh_disc(wings);
             p.used = match (sampling, &p.last) {
-                (LoadSampling::Midpoint, Some(last)) => {
+                (s, Some(last)) if s.is_second_order() => {
                     let now = p.inflow.state;
                     InflowState {
                         mean_m_s: now.mean_m_s + 0.5 * (now.mean_m_s - last.mean_m_s),

@@ -257,7 +257,7 @@ impl WingSet {
         let n = wings.len();
         let sampling = match dynamic {
             Some(_) => LoadSampling::StepStart,
-            None => LoadSampling::Midpoint,
+            None => LoadSampling::StepMean,
         };
         let mut set = Self {
             wings,

@@ -22,7 +22,6 @@ use super::{StepMemory, WingSet};
 use crate::actuated::ActuatedWingOutput;
 use crate::controls::Controls;
 use crate::error::{Error, Result};
-use crate::sampling::LoadSampling;
 
 /// The body's motion relative to air moving at `wind_world_m_s`, body frame.
 fn air_motion(body: &State, wind_world_m_s: &Vector3<f64>) -> BodyMotion {
@@ -105,9 +104,9 @@ impl WingSet {
         Ok(&self.out)
     }
 
-    /// The body's state at which the next step takes its loads ([`LoadSampling`]): `body`
-    /// (the state at t_k) for [`LoadSampling::StepStart`] and for the first step after a
-    /// restart; for [`LoadSampling::Midpoint`] the state at t_k + dt/2 predicted from the
+    /// The body's state at which the next step takes its loads ([`crate::LoadSampling`]):
+    /// `body` (the state at t_k) for the step-start sampling and for the first step after a
+    /// restart; for the second-order samplings the state at t_k + dt/2 predicted from the
     /// last step's: the velocity extrapolated by half its change over the last step, the body
     /// rates likewise (with the body's inertia known, the rate damping taken implicitly:
     /// module `rate_damping`), the position moved by the velocity over dt/2, and the attitude
@@ -143,7 +142,7 @@ impl WingSet {
     /// before this one, not forgotten by a restart).
     pub(super) fn previous(&self) -> Option<StepMemory> {
         match (self.sampling, self.prev_body) {
-            (LoadSampling::Midpoint, Some(p)) if p.step + 1 == self.step => Some(p),
+            (s, Some(p)) if s.is_second_order() && p.step + 1 == self.step => Some(p),
             _ => None,
         }
     }

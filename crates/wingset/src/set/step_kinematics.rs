@@ -6,7 +6,7 @@
 //! tables them once per step of the wingbeat.
 
 use nalgebra::Vector3;
-use wingforce::{KinematicLoads, Wing, WingFrame};
+use wingforce::{KinematicLoads, StepRule, Wing, WingFrame};
 
 use super::WingSet;
 use super::body::BodyLoad;
@@ -84,10 +84,11 @@ impl WingSet {
                     out.push(StepKinematics { kin: k, inertia });
                 }
             }
-            LoadSampling::Midpoint => {
+            LoadSampling::Midpoint | LoadSampling::StepMean => {
+                let rule = self.sampling.step_rule().unwrap_or(StepRule::Midpoint);
                 let half = 0.5 * self.phase_per_step;
                 for (w, r_c) in self.wings.iter().zip(&self.centroid_r_m) {
-                    let k = w.kinematic_loads_over_step(phase - half, phase + half, self.dt_s);
+                    let k = w.loads_over_step(phase - half, phase + half, self.dt_s, rule);
                     let inertia = if m_w > 0.0 {
                         inertia_over_step(w, &k.start, &k.end, *r_c, m_w, self.dt_s)
                     } else {

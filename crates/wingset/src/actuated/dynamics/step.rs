@@ -14,7 +14,6 @@ use super::equations::Held;
 use super::model::Stroke;
 use super::wing::{DynamicWing, WingState, WingStep};
 use crate::error::{Error, Result};
-use crate::sampling::LoadSampling;
 
 /// Deepest penetration into a contact stop before a run stops with an error, rad (10 deg):
 /// a stop is meant to be stiff, so a wing this deep in it says the contact is too soft for
@@ -101,7 +100,7 @@ impl DynamicWing {
         };
         // With stops, or sampled at the midpoint (second order), a step reports its mean
         // loads over the step (below).
-        let stops = self.model.hinge.contact.is_some() || self.sampling == LoadSampling::Midpoint;
+        let stops = self.model.hinge.contact.is_some() || self.sampling.is_second_order();
         let mut out = None;
         let mut frame_start = None;
         let mut nodes = Vec::new();
