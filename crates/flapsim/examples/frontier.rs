@@ -1,28 +1,62 @@
-//! The error-cost frontier of the two load samplings (issue 37, `wingset::sampling`): for
-//! each built-in vehicle, open-loop free flight from its model's initial state for
-//! `DURATION` wingbeats at several steps per wingbeat, under `step_start` and `midpoint`;
-//! the error of the final attitude (deg) and velocity (relative) against a `midpoint` run at
-//! 3200 steps per wingbeat, and the wall time of each run (one run each: the times are for
-//! reading the frontier's shape, not ratios; docs/speed.md's ratios come from interleaved
-//! rounds). Prints a markdown table, one line per run.
+//! The error-cost frontier of the load samplings (issue 37, `wingset::sampling`): for each
+//! built-in vehicle, at several steps per wingbeat, under `step_start`, `midpoint` and
+//! `step_mean`, against a `step_mean` run at 3200 steps per wingbeat:
+//! - open-loop free flight from its model's initial state for `DURATION` wingbeats: the
+//!   error of the final attitude (deg) and velocity (relative);
+//! - the main job, `hover`'s default run (trimmed, LQR-controlled, 1 s from a 5 deg pitch
+//!   disturbance): the relative error of its largest excursion and of its recovery time;
+//! - the hover trim: the largest relative error of its stroke amplitude, mean stroke and
+//!   pitch;
+//! - the longitudinal Floquet exponents: the largest error relative to the largest
+//!   exponent's modulus;
+//! - the wall time of the open-loop and the hover run (one run each: the times are for
+//!   reading the frontier's shape, not ratios; docs/speed.md's ratios come from interleaved
+//!   rounds).
+//!
+//! Then, per vehicle, the fewest steps per wingbeat at which `step_mean` holds [`BOUND`] at
+//! that count and every larger one. Prints markdown tables.
 //!
 //! `cargo run --release --example frontier -- [--plot FILE.svg] [MODEL ...]` (all built-in
-//! vehicles when none is given); `--plot` also draws the attitude error against the steps
-//! per wingbeat, log-log, one colour per vehicle, the midpoint sampling solid and the
-//! step-start sampling thin.
+//! vehicles when none is given); `--plot` also draws the open-loop attitude error against
+//! the steps per wingbeat, log-log, one colour per vehicle, the step-mean sampling solid,
+//! the midpoint dashed-width and the step-start sampling thin.
 
 use std::time::Instant;
 
 use plotters::prelude::*;
 
+use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover};
 use flapsim::{LoadSampling, Mode, Simulation, State, Vehicle, VehicleSpec};
 
 /// Wingbeats flown per run.
 const DURATION: usize = 30;
 /// Steps per wingbeat of the runs compared.
-const STEPS: [usize; 9] = [20, 24, 30, 40, 50, 100, 200, 400, 800];
+const STEPS: [usize; 11] = [20, 24, 25, 30, 40, 50, 100, 200, 400, 800, 1600];
 /// Steps per wingbeat of the reference.
 const REFERENCE: usize = 3200;
+/// Simulated time of the hover runs, s (`hover`'s default).
+const HOVER_S: f64 = 1.0;
+
+/// The accuracy a vehicle's stated step count holds, against the reference: (hover's
+/// largest excursion and recovery time, relative; the Floquet exponents, relative to the
+/// largest; the trim, relative; the open-loop attitude, deg, and velocity, relative).
+/// Issue 37's example bounds for the excursion (0.5 %) and the Floquet exponents (1 %);
+/// the recovery time and the trim at the excursion's 0.5 %; the open-loop flight of an
+/// unstable vehicle, whose errors grow over its 30 wingbeats, at 0.1 deg and 1 %.
+const BOUND: [f64; 6] = [0.005, 0.005, 0.01, 0.005, 0.1, 0.01];
+
+/// What one run measured against the reference (`None`: not available, with the reason in
+/// the table).
+#[derive(Debug, Clone, Default)]
+struct Measured {
+    open_loop: Option<State>,
+    open_s: f64,
+    hover: Option<(f64, Option<f64>)>,
+    hover_s: f64,
+    trim: Option<[f64; 3]>,
+    floquet: Option<Vec<(f64, f64)>>,
+    failures: Vec<String>,
+}
 
 fn vehicle(name: &str, steps: usize, sampling: LoadSampling) -> Result<Vehicle, String> {
     let text = flapsim::builtin_model(name).ok_or_else(|| format!("no built-in {name}"))?;
@@ -41,6 +75,96 @@ fn fly(name: &str, steps: usize, sampling: LoadSampling) -> Result<(State, f64),
         sim.step().map_err(|e| e.to_string())?;
     }
     Ok((sim.state(), start.elapsed().as_secs_f64()))
+}
+
+/// Everything the frontier measures at one step count and sampling.
+fn measure(name: &str, steps: usize, sampling: LoadSampling) -> Measured {
+    let mut m = Measured::default();
+    match fly(name, steps, sampling) {
+        Ok((s, t)) => (m.open_loop, m.open_s) = (Some(s), t),
+        Err(e) => m.failures.push(format!("open loop: {e}")),
+    }
+    let v = match vehicle(name, steps, sampling) {
+        Ok(v) => v,
+        Err(e) => {
+            m.failures.push(e);
+            return m;
+        }
+    };
+    match flapsim::trim::trim(&v) {
+        Ok(trim) => {
+            let c = &trim.controls;
+            m.trim = Some([c.amplitude_rad, c.mean_stroke_rad, trim.pitch_rad]);
+            let start = Instant::now();
+            let run = HoverController::design(&v, &trim, &LqrWeights::default(), 0)
+                .map_err(|e| e.to_string())
+                .and_then(|c| {
+                    let d = Disturbance {
+                        pitch_deg: 5.0,
+                        ..Disturbance::default()
+                    };
+                    run_hover(&v, &trim, Some(c), &d, HOVER_S, |_| true)
+                        .map_err(|e| e.to_string())
+                });
+            m.hover_s = start.elapsed().as_secs_f64();
+            match run {
+                Ok(o) if o.diverged.is_none() => {
+                    m.hover = Some((o.max_position_error_m, o.recovery_time_s))
+                }
+                Ok(o) => m.failures.push(format!("hover: {}", o.diverged.unwrap_or_default())),
+                Err(e) => m.failures.push(format!("hover: {e}")),
+            }
+        }
+        Err(e) => m.failures.push(format!("trim: {e}")),
+    }
+    match flapsim::stability::analyze(&v, true) {
+        Ok(r) => {
+            m.floquet = Some(r.floquet_longitudinal.iter().map(|f| f.exponent).collect())
+        }
+        Err(e) => m.failures.push(format!("stability: {e}")),
+    }
+    m
+}
+
+/// The errors of `m` against `reference`, in [`BOUND`]'s order (`NaN`: not measured).
+fn errors(m: &Measured, reference: &Measured) -> [f64; 6] {
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    let mut e = [f64::NAN; 6];
+    if let (Some((x, r)), Some((x0, r0))) = (m.hover, reference.hover) {
+        e[0] = rel(x, x0);
+        e[1] = match (r, r0) {
+            (Some(r), Some(r0)) => rel(r, r0),
+            (None, None) => 0.0,
+            _ => f64::INFINITY,
+        };
+    }
+    if let (Some(f), Some(f0)) = (&m.floquet, &reference.floquet) {
+        let scale = f0.iter().map(|z| z.0.hypot(z.1)).fold(0.0, f64::max);
+        e[2] = if f.len() == f0.len() {
+            f.iter()
+                .zip(f0)
+                .map(|(a, b)| (a.0 - b.0).hypot(a.1 - b.1) / scale)
+                .fold(0.0, f64::max)
+        } else {
+            f64::INFINITY
+        };
+    }
+    if let (Some(t), Some(t0)) = (m.trim, reference.trim) {
+        // The mean stroke and pitch relative to the amplitude (they may be near zero).
+        e[3] = (0..3)
+            .map(|i| (t[i] - t0[i]).abs() / t0[0].abs())
+            .fold(0.0, f64::max);
+    }
+    if let (Some(s), Some(s0)) = (&m.open_loop, &reference.open_loop) {
+        e[4] = s.world_from_body.angle_to(&s0.world_from_body).to_degrees();
+        e[5] = (s.velocity_m_s - s0.velocity_m_s).norm() / s0.velocity_m_s.norm();
+    }
+    e
+}
+
+/// A table cell: the error, or a dash where it was not measured.
+fn cell(x: f64) -> String {
+    if x.is_nan() { "-".into() } else { format!("{x:.2e}") }
 }
 
 /// One run's attitude error, deg (`None`: it diverged).
@@ -69,16 +193,16 @@ where
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            "error-cost frontier: open loop, 30 wingbeats, against 3200 steps per wingbeat",
+            "error-cost frontier: open loop, 30 wingbeats, against 3200 steps per wingbeat (step_mean)",
             ("sans-serif", 18),
         )
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(70)
-        .build_cartesian_2d((15.0f64..900.0).log_scale(), (1e-6f64..100.0).log_scale())?;
+        .build_cartesian_2d((15.0f64..2000.0).log_scale(), (1e-6f64..100.0).log_scale())?;
     chart
         .configure_mesh()
-        .x_desc("steps per wingbeat (midpoint: 1.10x the cost per step)")
+        .x_desc("steps per wingbeat")
         .x_label_formatter(&|x| format!("{x:.0}"))
         .y_desc("final attitude error [deg]")
         .draw()?;
@@ -97,10 +221,10 @@ where
                 .filter(|r| r.0 == *name && r.1 == sampling)
                 .filter_map(|r| r.3.map(|e| (r.2 as f64, e.max(1e-6))))
                 .collect();
-            let width = if sampling == LoadSampling::Midpoint {
-                3
-            } else {
-                1
+            let width = match sampling {
+                LoadSampling::StepMean => 3,
+                LoadSampling::Midpoint => 2,
+                LoadSampling::StepStart => 1,
             };
             let series = chart.draw_series(LineSeries::new(
                 points.iter().copied(),
@@ -141,42 +265,59 @@ fn main() {
         args.iter().map(String::as_str).collect()
     };
     println!(
-        "| vehicle | sampling | steps/wingbeat | attitude error (deg) | velocity error (rel.) | wall time (s) |"
+        "| vehicle | sampling | steps/wingbeat | hover excursion | recovery | Floquet | trim | open-loop attitude (deg) | open-loop velocity | open-loop wall (s) | hover wall (s) | failures |"
     );
-    println!("|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut bounds = Vec::new();
     for name in names {
-        let reference = match fly(name, REFERENCE, LoadSampling::Midpoint) {
-            Ok((s, _)) => s,
-            Err(e) => {
-                println!("| {name} | | {REFERENCE} | reference failed: {e} | | |");
-                continue;
-            }
-        };
+        let reference = measure(name, REFERENCE, LoadSampling::StepMean);
+        if !reference.failures.is_empty() {
+            println!(
+                "| {name} | step_mean | {REFERENCE} (reference) | | | | | | | | | {} |",
+                reference.failures.join("; ")
+            );
+        }
+        let mut held: Option<usize> = None;
         for sampling in LoadSampling::ALL {
             for steps in STEPS {
-                match fly(name, steps, sampling) {
-                    Ok((s, t)) => {
-                        let da = s
-                            .world_from_body
-                            .angle_to(&reference.world_from_body)
-                            .to_degrees();
-                        let dv = (s.velocity_m_s - reference.velocity_m_s).norm()
-                            / reference.velocity_m_s.norm();
-                        println!(
-                            "| {name} | {} | {steps} | {da:.3e} | {dv:.3e} | {t:.4} |",
-                            sampling.name()
-                        );
-                        rows.push((name.to_owned(), sampling, steps, Some(da)));
-                    }
-                    Err(e) => {
-                        println!(
-                            "| {name} | {} | {steps} | failed: {e} | | |",
-                            sampling.name()
-                        );
-                        rows.push((name.to_owned(), sampling, steps, None));
-                    }
+                let m = measure(name, steps, sampling);
+                let e = errors(&m, &reference);
+                println!(
+                    "| {name} | {} | {steps} | {} | {} | {} | {} | {} | {} | {:.4} | {:.4} | {} |",
+                    sampling.name(),
+                    cell(e[0]),
+                    cell(e[1]),
+                    cell(e[2]),
+                    cell(e[3]),
+                    cell(e[4]),
+                    cell(e[5]),
+                    m.open_s,
+                    m.hover_s,
+                    m.failures.join("; ")
+                );
+                rows.push((name.to_owned(), sampling, steps, m.open_loop.map(|_| e[4])));
+                if sampling == LoadSampling::StepMean {
+                    // Every error measured on the reference within its bound (a measure the
+                    // reference lacks, e.g. a vehicle without a hover trim, is not bounded).
+                    let ok = e.iter().zip(BOUND).all(|(x, b)| x.is_nan() || *x <= b)
+                        && m.failures.is_empty();
+                    held = match (ok, held) {
+                        (true, None) => Some(steps),
+                        (true, h) => h,
+                        (false, _) => None,
+                    };
                 }
             }
+        }
+        bounds.push((name, held));
+    }
+    println!();
+    println!("| vehicle | fewest steps per wingbeat holding the bound (step_mean) |");
+    println!("|---|---|");
+    for (name, held) in bounds {
+        match held {
+            Some(n) => println!("| {name} | {n} |"),
+            None => println!("| {name} | none up to {} |", STEPS[STEPS.len() - 1]),
         }
     }
     if let Some(path) = plot_path {

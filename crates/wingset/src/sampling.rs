@@ -11,8 +11,13 @@
 //!   files): the wings' kinematics at the wingbeat phase of t_k and the body's state at t_k.
 //!   Measured on the fly (issue 37's table): the hover excursion's error falls as 1/N
 //!   (3.6% at 100 steps per wingbeat, 0.8% at 400).
-//! - [`LoadSampling::Midpoint`] (the default for prescribed wings; `[sim] load_sampling`):
-//!   loads that represent the step. Prescribed wings: the rotational, added-mass and
+//! - [`LoadSampling::StepMean`] (the default for prescribed wings; `[sim] load_sampling`):
+//!   as `Midpoint` below, with wingforce's `StepRule::StepMean`: the kinematic terms' means
+//!   on pieces of at most 0.02 of the wingbeat, and the translational term's still-air
+//!   quadrature error at the midpoint added to its one sample, so that odd step counts no
+//!   longer alias (wingforce's `wing::step_mean` module says why and what it measured).
+//! - [`LoadSampling::Midpoint`] (the default from issue 37's first stop until the step mean;
+//!   logs written with it replay with it bit for bit): loads that represent the step. Prescribed wings: the rotational, added-mass and
 //!   wake-capture terms and the wings' inertial reaction are their means over the step
 //!   (wingforce's `Wing::kinematic_loads_over_step`: the added mass's force and moment and
 //!   the inertial reaction exactly from the wing's motion at the step's ends, the rest by
@@ -42,9 +47,10 @@
 //! host's own position and attitude (x_{k+1} = x_k + dt v_{k+1} reads the velocity at the
 //! step's end: a bias of dt/2 (v(t) - v(0)) that does not grow; flapsim's `Simulation` moves
 //! rapier's pose to the trapezoidal rule, other hosts keep it), and a wind field a host
-//! evaluates at the body's position at t_k. Odd step counts put a reversal on a step's
-//! midpoint, where the translational term's one sample aliases (the fly at 25: a pitch error
-//! of 3.9 deg after 0.3 s open loop, against 0.08 at 26).
+//! evaluates at the body's position at t_k. Under `Midpoint`, odd step counts put a
+//! reversal on a step's midpoint, where the translational term's one sample aliases (the fly
+//! at 25: a pitch error of 3.9 deg after 0.3 s open loop, against 0.08 at 26); under
+//! `StepMean` the fly at 25 ends 0.07 deg off.
 
 #[derive(
     Debug, Clone, Copy, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
