@@ -147,7 +147,7 @@ static fmi2Status ensure_wings(Fmu *f) {
   if (f->wings) return fmi2OK;
   double dt_s = f->real[VR_dt_s];
   if (!(dt_s >= 0.0) || isinf(dt_s))
-    return fail(f, fmi2Error, "parameter dt_s = %g s: must be 0 (the model's own step) or a finite step > 0 of at most 1/20 of the wingbeat period", dt_s);
+    return fail(f, fmi2Error, "parameter dt_s = %g s: must be 0 (the model's own step) or a finite step > 0 of at most 1/10 of the wingbeat period", dt_s);
   FlapwingStatus s = is_path(f->model) ? flapwing_wings_from_file(f->model, dt_s, &f->wings)
                                        : flapwing_wings_from_builtin(f->model, dt_s, &f->wings);
   if (s != FLAPWING_OK)

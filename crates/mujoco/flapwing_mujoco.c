@@ -17,7 +17,7 @@
  * step. mj_resetData restarts the wings from t = 0.
  *
  * Errors through MuJoCo's own channels: a bad attribute or model (or `<option timestep>` not
- * > 0, or longer than the wing set allows: 1/20 of the wingbeat) makes `init` fail with a
+ * > 0, or longer than the wing set allows: 1/10 of the wingbeat) makes `init` fail with a
  * mju_error naming what is wrong, after freeing what it allocated: the error MuJoCo raises
  * for any failed plugin init anyway ("plugin->init failed"), here with the reason, once (a
  * mju_warning before a plain failure appears twice in the compiler's message). The compiler
@@ -162,10 +162,10 @@ static int read_config(const mjModel *m, int instance, Config *c, char *msg, siz
   memset(c, 0, sizeof(*c));
   c->dt_s = m->opt.timestep;
   /* The C ABI reads a step of 0 as "the model's own": the wings would advance while MuJoCo's
-   * clock stands still. The upper bound (1/20 of the wingbeat) is the wing set's own. */
+   * clock stands still. The upper bound (1/10 of the wingbeat) is the wing set's own. */
   if (!(c->dt_s > 0.0) || !isfinite(c->dt_s)) {
     snprintf(msg, nmsg,
-             "<option timestep> = %.17g s; allowed: a finite step > 0 s of at most 1/20 of the "
+             "<option timestep> = %.17g s; allowed: a finite step > 0 s of at most 1/10 of the "
              "wingbeat period (the wings advance by it at every mj_step)",
              c->dt_s);
     return -1;

@@ -6,7 +6,7 @@ a child Python process with a timeout, as tests/python/test_bad_input.py runs it
 fails on a crash (the child dies on a signal), a hang (the timeout) or a silent acceptance:
 the child must see the host's own error (a ValueError, a MuJoCo load error, an FMI status, a
 MuJoCo warning counted in `d.warning`) with a message naming the value and what is allowed.
-The cases: a step longer than 1/20 of the wingbeat, or 0 in MuJoCo; a finite body state or
+The cases: a step longer than 1/10 of the wingbeat, or 0 in MuJoCo; a finite body state or
 wind whose loads overflow (1e300 m/s, where `Wing.evaluate` refuses the same); a load error
 printed once; MuJoCo run-time failures counted as MuJoCo counts its own warnings.
 """
@@ -78,9 +78,9 @@ def run(**start):
 # id -> (host, code setting `result`, check: what the result must show)
 CASES = {
     # --- Python WingSet ---
-    "wingset-dt-1": ("py", "flapwing.WingSet(dt_s=1.0)", ("ValueError", ["dt_s = 1", "1/20"])),
+    "wingset-dt-1": ("py", "flapwing.WingSet(dt_s=1.0)", ("ValueError", ["dt_s = 1", "1/10"])),
     "wingset-dt-1e300": ("py", "flapwing.WingSet(dt_s=1e300)",
-                         ("ValueError", ["dt_s = 1e300", "1/20"])),
+                         ("ValueError", ["dt_s = 1e300", "1/10"])),
     "wingset-dt-0": ("py", "flapwing.WingSet(dt_s=0.0)", ("ValueError", ["dt_s = 0", "> 0"])),
     "wingset-velocity-1e300": (
         "py", "w = flapwing.WingSet(); w.step([0, 0, 0], [1, 0, 0, 0], [1e300, 0, 0], [0, 0, 0])",
@@ -96,7 +96,7 @@ CASES = {
     "mujoco-timestep-0": ("mj", "mujoco.MjModel.from_xml_string(xml(timestep=0))",
                           ("ValueError", ["timestep", "allowed: a finite step > 0 s"])),
     "mujoco-timestep-1ms": ("mj", "mujoco.MjModel.from_xml_string(xml(timestep=0.001))",
-                            ("ValueError", ["dt_s = 0.001", "1/20 of the wingbeat"])),
+                            ("ValueError", ["dt_s = 0.001", "1/10 of the wingbeat"])),
     # One load error, printed once (the compiler's message holds the plugin's).
     "mujoco-load-error-once": (
         "mj", "mujoco.MjModel.from_xml_string(FLY.replace('value=\"drosophila\"', 'value=\"no_fly\"'))",
@@ -125,7 +125,7 @@ mujoco.mj_step(m, d)
 result = {"warnings": [int(w.number) for w in d.warning], "force": None}
 """, ("warning", "mjWARN_BADCTRL")),
     # --- FMU ---
-    "fmu-dt-1": ("fmu", "result = run(dt_s=1.0)", ("fmi", 3, ["dt_s = 1", "1/20"])),
+    "fmu-dt-1": ("fmu", "result = run(dt_s=1.0)", ("fmi", 3, ["dt_s = 1", "1/10"])),
     "fmu-velocity-1e300": ("fmu", "result = run(velocity_world_m_s_x=1e300)",
                            ("fmi", 2, ["the loads overflow", "1e300", "allowed"])),
 }

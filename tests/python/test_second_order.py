@@ -2,7 +2,8 @@
 
 A host integrates the body with its own first-order scheme; here the numpy semi-implicit
 Euler loop of examples/python/wings_in_your_loop.py (rapier's and MuJoCo's scheme). With the
-"midpoint" sampling the wing set hands it each step's mean loads, the body's midpoint state
+second-order samplings ("step_mean", the default, and "midpoint") the wing set hands it each
+step's mean loads, the body's midpoint state
 predicted from the last two states it was given, so the host's velocity is second-order
 accurate: halving the step divides the velocity error at a fixed time by about 4 (a
 one-step method of order p divides it by 2^p; Hairer, Norsett & Wanner, Solving Ordinary
@@ -15,6 +16,7 @@ the midpoint's ratios here were 2.15 and 2.33).
 
 import importlib.util
 import pathlib
+import re
 
 import numpy as np
 import pytest
@@ -34,9 +36,9 @@ def example():
 
 def model(tmp_path, steps, sampling):
     text = (ROOT / "models/drosophila.toml").read_text()
-    assert "steps_per_wingbeat = 100" in text
-    text = text.replace("steps_per_wingbeat = 100",
-                        f'steps_per_wingbeat = {steps}\nload_sampling = "{sampling}"')
+    line = re.compile(r"^steps_per_wingbeat = \d+", re.M)
+    assert line.search(text)
+    text = line.sub(f'steps_per_wingbeat = {steps}\nload_sampling = "{sampling}"', text, count=1)
     path = tmp_path / f"fly_{sampling}_{steps}.toml"
     path.write_text(text)
     return str(path)
@@ -45,10 +47,10 @@ def model(tmp_path, steps, sampling):
 # Measured from 100 steps per wingbeat: midpoint errors 3.8e-6, 1.1e-6, 2.9e-7 m/s (ratios 3.51,
 # 3.82; from 200 the ratios sit nearer 4), step-start 3.6e-3, 1.8e-3, 9.1e-4 m/s (1.98, 1.99):
 # at equal steps the midpoint's error is 1/1000 of the step-start's.
-@pytest.mark.parametrize("sampling, low, high", [("midpoint", 3.5, 5.0), ("step_start", 1.6, 2.6)])
+@pytest.mark.parametrize("sampling, low, high", [("step_mean", 3.5, 5.0), ("step_start", 1.6, 2.6)])
 def test_a_numpy_hosts_velocity_converges_at_the_samplings_order(tmp_path, sampling, low, high):
     ex = example()
-    _, _, v_ref, _ = ex.fly(wingbeats=10, model=model(tmp_path, 3200, "midpoint"))
+    _, _, v_ref, _ = ex.fly(wingbeats=10, model=model(tmp_path, 3200, "step_mean"))
     errors = []
     for steps in (200, 400, 800):
         _, _, v, _ = ex.fly(wingbeats=10, model=model(tmp_path, steps, sampling))
@@ -60,7 +62,7 @@ def test_a_numpy_hosts_velocity_converges_at_the_samplings_order(tmp_path, sampl
 def test_the_sampling_is_named_and_restart_forgets_the_last_state(tmp_path):
     path = model(tmp_path, 100, "midpoint")
     assert flapwing.Vehicle(path).load_sampling == "midpoint"
-    assert flapwing.Vehicle("drosophila").load_sampling == "midpoint"
+    assert flapwing.Vehicle("drosophila").load_sampling == "step_mean"
     assert flapwing.Vehicle("robobee").load_sampling == "step_start"
     a, b = flapwing.WingSet(path), flapwing.WingSet(path)
     assert a.load_sampling == "midpoint"
@@ -82,10 +84,12 @@ def test_the_sampling_is_named_and_restart_forgets_the_last_state(tmp_path):
 
 
 def test_a_step_coarser_than_the_stated_bound_is_flagged(tmp_path):
-    """models/drosophila.toml states 50 steps per wingbeat (the error-cost frontier's fewest
-    that keep 30 open-loop wingbeats within 0.01 deg and 0.1 % of a 3200-step run)."""
+    """models/drosophila.toml states 20 steps per wingbeat, its default (the error-cost
+    frontier's fewest that hold hover's excursion within 0.5 %, the Floquet exponents within 1 %
+    and 30 open-loop wingbeats within 0.1 deg of a 3200-step run)."""
     fly = flapwing.Vehicle("drosophila")
-    assert fly.accurate_steps_per_wingbeat == 50 and fly.coarse_step_warning is None
-    coarse = flapwing.Vehicle(model(tmp_path, 30, "midpoint"))
-    assert "30 steps per wingbeat, coarser than the 50" in coarse.coarse_step_warning
+    assert fly.accurate_steps_per_wingbeat == 20 and fly.steps_per_wingbeat == 20
+    assert fly.coarse_step_warning is None
+    coarse = flapwing.Vehicle(model(tmp_path, 16, "step_mean"))
+    assert "16 steps per wingbeat, coarser than the 20" in coarse.coarse_step_warning
     assert flapwing.Vehicle("robobee").accurate_steps_per_wingbeat is None

@@ -117,7 +117,7 @@ fn stability_step_override_out_of_range() {
         "--steps-per-wingbeat",
         "5",
     ]);
-    assert_names(&run, &["--steps-per-wingbeat", "5", "20 to 100000"]);
+    assert_names(&run, &["--steps-per-wingbeat", "5", "10 to 100000"]);
 }
 
 /// A vehicle stepped more coarsely than its model file's stated accuracy bound
@@ -127,15 +127,15 @@ fn stability_step_override_out_of_range() {
 fn a_step_coarser_than_the_stated_bound_warns() {
     let dir = tempfile::tempdir().unwrap();
     let fly = flapsim::DROSOPHILA_TOML;
-    assert!(fly.contains("accurate_steps_per_wingbeat = 50"));
+    assert!(fly.contains("\naccurate_steps_per_wingbeat = 20 "));
     let with_steps = |n: usize| {
         fly.replace(
-            "steps_per_wingbeat = 100\n",
-            &format!("steps_per_wingbeat = {n}\n"),
+            "\nsteps_per_wingbeat = 20 ",
+            &format!("\nsteps_per_wingbeat = {n} "),
         )
     };
-    std::fs::write(dir.path().join("coarse.toml"), with_steps(30)).unwrap();
-    std::fs::write(dir.path().join("bound.toml"), with_steps(50)).unwrap();
+    std::fs::write(dir.path().join("coarse.toml"), with_steps(16)).unwrap();
+    std::fs::write(dir.path().join("bound.toml"), with_steps(20)).unwrap();
     let args = |m: &'static str| {
         [
             "simulate",
@@ -150,7 +150,7 @@ fn a_step_coarser_than_the_stated_bound_warns() {
     assert_eq!(run.code, 0, "{run:?}");
     assert!(
         run.stderr.contains(
-            "warning: `drosophila` is stepped at 30 steps per wingbeat, coarser than the 50"
+            "warning: `drosophila` is stepped at 16 steps per wingbeat, coarser than the 20"
         ),
         "{}",
         run.stderr
@@ -159,8 +159,8 @@ fn a_step_coarser_than_the_stated_bound_warns() {
     assert_eq!(run.code, 0, "{run:?}");
     assert!(!run.stderr.contains("coarser than"), "{}", run.stderr);
     let bad = fly.replace(
-        "accurate_steps_per_wingbeat = 50",
-        "accurate_steps_per_wingbeat = 5",
+        "\naccurate_steps_per_wingbeat = 20 ",
+        "\naccurate_steps_per_wingbeat = 5 ",
     );
     std::fs::write(dir.path().join("bad.toml"), bad).unwrap();
     let run = flapwing_in(dir.path(), &args("bad.toml"));
@@ -170,7 +170,7 @@ fn a_step_coarser_than_the_stated_bound_warns() {
             "bad.toml",
             "sim.accurate_steps_per_wingbeat",
             "5",
-            "[20, 100000]",
+            "[10, 100000]",
         ],
     );
     let _ = flapwing;

@@ -86,8 +86,8 @@ unsafe fn create(
 }
 
 /// A built-in model's wings: `name` is one of drosophila, bumblebee, robobee_kinematic,
-/// robobee, hummingbird. `dt_s > 0` is the host's fixed step, at most 1/20 of the wingbeat
-/// period (1 / (20 f); a longer step is FLAPWING_INVALID_ARGUMENT); `dt_s == 0` takes the
+/// robobee, hummingbird. `dt_s > 0` is the host's fixed step, at most 1/10 of the wingbeat
+/// period (1 / (10 f); a longer step is FLAPWING_INVALID_ARGUMENT); `dt_s == 0` takes the
 /// model's own (1 / (f sim.steps_per_wingbeat)). On error `*out` is set to NULL.
 ///
 /// # Safety

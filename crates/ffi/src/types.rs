@@ -267,7 +267,7 @@ pub(crate) fn body_properties(v: &Vehicle) -> FlapwingBodyProperties {
 }
 
 impl FlapwingWings {
-    /// A handle from TOML text: `dt_s > 0` is the host's step (at most 1/20 of the wingbeat
+    /// A handle from TOML text: `dt_s > 0` is the host's step (at most 1/10 of the wingbeat
     /// period, `wingset::check_dt`), `dt_s == 0` the model's own. The set applies the body's
     /// parasite drag (`[body] drag_area_m2`): a host applies the whole wrench it returns.
     pub(crate) fn from_toml(
@@ -278,7 +278,7 @@ impl FlapwingWings {
     ) -> Result<Self, Failure> {
         if !(dt_s >= 0.0 && dt_s.is_finite()) {
             return Err(Failure::invalid(format!(
-                "{function}: dt_s = {dt_s}; allowed: a finite step > 0 s of at most 1/20 of the wingbeat period, or 0 for the model's own step (1 / (f sim.steps_per_wingbeat))"
+                "{function}: dt_s = {dt_s}; allowed: a finite step > 0 s of at most 1/10 of the wingbeat period, or 0 for the model's own step (1 / (f sim.steps_per_wingbeat))"
             )));
         }
         let vehicle = Vehicle::from_toml(text, origin).map_err(|e| Failure::sim(function, e))?;

@@ -182,8 +182,9 @@ impl Vehicle {
     fn steps_per_wingbeat(&self) -> usize {
         self.vehicle.sim.steps_per_wingbeat
     }
-    /// Where in a step the wings' loads are taken (`[sim] load_sampling`): "step_start"
-    /// (first order) or "midpoint" (second order).
+    /// Where in a step the wings' loads are taken (`[sim] load_sampling`): "step_mean"
+    /// (second order, the default for prescribed wings), "midpoint" (second order, as
+    /// before the step mean) or "step_start" (first order).
     #[getter]
     fn load_sampling(&self) -> &'static str {
         self.vehicle.load_sampling().name()

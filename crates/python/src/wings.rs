@@ -32,7 +32,7 @@ fn load_dict<'py>(py: Python<'py>, l: &flapsim::BodyLoad) -> PyResult<Bound<'py,
 impl WingSet {
     /// The wings of `vehicle` (a `Vehicle`, a built-in name or a model path; default the
     /// fly) stepped by `dt_s` (None: the model's own step, 1 / (f steps_per_wingbeat);
-    /// else finite, > 0 and at most 1/20 of the wingbeat period, or a ValueError).
+    /// else finite, > 0 and at most 1/10 of the wingbeat period, or a ValueError).
     #[new]
     #[pyo3(signature = (vehicle = None, dt_s = None))]
     fn new(vehicle: Option<&Bound<'_, PyAny>>, dt_s: Option<f64>) -> PyResult<Self> {
@@ -73,15 +73,15 @@ impl WingSet {
     fn __len__(&self) -> usize {
         self.set.len()
     }
-    /// Where in a step the loads are taken (the model's `[sim] load_sampling`): "step_start"
-    /// or "midpoint" (second order: the body's state at the step's midpoint is predicted from
-    /// the last two states `step` was given).
+    /// Where in a step the loads are taken (the model's `[sim] load_sampling`): "step_start",
+    /// or "step_mean" and "midpoint" (second order: the body's state at the step's midpoint
+    /// is predicted from the last two states `step` was given).
     #[getter]
     fn load_sampling(&self) -> &'static str {
         self.set.load_sampling().name()
     }
     /// Forgets the states earlier steps were given: call it after moving the body by hand
-    /// (a reset, a disturbance), so that a "midpoint" set does not predict from a state the
+    /// (a reset, a disturbance), so that a second-order set does not predict from a state the
     /// body has left. Nothing to forget for "step_start".
     fn restart_motion(&mut self) {
         self.set.restart_motion();

@@ -31,18 +31,18 @@ fn overflow_message(e: Error) -> String {
 }
 
 #[test]
-fn the_step_is_at_most_a_twentieth_of_the_wingbeat() {
+fn the_step_is_at_most_a_tenth_of_the_wingbeat() {
     let f = wing(Side::Left).kinematics().freq_hz;
-    assert_eq!(MIN_STEPS_PER_WINGBEAT, 20.0);
-    // 1 / (20 f) itself is accepted, and so is every finer step.
+    assert_eq!(MIN_STEPS_PER_WINGBEAT, 10.0);
+    // 1 / (10 f) itself is accepted, and so is every finer step.
     assert!(pair(max_dt_s(f)).is_ok());
     assert!(pair(1.0 / (100.0 * f)).is_ok());
-    // A step of 19 per wingbeat, a whole wingbeat, 218 of them and 1e300 s are refused, naming
+    // A step of 9 per wingbeat, a whole wingbeat, 218 of them and 1e300 s are refused, naming
     // the step and the bound.
-    for dt in [1.0 / (19.0 * f), 1.0 / f, 218.0 / f, 1e300] {
+    for dt in [1.0 / (9.0 * f), 1.0 / f, 218.0 / f, 1e300] {
         let m = input_message(pair(dt).unwrap_err());
         assert!(
-            m.contains(&format!("dt_s = {dt:?}")) && m.contains("at most 1/20 of the wingbeat"),
+            m.contains(&format!("dt_s = {dt:?}")) && m.contains("at most 1/10 of the wingbeat"),
             "{m}"
         );
     }

@@ -25,7 +25,7 @@ pub struct StabilityArgs {
     #[arg(long = "no-floquet")]
     pub no_floquet: bool,
     /// Steps per wingbeat for the analysis, in place of the model's `[sim]
-    /// steps_per_wingbeat` (20 to 100000): the full simulations of the Floquet analysis and
+    /// steps_per_wingbeat` (10 to 100000): the full simulations of the Floquet analysis and
     /// an actuated vehicle's periodic wing motion. Run it at twice the step to see whether
     /// the Floquet exponents have converged (docs/commands.md, "Averaged against Floquet").
     #[arg(long, value_name = "N")]
@@ -50,9 +50,9 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
     let mut vehicle = crate::vehicle::with_inflow(build_vehicle(&src)?, args.inflow)?;
     if let Some(n) = args.steps_per_wingbeat {
-        if !(20..=100_000).contains(&n) {
+        if !(10..=100_000).contains(&n) {
             return Err(crate::error::input_error(format!(
-                "--steps-per-wingbeat {n}: allowed 20 to 100000 steps per wingbeat"
+                "--steps-per-wingbeat {n}: allowed 10 to 100000 steps per wingbeat"
             )));
         }
         vehicle.sim.steps_per_wingbeat = n;

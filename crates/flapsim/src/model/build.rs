@@ -97,23 +97,23 @@ impl VehicleSpec {
             pairs.push(self.build_pair(&v, p, pair, &geometry, [&left_k, &right_k])?);
         }
         let sim = &self.sim;
-        if !(20..=100_000).contains(&sim.steps_per_wingbeat) {
+        if !(10..=100_000).contains(&sim.steps_per_wingbeat) {
             return Err(v
                 .invalid(
                     "sim.steps_per_wingbeat",
                     sim.steps_per_wingbeat,
-                    "an integer in [20, 100000] (100+ recommended)",
+                    "an integer in [10, 100000] (at least the model's sim.accurate_steps_per_wingbeat recommended)",
                 )
                 .into());
         }
         if let Some(n) = sim.accurate_steps_per_wingbeat
-            && !(20..=100_000).contains(&n)
+            && !(10..=100_000).contains(&n)
         {
             return Err(v
                 .invalid(
                     "sim.accurate_steps_per_wingbeat",
                     n,
-                    "an integer in [20, 100000], like sim.steps_per_wingbeat",
+                    "an integer in [10, 100000], like sim.steps_per_wingbeat",
                 )
                 .into());
         }

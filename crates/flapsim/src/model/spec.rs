@@ -108,7 +108,7 @@ pub struct ControlSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SimSpec {
-    /// Physics steps per wingbeat (at least 20 accepted).
+    /// Physics steps per wingbeat (at least 10 accepted).
     pub steps_per_wingbeat: usize,
     /// The fewest steps per wingbeat that hold the accuracy the model file states, chosen
     /// from the error-cost frontier (docs/speed.md): a vehicle stepped more coarsely warns

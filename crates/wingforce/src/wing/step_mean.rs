@@ -127,7 +127,7 @@ impl Wing {
         let end = WingFrame::new(&k.angles(phase_end), side);
         let mut mean = self.kinematic_loads(0.5 * (phase_start + phase_end));
         // The pieces of the step between reversals (at most two reversals in a step of at
-        // most 1/20 of the wingbeat).
+        // most 1/10 of the wingbeat).
         let mut cuts = [phase_start, phase_end, phase_end, phase_end];
         let mut n_cuts = 2;
         let mut a = phase_start;

@@ -15,7 +15,7 @@
 //! user's rapier world), the C ABI, the MuJoCo plugin, the FMU and the Python module (crates
 //! `flapwing-ffi`, `flapwing-mujoco`, `flapwing-fmu`, `flapwing-python`).
 //!
-//! The time step is the host's and fixed per set, finite, > 0 and at most 1/20 of the
+//! The time step is the host's and fixed per set, finite, > 0 and at most 1/10 of the
 //! wingbeat period ([`MIN_STEPS_PER_WINGBEAT`]; checked when the set is built and when
 //! kinematics or controls change the frequency). When it divides the wingbeat into a whole
 //! number of steps N (dt = 1/(f N), as flapsim's own host sizes it), the phase advances by
@@ -156,7 +156,7 @@ impl WingSetBuilder {
     }
 
     /// The set, or an error naming what is wrong (no wings, two wings at one place, wings at
-    /// different frequencies, a step that is not positive and finite or longer than 1/20 of
+    /// different frequencies, a step that is not positive and finite or longer than 1/10 of
     /// the wingbeat period, [`check_dt`]).
     pub fn build(self) -> Result<WingSet> {
         if !(self.wing_mass_kg >= 0.0 && self.wing_mass_kg.is_finite()) {
