@@ -51,10 +51,10 @@ def step_start_fly(tmp_path_factory):
     difference of O(dt) by design; the plugin's wrench under the midpoint sampling is checked
     step by step in the tethered tests above this section."""
     text = (ROOT / "models/drosophila.toml").read_text()
-    assert "steps_per_wingbeat = 100\n" in text
+    assert "\nsteps_per_wingbeat = 20 " in text
     path = tmp_path_factory.mktemp("models") / "drosophila_step_start.toml"
-    path.write_text(text.replace("steps_per_wingbeat = 100\n",
-                                 'steps_per_wingbeat = 100\nload_sampling = "step_start"\n'))
+    path.write_text(text.replace("\nsteps_per_wingbeat = 20 ",
+                                 '\nload_sampling = "step_start"\nsteps_per_wingbeat = 100 '))
     return str(path)
 
 

@@ -96,7 +96,8 @@ fn a_log_of_four_wings_replays_with_every_wing() {
         .map(|c| c["topic"].as_str().unwrap())
         .collect();
     let samples = j["samples"].as_u64().unwrap();
-    assert!(samples >= 70, "{samples}");
+    // 0.04 s at the dragonfly's 40 steps per wingbeat: 45 steps, each one logged.
+    assert!(samples >= 40, "{samples}");
     for l in labels {
         for t in [
             format!("/tf/wing_{l}"),

@@ -187,8 +187,8 @@ fn a_midpoint_run_replays_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("mid.toml");
     let text = flapsim::DROSOPHILA_TOML.replace(
-        "steps_per_wingbeat = 100",
-        "steps_per_wingbeat = 40\nload_sampling = \"midpoint\"",
+        "\nsteps_per_wingbeat = 20 ",
+        "\nload_sampling = \"midpoint\"\nsteps_per_wingbeat = 40 ",
     );
     assert_ne!(text, flapsim::DROSOPHILA_TOML);
     std::fs::write(&model, text).unwrap();

@@ -183,7 +183,7 @@ fn a_step_that_is_negative_nan_or_infinite_is_refused() {
         assert_eq!(flapwing_wings_dt_s(own.0, &mut a), FLAPWING_OK);
         assert_eq!(flapwing_wings_dt_s(host.0, &mut b), FLAPWING_OK);
     }
-    assert_eq!(a, 1.0 / (218.0 * 100.0), "1 / (f sim.steps_per_wingbeat)");
+    assert_eq!(a, 1.0 / (218.0 * 20.0), "1 / (f sim.steps_per_wingbeat)");
     assert_eq!(b, 1e-5);
 }
 

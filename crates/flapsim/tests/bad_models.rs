@@ -28,8 +28,8 @@ fn errors_name_file_field_value_and_range() {
         ),
         ("span_m = 2.39e-3", "span_m = inf", "wing.planform.span_m"),
         (
-            "steps_per_wingbeat = 100",
-            "steps_per_wingbeat = 5",
+            "\nsteps_per_wingbeat = 20 ",
+            "\nsteps_per_wingbeat = 5 ",
             "sim.steps_per_wingbeat",
         ),
         (

@@ -157,7 +157,10 @@ fn dragonfly_with_offset(deg: f64) -> Vehicle {
         1,
     );
     assert!(text.contains(&format!("phase_offset_deg = {deg:.1}")));
-    vehicle(&text)
+    // 100 steps a wingbeat, so that half a wingbeat is a whole number of steps.
+    let mut v = vehicle(&text);
+    v.sim.steps_per_wingbeat = 100;
+    v
 }
 
 /// Azuma & Watanabe 1988, experiment 2: 1.5 m/s, 1.1 deg below the horizontal, body level.
@@ -228,6 +231,7 @@ fn the_wing_set_and_the_cycle_mean_agree_on_four_wings() {
     let mut v = vehicle(flapsim::DRAGONFLY_TOML);
     // `mean_loads` samples the N phases of the step starts.
     v.sim.load_sampling = Some(flapsim::LoadSampling::StepStart);
+    v.sim.steps_per_wingbeat = 100;
     let mut set = WingSet::from_vehicle_sized(&v).unwrap();
     assert_eq!(set.len(), 4);
     let still = flapsim::State::at_rest();

@@ -81,6 +81,7 @@ fn tethered_mean_equals_wingforce_cycle_mean() {
     for sampling in flapsim::LoadSampling::ALL {
         let mut v = drosophila();
         v.sim.load_sampling = Some(sampling);
+        v.sim.steps_per_wingbeat = 100;
         let steps = v.sim.steps_per_wingbeat;
         // Step-start: the same N phases; midpoint: the step means, against a fine cycle mean
         // (20,000 phases), to 1e-6 (measured: 3e-7 at 100 steps per wingbeat).

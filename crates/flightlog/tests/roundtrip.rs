@@ -32,7 +32,8 @@ fn assert_vec(v: &Value, expect: &Vector3<f64>, what: &str) {
 fn round_trip_full_rate() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("run.mcap");
-    let duration = wingbeats(20.0);
+    // 100 wingbeats at the fly's 20 steps per wingbeat.
+    let duration = wingbeats(100.0);
     let run = record(&mcap_opts(&path, None), "simulate", duration);
     let n = run.outs.len() as u64;
     assert_eq!(n, 2000);

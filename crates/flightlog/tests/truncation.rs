@@ -35,7 +35,8 @@ fn chunk_ends(bytes: &[u8]) -> Vec<(u64, u64)> {
 fn truncated_files_recover_every_complete_chunk() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("full.mcap");
-    let run = record(&mcap_opts(&path, None), "simulate", wingbeats(20.0));
+    // 2000 steps: 100 wingbeats at the fly's 20 steps per wingbeat.
+    let run = record(&mcap_opts(&path, None), "simulate", wingbeats(100.0));
     let bytes = std::fs::read(&path).unwrap();
     let len = bytes.len() as u64;
     let chunks = chunk_ends(&bytes);
@@ -155,10 +156,10 @@ fn a_killed_run_keeps_its_flushed_chunks() {
     );
     let mut rec = flightlog::Recorder::create(&mcap_opts(&path, None), &info, &vehicle).unwrap();
     let mut sim = flapsim::Simulation::new(vehicle, flapsim::Mode::Free);
-    // At full rate a chunk closes after every 200 samples (200 drosophila steps are 9.2 ms,
-    // so the 50 ms time limit on a chunk never comes first): 0.06 s = 1308 steps close six
-    // chunks and leave 108 samples in the seventh.
-    let n = (0.06 / sim.dt_s()).round() as u64;
+    // At full rate a chunk closes after every 200 samples (200 drosophila steps are 45.9 ms
+    // at its 20 steps per wingbeat, so the 50 ms time limit on a chunk never comes first):
+    // 0.3 s = 1308 steps close six chunks and leave 108 samples in the seventh.
+    let n = (0.3 / sim.dt_s()).round() as u64;
     for _ in 0..n {
         rec.record(&sim.step().unwrap()).unwrap();
     }

@@ -54,7 +54,7 @@ fn the_step_is_at_most_a_tenth_of_the_wingbeat() {
         );
     }
     // New kinematics whose wingbeat the step no longer resolves are refused, the old stay.
-    let mut set = WingSet::builder(1.0 / (25.0 * f))
+    let mut set = WingSet::builder(1.0 / (12.0 * f))
         .wing(wing(Side::Left))
         .build()
         .unwrap();

@@ -148,7 +148,7 @@ proptest! {
 
 /// Integer settings and their ranges (base drosophila-full).
 const INT_RANGES: &[(&str, i64, i64)] = &[
-    ("sim.steps_per_wingbeat", 20, 100_000),
+    ("sim.steps_per_wingbeat", 10, 100_000),
     ("sim.solver_iterations", 1, 16),
     ("aero.strips", 1, 1000),
 ];

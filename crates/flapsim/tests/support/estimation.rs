@@ -16,6 +16,8 @@ pub fn fly() -> (Vehicle, Trim) {
     // start (an IMU sample is a step's load; with the midpoint sampling it is the step's
     // mean, and the every-step propagation is no longer rapier's own step).
     v.sim.load_sampling = Some(flapsim::LoadSampling::StepStart);
+    // ... at the 100 steps per wingbeat the fly was stepped at then.
+    v.sim.steps_per_wingbeat = 100;
     let t = trim(&v).unwrap();
     let tv = trimmed_vehicle(&v, &t).unwrap();
     (tv, t)

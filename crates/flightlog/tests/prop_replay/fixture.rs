@@ -45,13 +45,14 @@ fn record(path: &Path, wingbeats: f64, rate: Option<f64>) {
     rec.finish().unwrap();
 }
 
-/// Six wingbeats logged at every step: several chunks, about 600 samples.
+/// Thirty wingbeats logged at every step (the fly's 20 steps per wingbeat): several chunks,
+/// about 600 samples.
 pub(crate) fn fixture() -> &'static Fixture {
     static F: OnceLock<Fixture> = OnceLock::new();
     F.get_or_init(|| {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("full.mcap");
-        record(&path, 6.0, None);
+        record(&path, 30.0, None);
         let bytes = std::fs::read(&path).unwrap();
         let summary = read_summary(&path).unwrap();
         assert!(summary.complete && summary.damage.is_none());
