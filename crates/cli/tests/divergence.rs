@@ -9,10 +9,9 @@ const BIN: &str = env!("CARGO_BIN_EXE_flapwing");
 fn diverging_run_leaves_a_finished_log() {
     let dir = tempfile::tempdir().unwrap();
     // The built-in fly, untrimmed and spun up: the yaw rate passes the runaway limit soon.
-    let model = flapsim::DROSOPHILA_TOML.replace(
-        "[sim]\n",
-        "[sim]\nmax_angular_speed_rad_s = 50.0\n",
-    ) + "angular_velocity_deg_s = [0.0, 0.0, 2000.0]\n";
+    let model = flapsim::DROSOPHILA_TOML
+        .replace("[sim]\n", "[sim]\nmax_angular_speed_rad_s = 50.0\n")
+        + "angular_velocity_deg_s = [0.0, 0.0, 2000.0]\n";
     assert!(model.contains("max_angular_speed_rad_s = 50.0"));
     std::fs::write(dir.path().join("spin.toml"), model).unwrap();
     let out = Command::new(BIN)

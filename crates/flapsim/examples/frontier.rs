@@ -30,8 +30,8 @@ use std::time::Instant;
 
 use plotters::prelude::*;
 
-use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover};
 use flapsim::averaged::{FrozenState, mean_loads};
+use flapsim::control::{Disturbance, HoverController, LqrWeights, run_hover};
 use flapsim::{FromVehicle, LoadSampling, Mode, Simulation, State, Vehicle, VehicleSpec, WingSet};
 use nalgebra::Vector3;
 
@@ -124,24 +124,23 @@ fn measure(name: &str, steps: usize, sampling: LoadSampling) -> Measured {
                         pitch_deg: 5.0,
                         ..Disturbance::default()
                     };
-                    run_hover(&v, &trim, Some(c), &d, HOVER_S, |_| true)
-                        .map_err(|e| e.to_string())
+                    run_hover(&v, &trim, Some(c), &d, HOVER_S, |_| true).map_err(|e| e.to_string())
                 });
             m.hover_s = start.elapsed().as_secs_f64();
             match run {
                 Ok(o) if o.diverged.is_none() => {
                     m.hover = Some((o.max_position_error_m, o.recovery_time_s))
                 }
-                Ok(o) => m.failures.push(format!("hover: {}", o.diverged.unwrap_or_default())),
+                Ok(o) => m
+                    .failures
+                    .push(format!("hover: {}", o.diverged.unwrap_or_default())),
                 Err(e) => m.failures.push(format!("hover: {e}")),
             }
         }
         Err(e) => m.failures.push(format!("trim: {e}")),
     }
     match flapsim::stability::analyze(&v, true) {
-        Ok(r) => {
-            m.floquet = Some(r.floquet_longitudinal.iter().map(|f| f.exponent).collect())
-        }
+        Ok(r) => m.floquet = Some(r.floquet_longitudinal.iter().map(|f| f.exponent).collect()),
         Err(e) => m.failures.push(format!("stability: {e}")),
     }
     m
@@ -223,7 +222,11 @@ fn errors(m: &Measured, reference: &Measured) -> [f64; 7] {
 
 /// A table cell: the error, or a dash where it was not measured.
 fn cell(x: f64) -> String {
-    if x.is_nan() { "-".into() } else { format!("{x:.2e}") }
+    if x.is_nan() {
+        "-".into()
+    } else {
+        format!("{x:.2e}")
+    }
 }
 
 /// One run's attitude error, deg (`None`: it diverged).
@@ -363,7 +366,10 @@ fn main() {
                     // vehicle's, not the step's.
                     let shared = |f: &String| {
                         let what = f.split(':').next();
-                        reference.failures.iter().any(|r| r.split(':').next() == what)
+                        reference
+                            .failures
+                            .iter()
+                            .any(|r| r.split(':').next() == what)
                     };
                     let ok = e.iter().zip(BOUND).all(|(x, b)| x.is_nan() || *x <= b)
                         && m.failures.iter().all(shared);

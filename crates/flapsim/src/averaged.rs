@@ -67,14 +67,12 @@ fn step_loads(
     let dt_s = w / vehicle.freq_hz();
     let phase = k as f64 * w;
     out.clear();
-    out.extend(wings.iter().map(|wing| {
-        match rule {
-            Some(rule) => {
-                let s = wing.loads_over_step(phase, (k + 1) as f64 * w, dt_s, rule);
-                wing.evaluate_with(&s.mean, motion)
-            }
-            None => wing.evaluate(phase, motion),
+    out.extend(wings.iter().map(|wing| match rule {
+        Some(rule) => {
+            let s = wing.loads_over_step(phase, (k + 1) as f64 * w, dt_s, rule);
+            wing.evaluate_with(&s.mean, motion)
         }
+        None => wing.evaluate(phase, motion),
     }));
 }
 

@@ -47,6 +47,6 @@ pub use kinematics::{Kinematics, KinematicsSpec, StrokePhase, WingAngles};
 pub use model::{AeroSpec, FluidSpec, WingModelSpec, WingSpec};
 pub use planform::{Geometry, GeometryOverrides, PlanformSpec};
 pub use wing::{
-    AeroOptions, BodyMotion, Fluid, KinematicLoads, Mount, Side, StepKinematicLoads,
-    StepRule, StrokeReference, Term, TermForce, Wing, WingForces, WingFrame,
+    AeroOptions, BodyMotion, Fluid, KinematicLoads, Mount, Side, StepKinematicLoads, StepRule,
+    StrokeReference, Term, TermForce, Wing, WingForces, WingFrame,
 };

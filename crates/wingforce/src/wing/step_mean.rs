@@ -165,30 +165,30 @@ impl Wing {
             let (q0, q1) = (piece[0], piece[1]);
             let parts = ((q1 - q0) / max_piece).ceil().max(1.0) as usize;
             for part in 0..parts {
-            let p0 = q0 + (q1 - q0) * part as f64 / parts as f64;
-            let p1 = q0 + (q1 - q0) * (part + 1) as f64 / parts as f64;
-            for &(x, w) in nodes {
-                let node = self.kinematic_loads(p0 + x * (p1 - p0));
-                let weight = w * (p1 - p0) / span;
-                if correct {
-                    let t = &self.evaluate_with(&node, &BodyMotion::default()).terms[0];
-                    translational.force_n += weight * t.force_n;
-                    translational.moment_hinge_nm += weight * t.moment_hinge_nm;
-                    translational.c_l += weight * t.c_l;
-                    translational.c_d += weight * t.c_d;
+                let p0 = q0 + (q1 - q0) * part as f64 / parts as f64;
+                let p1 = q0 + (q1 - q0) * (part + 1) as f64 / parts as f64;
+                for &(x, w) in nodes {
+                    let node = self.kinematic_loads(p0 + x * (p1 - p0));
+                    let weight = w * (p1 - p0) / span;
+                    if correct {
+                        let t = &self.evaluate_with(&node, &BodyMotion::default()).terms[0];
+                        translational.force_n += weight * t.force_n;
+                        translational.moment_hinge_nm += weight * t.moment_hinge_nm;
+                        translational.c_l += weight * t.c_l;
+                        translational.c_d += weight * t.c_d;
+                    }
+                    if let Some((_, r)) = self.added_mass_moment_parts(&node.frame) {
+                        remainder_s += weight * r;
+                    }
+                    for term in [Term::Rotational, Term::AddedMass, Term::WakeCapture] {
+                        let i = term as usize;
+                        let (n, t) = (&node.terms[i], &mut sums[i]);
+                        t.force_n += weight * n.force_n;
+                        t.moment_hinge_nm += weight * n.moment_hinge_nm;
+                        t.c_l += weight * n.c_l;
+                        t.c_d += weight * n.c_d;
+                    }
                 }
-                if let Some((_, r)) = self.added_mass_moment_parts(&node.frame) {
-                    remainder_s += weight * r;
-                }
-                for term in [Term::Rotational, Term::AddedMass, Term::WakeCapture] {
-                    let i = term as usize;
-                    let (n, t) = (&node.terms[i], &mut sums[i]);
-                    t.force_n += weight * n.force_n;
-                    t.moment_hinge_nm += weight * n.moment_hinge_nm;
-                    t.c_l += weight * n.c_l;
-                    t.c_d += weight * n.c_d;
-                }
-            }
             }
         }
         if correct {

@@ -8,8 +8,8 @@ use crate::error::{Error, Result};
 /// period, `dt_s <= 1 / (10 f)`, the coarsest count of issue 37's error-cost frontier
 /// (docs/speed.md). How coarse a step may be is a question of accuracy, which each built-in
 /// vehicle's model states (`sim.accurate_steps_per_wingbeat`, the fewest counts of the
-/// frontier that hold its bound: 12 for the bumblebee, 20 for the fly; a coarser run
-/// warns); the step-start sampling, which holds one sample of the kinematic pulses per step,
+/// frontier that hold its bound: 20 for the fly and the bumblebee, whose hover alone held
+/// from 12 and its forward flight from 20; a coarser run warns); the step-start sampling, which holds one sample of the kinematic pulses per step,
 /// aliases them well above this minimum. 10 is also the smallest `sim.steps_per_wingbeat` a
 /// vehicle model accepts (flapsim's own host steps the same loads).
 pub const MIN_STEPS_PER_WINGBEAT: f64 = 10.0;
