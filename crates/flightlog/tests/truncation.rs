@@ -152,7 +152,7 @@ fn a_killed_run_keeps_its_flushed_chunks() {
         "flapwing simulate",
         toml,
         ORIGIN,
-        flightlog::SimSettings::new(flapsim::Mode::Free, 0.2, None, [0.0; 3]).to_json(),
+        flightlog::SimSettings::new(flapsim::Mode::Free, 0.4, None, [0.0; 3]).to_json(),
     );
     let mut rec = flightlog::Recorder::create(&mcap_opts(&path, None), &info, &vehicle).unwrap();
     let mut sim = flapsim::Simulation::new(vehicle, flapsim::Mode::Free);
