@@ -56,7 +56,7 @@ int main(int argc, char **argv) {
   printf("  </LogCategories>\n");
   /* The default model's element step (the fruit fly: 1 / (218 Hz x 100)) and 218 of them
    * (2.18 wingbeats); tests/python/test_fmu.py checks the step against the C ABI's. */
-  printf("  <DefaultExperiment startTime=\"0\" stopTime=\"0.01\" stepSize=\"%.17g\"/>\n", 1.0 / 21800.0);
+  printf("  <DefaultExperiment startTime=\"0\" stopTime=\"0.05\" stepSize=\"%.17g\"/>\n", 1.0 / (218.0 * 20.0));
   printf("  <ModelVariables>\n");
   printf("    <!-- index %d -->\n", INDEX_MODEL);
   printf("    <ScalarVariable name=\"model\" valueReference=\"0\" causality=\"parameter\" "

@@ -15,6 +15,7 @@ import csv
 import json
 import math
 import pathlib
+import re
 
 import pytest
 from mcap_ros2.writer import Writer
@@ -91,13 +92,14 @@ class Flight:
         settings = json.loads(summary["metadata"]["settings"])
         self.aoa_rad = settings["trim"]["controls"]["aoa_rad"]
         dt = float(summary["metadata"]["dt_s"])
-        freq = 1.0 / (dt * 100)  # 100 steps per wingbeat (models/drosophila.toml)
+        steps = int(re.search(r"^steps_per_wingbeat = (\d+)", truth.read_text(), re.M).group(1))
+        freq = 1.0 / (dt * steps)
         self.mocap = rows(run_flapwing, self.log, "/sensors/mocap", tmp_path)
         self.imu = rows(run_flapwing, self.log, "/sensors/imu", tmp_path)
         # The controls of each wingbeat: its first logged sample, stamped at its start.
         self.controls = {}
         for r in rows(run_flapwing, self.log, "/vehicle/controls", tmp_path):
-            w = int(r["step"]) // 100
+            w = int(r["step"]) // steps
             self.controls.setdefault(w, (round(w * 1e9 / freq), r))
 
     def write_bag(self, path, kind):

@@ -46,7 +46,8 @@ pub use inflow::{InducedInflow, InflowModel};
 pub use kinematics::{Kinematics, KinematicsSpec, StrokePhase, WingAngles};
 pub use model::{AeroSpec, FluidSpec, WingModelSpec, WingSpec};
 pub use planform::{Geometry, GeometryOverrides, PlanformSpec};
+pub use wing::step_mean::{MAX_PIECE_PHASE, StepRule};
 pub use wing::{
-    AeroOptions, BodyMotion, Fluid, KinematicLoads, Mount, Side, StepKinematicLoads, StepRule,
+    AeroOptions, BodyMotion, Fluid, KinematicLoads, Mount, Side, StepKinematicLoads,
     StrokeReference, Term, TermForce, Wing, WingForces, WingFrame,
 };

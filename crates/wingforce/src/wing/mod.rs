@@ -21,10 +21,9 @@ pub use crate::forces::{KinematicLoads, StepKinematicLoads, WingForces};
 pub use crate::frame::WingFrame;
 pub use crate::mount::{BodyMotion, Fluid, Mount, Side};
 pub use crate::terms::{Term, TermForce};
-pub use step_mean::{MAX_PIECE_PHASE, StepRule};
 
 mod evaluate;
-mod step_mean;
+pub mod step_mean;
 
 /// Which terms to compute and how.
 #[derive(Debug, Clone, PartialEq)]
