@@ -520,7 +520,8 @@ pub unsafe extern "C" fn flapwing_wings_set_wind(
 
 /// Forgets the body states earlier steps were given: call it after moving the body other
 /// than by integrating the returned loads (a reset, a disturbance set by hand). A model with
-/// `[sim] load_sampling = "midpoint"` predicts the body's state at each step's midpoint from
+/// a second-order `[sim] load_sampling` ("step_mean", the default for prescribed wings, or
+/// "midpoint") predicts the body's state at each step's midpoint from
 /// the last two states; after this the next step takes the state it is given.
 ///
 /// # Safety

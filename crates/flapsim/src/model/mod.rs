@@ -292,7 +292,7 @@ impl Vehicle {
     }
 
     /// Where in a step the wings' loads are taken: the model's `[sim] load_sampling`, else
-    /// midpoint (second order) for prescribed wings and step-start for actuated ones. Why the
+    /// the step mean (second order) for prescribed wings and step-start for actuated ones. Why the
     /// actuated default stays first order, measured (docs/speed.md rows 25-26): over 30
     /// wingbeats the RoboBee and the hummingbird converge under neither sampling (each
     /// period's stroke reference is a discrete event), over one period the RoboBee's error

@@ -115,9 +115,10 @@ pub struct SimSpec {
     /// ([`crate::Vehicle::coarse_step_warning`]). Absent: no stated bound.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub accurate_steps_per_wingbeat: Option<usize>,
-    /// Where in a step the wings' loads are taken: `"midpoint"` (second order) or
-    /// `"step_start"` (first order, the only one before issue 37; logs written before it
-    /// replay with it). See [`wingset::sampling`]. Absent: midpoint for prescribed wings,
+    /// Where in a step the wings' loads are taken: `"step_mean"` or `"midpoint"` (second
+    /// order; logs of the midpoint replay with it) or `"step_start"` (first order, the only
+    /// one before issue 37; logs written before it replay with it). See
+    /// [`wingset::sampling`]. Absent: the step mean for prescribed wings,
     /// step-start for actuated ones (`Vehicle::load_sampling`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub load_sampling: Option<wingset::LoadSampling>,
