@@ -124,3 +124,21 @@ fn a_run_stopped_early_matches_with_a_note() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A log written with the midpoint load sampling before the step mean became the default
+/// (issue 37; `scripts/make-midpoint-log-fixture` writes it with commit 56fbda5's flapwing)
+/// re-runs with the sampling it records, bit for bit: today's midpoint is that day's.
+#[test]
+fn a_midpoint_log_of_before_the_step_mean_matches() {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/midpoint-drosophila-free.mcap");
+    let s = flightlog::replay::read_summary(&path).unwrap();
+    assert_eq!(s.metadata["load_sampling"], "midpoint");
+    match check_log(&path).unwrap() {
+        CheckOutcome::Match { samples, note } => {
+            assert_eq!(samples, 20);
+            assert_eq!(note, None);
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -92,7 +92,7 @@ pub enum StepRule {
 }
 
 /// Longest piece of a step, wingbeat fraction, that [`StepRule::StepMean`] integrates by one
-/// three-point rule.
+/// two-point rule.
 pub const MAX_PIECE_PHASE: f64 = 0.02;
 
 /// Two-point Gauss-Legendre nodes on [0, 1] and their weights.
@@ -165,8 +165,13 @@ impl Wing {
             let (q0, q1) = (piece[0], piece[1]);
             let parts = ((q1 - q0) / max_piece).ceil().max(1.0) as usize;
             for part in 0..parts {
-                let p0 = q0 + (q1 - q0) * part as f64 / parts as f64;
-                let p1 = q0 + (q1 - q0) * (part + 1) as f64 / parts as f64;
+                // The piece's own ends exactly (one part: the rule before the step mean).
+                let at = |k: usize| match k {
+                    0 => q0,
+                    k if k == parts => q1,
+                    k => q0 + (q1 - q0) * k as f64 / parts as f64,
+                };
+                let (p0, p1) = (at(part), at(part + 1));
                 for &(x, w) in nodes {
                     let node = self.kinematic_loads(p0 + x * (p1 - p0));
                     let weight = w * (p1 - p0) / span;
