@@ -1,9 +1,10 @@
 //! What a prescribed step needs of the kinematics alone, per wing: the kinematic loads
 //! (wingforce's [`KinematicLoads`]) and the inertial reaction of the wing's mass, at the
 //! step's start ([`LoadSampling::StepStart`]) or as the step's means with the midpoint's
-//! state ([`LoadSampling::Midpoint`]: [`Wing::kinematic_loads_over_step`], and the inertial
-//! reaction's exact mean from the wing's motion at the step's ends). Both depend on the wingbeat phase only, so the set
-//! tables them once per step of the wingbeat.
+//! state (the second-order samplings: [`Wing::loads_over_step`] under their
+//! [`StepRule`], the step mean's carrying the translational term's still-air correction, and
+//! the inertial reaction's exact mean from the wing's motion at the step's ends). Both
+//! depend on the wingbeat phase only, so the set tables them once per step of the wingbeat.
 
 use nalgebra::Vector3;
 use wingforce::{KinematicLoads, StepRule, Wing, WingFrame};
@@ -67,7 +68,7 @@ fn inertia_over_step(
 
 impl WingSet {
     /// Every wing's step kinematics for the step whose loads are sampled at `phase`
-    /// (the start's phase, or the midpoint's with [`LoadSampling::Midpoint`]), appended to
+    /// (the start's phase, or the midpoint's with a second-order sampling), appended to
     /// `out` in the set's order.
     pub(super) fn step_kinematics_extend(&self, phase: f64, out: &mut Vec<StepKinematics>) {
         let m_w = self.wing_mass_kg;
