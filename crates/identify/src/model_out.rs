@@ -139,7 +139,7 @@ pub fn fitted_model_toml(model_toml: &str, report: &FitReport, command: &str) ->
                 if param == Param::TorqueConstant
                     && let Some(m) = spec.actuation.as_ref().and_then(|a| a.dc_motor)
                 {
-                    let ke = m.back_emf_v_s_rad / m.torque_constant_nm_a * p.fitted;
+                    let ke = crate::params::back_emf_scaled(&m, p.fitted);
                     set_number(table(&mut doc, path)?, "back_emf_v_s_rad", None, ke)?;
                     extra = format!(
                         "# (back_emf_v_s_rad scaled with it to {ke:.6e} V s/rad: equal in SI for an ideal DC motor)\n"

@@ -32,6 +32,13 @@ use serde::Serialize;
 
 use crate::error::{Error, Result};
 
+/// A DC motor's back-EMF constant, V s/rad, when its torque constant is set to `kt_nm_a`:
+/// scaled with it from `motor`'s (the two are equal in SI for an ideal motor), so the
+/// motor's own ratio stays.
+pub(crate) fn back_emf_scaled(motor: &flapsim::actuated::DcMotor, kt_nm_a: f64) -> f64 {
+    motor.back_emf_v_s_rad / motor.torque_constant_nm_a * kt_nm_a
+}
+
 /// A parameter to fit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(into = "String")]
@@ -251,18 +258,12 @@ impl Param {
             Param::StrokePlaneTilt => spec.hinge.stroke_plane_tilt_deg = value.to_degrees(),
             Param::TorqueConstant => {
                 if let Some(m) = spec.actuation.as_mut().and_then(|a| a.dc_motor.as_mut()) {
-                    let base_kt = base
-                        .actuation
-                        .as_ref()
-                        .and_then(|a| a.dc_motor)
-                        .map_or(value, |b| b.torque_constant_nm_a);
-                    let ke_per_kt = base
-                        .actuation
-                        .as_ref()
-                        .and_then(|a| a.dc_motor)
-                        .map_or(1.0, |b| b.back_emf_v_s_rad / base_kt);
                     m.torque_constant_nm_a = value;
-                    m.back_emf_v_s_rad = ke_per_kt * value;
+                    m.back_emf_v_s_rad = base
+                        .actuation
+                        .as_ref()
+                        .and_then(|a| a.dc_motor)
+                        .map_or(value, |b| back_emf_scaled(&b, value));
                 }
             }
             Param::HingeStiffness
