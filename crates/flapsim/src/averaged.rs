@@ -142,8 +142,13 @@ pub fn periodic_inflow(
     motion: &BodyMotion,
     steps: usize,
 ) -> Result<Option<PeriodicInflow>> {
+    if vehicle.actuation.is_some() {
+        // Actuated wings' inflow goes round with their dynamics (`actuated::periodic`).
+        return Ok(None);
+    }
     let mut wings = vehicle.wings.clone();
-    let Some(mut inflow) = wingset::PairInflows::of(&wings)? else {
+    let Some(mut inflow) = wingset::PairInflows::of(&wings, wingset::DiscAmplitude::Kinematics)?
+    else {
         return Ok(None);
     };
     let period_s = 1.0 / vehicle.freq_hz();

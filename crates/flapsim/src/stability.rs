@@ -457,15 +457,19 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         None => Vec::new(),
     };
     // A dynamic inflow's periodic motion at the trim: its states at the wingbeat's start.
-    let inflow = crate::averaged::periodic_inflow(
-        v,
-        &wingforce::BodyMotion {
-            velocity_m_s: t.velocity_body_m_s(),
-            angular_velocity_rad_s: Vector3::zeros(),
-        },
-        v.sim.steps_per_wingbeat as usize,
-    )?
-    .map(|p| p.states);
+    // Actuated wings: the pair's inflow went round with them on their periodic motion.
+    let inflow = match &periodic {
+        Some(p) => p.inflow.as_ref().map(wingset::PairInflows::states),
+        None => crate::averaged::periodic_inflow(
+            v,
+            &wingforce::BodyMotion {
+                velocity_m_s: t.velocity_body_m_s(),
+                angular_velocity_rad_s: Vector3::zeros(),
+            },
+            v.sim.steps_per_wingbeat as usize,
+        )?
+        .map(|p| p.states),
+    };
     let speed = v.wings[0].v_ref_m_s();
     let mut eps = vec![speed * 1e-4, speed * 1e-4, 1e-5, 1e-3];
     let w = 2.0 * std::f64::consts::PI * v.freq_hz();

@@ -69,21 +69,24 @@ fn errors_name_file_field_value_and_range() {
 }
 
 #[test]
-fn an_actuated_vehicle_refuses_the_hover_downwash() {
-    // The downwash's disc is set by the stroke amplitude, which an actuated wing's dynamics
-    // produce rather than take as an input (wingforce::inflow).
-    for line in [
-        "induced_inflow = true",
-        "inflow = \"frozen\"",
-        "inflow = \"dynamic\"",
-    ] {
+fn an_actuated_vehicle_refuses_the_frozen_downwash_and_takes_the_dynamic_wake() {
+    // A frozen downwash's disc is a prescribed stroke amplitude, which an actuated wing's
+    // dynamics produce rather than take as an input (wingforce::inflow); the dynamic wake
+    // measures the stroke they sweep (wingset::set::inflow).
+    for line in ["induced_inflow = true", "inflow = \"frozen\""] {
         let text = format!("{}\n[aero]\n{line}\n", flapsim::ROBOBEE_TOML);
         let e = err(&text);
         assert!(
-            e.starts_with("bad.toml") && e.contains("aero.inflow") && e.contains("actuated"),
+            e.starts_with("bad.toml")
+                && e.contains("aero.inflow")
+                && e.contains("actuated")
+                && e.contains("\"dynamic\""),
             "{line}: {e}"
         );
     }
+    let text = format!("{}\n[aero]\ninflow = \"dynamic\"\n", flapsim::ROBOBEE_TOML);
+    let v = Vehicle::from_toml(&text, "dynamic.toml").unwrap();
+    assert_eq!(v.inflow_model(), wingforce::InflowModel::Dynamic);
 }
 
 #[test]

@@ -34,6 +34,6 @@ pub use controls::Controls;
 pub use error::{Error, Result};
 pub use sampling::LoadSampling;
 pub use set::{
-    BodyLoad, ControlMap, MIN_STEPS_PER_WINGBEAT, MeanLoads, PairInflows, State, StepMemory,
-    WingSet, WingSetBuilder, WingSetOutput, check_dt, max_dt_s, zero_forces,
+    BodyLoad, ControlMap, DiscAmplitude, MIN_STEPS_PER_WINGBEAT, MeanLoads, PairInflows, State,
+    StepMemory, WingSet, WingSetBuilder, WingSetOutput, check_dt, max_dt_s, zero_forces,
 };

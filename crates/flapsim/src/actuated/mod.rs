@@ -10,6 +10,8 @@
 //! - [`stop`]: hinge stops as a stiff unilateral contact with damping (the module doc
 //!   derives the contact law and its restitution);
 //! - [`spec`]: the `[actuation]` section of a vehicle model file;
+//! - [`driven`]: both wings driven together with the body held in one motion, with their
+//!   pair's dynamic inflow when the wake answers (the run the next two share);
 //! - [`periodic`]: the wings run into their periodic motion at a frozen body state (what
 //!   trim, the averaged model and a hover start need);
 //! - [`motion`]: the wing motion measured from a record of whole drive periods (stroke and
@@ -27,6 +29,7 @@
 //! inertia and a measured stroke reference).
 
 pub use wingset::actuated::{actuator, drive, dynamics, stop};
+pub mod driven;
 pub mod motion;
 pub mod periodic;
 pub mod response;
@@ -34,6 +37,7 @@ pub mod spec;
 
 pub use actuator::{Actuator, ActuatorState, DcMotor, Piezo, Reflected};
 pub use drive::Drive;
+pub use driven::DrivenPair;
 pub use dynamics::{
     ActuatedWingOutput, DynamicWing, Hinge, Stroke, WingDynamics, WingInertia, WingState, WingStep,
 };

@@ -17,9 +17,11 @@
 
 use wingforce::{BodyMotion, Term, Wing, WingForces};
 
+use super::driven::DrivenPair;
 use crate::error::{Error, Result};
 use crate::model::Vehicle;
 use crate::wings::MeanLoads;
+use wingset::PairInflows;
 use wingset::actuated::dynamics::{DynamicWing, WingState};
 
 /// Largest change of a wing angle over the averaged period for the motion to count as
@@ -36,6 +38,9 @@ pub struct ActuatedWings {
     pub dynamic: Vec<DynamicWing>,
     /// The wings, with their stroke reference.
     pub wings: Vec<Wing>,
+    /// The pair's dynamic inflow (states and the stroke its disc was measured from), when
+    /// the wake answers.
+    pub inflow: Option<PairInflows>,
 }
 
 /// Two wings on their periodic motion at a frozen body state.
@@ -46,6 +51,11 @@ pub struct PeriodicWings {
     pub dynamic: [DynamicWing; 2],
     /// The wings with the stroke reference (wake-capture inputs) measured on the way.
     pub wings: [Wing; 2],
+    /// The pair's dynamic inflow on its periodic motion (with the stroke its disc was
+    /// measured from), when the wake answers.
+    pub inflow: Option<PairInflows>,
+    /// Each pair's inflow states averaged over that period (empty unless the wake answers).
+    pub inflow_mean: Vec<wingforce::inflow::InflowState>,
     /// Mean aerodynamic loads over the averaged period (body frame, about the CoM).
     pub mean: MeanLoads,
     /// Each wing's forces at every step of the averaged period (phase k / steps).
@@ -96,11 +106,7 @@ pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
     let freq_hz = act.drives[0].freq_hz;
     let period_s = 1.0 / freq_hz;
     let dt_s = period_s / n as f64;
-    let mut dynamic = [
-        DynamicWing::new(act.dynamics.clone(), act.drives[0])?,
-        DynamicWing::new(act.dynamics.clone(), act.drives[1])?,
-    ];
-    let mut wings: [Wing; 2] = [vehicle.wings[0].clone(), vehicle.wings[1].clone()];
+    let mut pair = DrivenPair::new(vehicle, [act.drives[0], act.drives[1]])?;
     let what = |e: Error| match e {
         Error::Diverged { t_s, reason, .. } => Error::Analysis(format!(
             "the wings of {} have no periodic motion at this drive and body state: {reason} (t = {t_s:.5} s after the start from rest)",
@@ -109,20 +115,19 @@ pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
         e => e,
     };
     for _ in 0..act.settle_cycles * n {
-        for i in 0..2 {
-            dynamic[i].step(&mut wings[i], motion, dt_s).map_err(what)?;
-        }
+        pair.step(motion, dt_s).map_err(what)?;
     }
-    let start = [dynamic[0].state(), dynamic[1].state()];
+    let states = |p: &DrivenPair| [p.dynamic[0].state(), p.dynamic[1].state()];
+    let start = states(&pair);
+    let inflow_start = pair.inflow.as_ref().map(PairInflows::states);
     let mut mean = MeanLoads::default();
     let mut samples = Vec::with_capacity(n);
+    let mut inflow_mean: Vec<[f64; 3]> = Vec::new();
     let w = 1.0 / n as f64;
     for _ in 0..n {
-        let mut forces = [None, None];
-        for i in 0..2 {
-            let s = dynamic[i].step(&mut wings[i], motion, dt_s).map_err(what)?;
-            forces[i] = Some(s.forces);
-            let hinge = wings[i].mount().hinge_in_body_m;
+        let s = pair.step(motion, dt_s).map_err(what)?;
+        for (i, s) in s.iter().enumerate() {
+            let hinge = pair.wings[i].mount().hinge_in_body_m;
             for term in Term::ALL {
                 let t = s.forces.term(term);
                 let m = t.moment_about_com_nm(&hinge);
@@ -130,24 +135,58 @@ pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
                 mean.total.add(w * t.force_n, w * m);
             }
         }
-        if let [Some(l), Some(r)] = forces {
-            samples.push([l, r]);
+        samples.push([s[0].forces, s[1].forces]);
+        if let Some(i) = &pair.inflow {
+            let now = i.states();
+            inflow_mean.resize(now.len(), [0.0; 3]);
+            for (m, x) in inflow_mean.iter_mut().zip(now) {
+                for (m, x) in m.iter_mut().zip(x.to_array()) {
+                    *m += w * x;
+                }
+            }
         }
     }
-    let end = [dynamic[0].state(), dynamic[1].state()];
-    let drift_rad = largest_change(&start, &end, period_s);
+    let end = states(&pair);
+    let mut drift_rad = largest_change(&start, &end, period_s);
+    if let (Some(a), Some(i)) = (inflow_start, &pair.inflow) {
+        // The inflow's drift over the period, as an angle: its change relative to the mean
+        // inflow, which [`PERIODIC_TOLERANCE_RAD`] bounds like the wings' angles.
+        for (a, b) in a.iter().zip(i.states()) {
+            let scale = b.mean_m_s.abs().max(f64::MIN_POSITIVE);
+            let (a, b) = (a.to_array(), b.to_array());
+            for k in 0..3 {
+                drift_rad = drift_rad.max((a[k] - b[k]).abs() / scale);
+            }
+        }
+    }
     if !(drift_rad <= PERIODIC_TOLERANCE_RAD) {
         return Err(Error::Analysis(format!(
-            "the wings of {} did not settle into a periodic motion in {} drive periods: an angle still changes by {:.3} deg per period (allowed: {:.3} deg); raise [actuation] settle_cycles",
+            "the wings of {} did not settle into a periodic motion in {} drive periods: an angle{} still changes by {:.3} deg per period (allowed: {:.3} deg); raise [actuation] settle_cycles",
             vehicle.name,
             act.settle_cycles,
+            if pair.inflow.is_some() {
+                " (or the dynamic inflow, relative to its mean, in radians)"
+            } else {
+                ""
+            },
             drift_rad.to_degrees(),
             PERIODIC_TOLERANCE_RAD.to_degrees()
         )));
     }
+    let DrivenPair {
+        dynamic,
+        wings,
+        inflow,
+        ..
+    } = pair;
     Ok(PeriodicWings {
         dynamic,
         wings,
+        inflow,
+        inflow_mean: inflow_mean
+            .into_iter()
+            .map(wingforce::inflow::InflowState::from_array)
+            .collect(),
         mean,
         samples,
         drift_rad,

@@ -13,10 +13,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use wingforce::BodyMotion;
 
+use super::driven::DrivenPair;
 use super::motion::{MotionSample, WingMotion};
 use crate::error::{Error, Result};
 use crate::model::Vehicle;
-use wingset::actuated::dynamics::DynamicWing;
 
 /// What to sweep and how long to run each point.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -143,6 +143,13 @@ pub struct TetheredRun {
     pub motion: WingMotion,
     /// Mean lift of both wings (body z) over the measured periods, N (NaN if the run failed).
     pub mean_lift_n: f64,
+    /// The air's damping of the left wing's stroke over the measured periods, as a fraction
+    /// of critical: the energy-equivalent linear damping c = -(integral of M_phi dphi/dt) /
+    /// (integral of (dphi/dt)^2), M_phi the aerodynamic moment about the stroke axis (its
+    /// added-mass part, in quadrature with the rate, does no work over a period), over
+    /// 2 sqrt(k I) with the stroke's stiffness k and inertia I (wing and actuator, without
+    /// the air's added inertia). NaN if the run failed.
+    pub stroke_damping_ratio: f64,
     /// The wings at the end (Re, wake-capture inputs measured on the way).
     pub wings: [wingforce::Wing; 2],
     /// Why the run stopped early (the hinge hit its stops, the state blew up), if it did.
@@ -164,15 +171,13 @@ pub fn run_tethered(
             vehicle.name
         ))
     })?;
-    let mut wings: [wingforce::Wing; 2] = [vehicle.wings[0].clone(), vehicle.wings[1].clone()];
-    let mut dyns = Vec::with_capacity(2);
-    for d in &act.drives {
-        let mut drive = *d;
-        drive.freq_hz = freq_hz;
+    let mut drives = [act.drives[0], act.drives[1]];
+    for d in &mut drives {
+        d.freq_hz = freq_hz;
         // Keep the left-right difference of the model; scale the common amplitude.
-        drive.amplitude_v = amplitude_v + (d.amplitude_v - act.drives[0].amplitude_v);
-        dyns.push(DynamicWing::new(act.dynamics.clone(), drive)?);
+        d.amplitude_v = amplitude_v + (d.amplitude_v - act.drives[0].amplitude_v);
     }
+    let mut pair = DrivenPair::new(vehicle, drives)?;
     let n = o.steps_per_cycle;
     let dt = 1.0 / (freq_hz * n as f64);
     let body = BodyMotion::default();
@@ -180,29 +185,27 @@ pub fn run_tethered(
     let start = o.settle_cycles * n;
     let mut samples = Vec::with_capacity(o.measure_cycles * n);
     let mut lift = 0.0;
+    let (mut work, mut rate_sq) = (0.0, 0.0);
     let mut failed = None;
-    'run: for k in 0..total {
-        let mut lz = 0.0;
-        for i in 0..2 {
-            match dyns[i].step(&mut wings[i], &body, dt) {
-                Ok(s) => {
-                    lz += s.forces.total.force_n.z;
-                    if i == 0 && k >= start {
-                        samples.push(MotionSample::new(
-                            k as f64 * dt,
-                            &s.angles,
-                            s.actuator.voltage_v,
-                        ));
-                    }
-                }
-                Err(e) => {
-                    failed = Some(e.to_string());
-                    break 'run;
+    for k in 0..total {
+        match pair.step(&body, dt) {
+            Ok(s) => {
+                if k >= start {
+                    let l = &s[0];
+                    samples.push(MotionSample::new(
+                        k as f64 * dt,
+                        &l.angles,
+                        l.actuator.voltage_v,
+                    ));
+                    lift += s[0].forces.total.force_n.z + s[1].forces.total.force_n.z;
+                    work += l.aero_axis.stroke_nm * l.angles.phi_dot;
+                    rate_sq += l.angles.phi_dot * l.angles.phi_dot;
                 }
             }
-        }
-        if k >= start {
-            lift += lz;
+            Err(e) => {
+                failed = Some(e.to_string());
+                break;
+            }
         }
     }
     let m = (o.measure_cycles * n) as f64;
@@ -213,7 +216,15 @@ pub fn run_tethered(
         samples,
         motion,
         mean_lift_n: if failed.is_some() { f64::NAN } else { lift / m },
-        wings,
+        stroke_damping_ratio: if failed.is_some() {
+            f64::NAN
+        } else {
+            let d = &act.dynamics;
+            -work
+                / rate_sq
+                / (2.0 * (d.stroke_stiffness_nm_rad() * d.stroke_inertia_kg_m2()).sqrt())
+        },
+        wings: pair.wings,
         failed,
     })
 }

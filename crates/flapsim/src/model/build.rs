@@ -63,12 +63,12 @@ impl VehicleSpec {
                     )
                     .into());
             }
-            if self.actuation.is_some() {
+            if self.actuation.is_some() && inflow == wingforce::InflowModel::Frozen {
                 return Err(v
                     .invalid(
                         "aero.inflow",
                         inflow,
-                        "\"off\" for an actuated vehicle (its amplitude is an output of the wing dynamics, and the inflow's disc area needs it; not yet measured for it, issue #38)",
+                        "\"off\" or \"dynamic\" for an actuated vehicle (a frozen wake's disc is a prescribed stroke; an actuated vehicle's stroke is an output of its wing dynamics, which the dynamic wake measures)",
                     )
                     .into());
             }

@@ -93,9 +93,15 @@ impl Vehicle {
         if model == self.inflow_model() {
             return Ok(v);
         }
-        if model != wingforce::InflowModel::Off && (v.wings.len() > 2 || v.actuation.is_some()) {
+        if model != wingforce::InflowModel::Off && v.wings.len() > 2 {
             return Err(crate::error::Error::Input(format!(
-                "{}: inflow = \"{model}\" needs one pair of prescribed wings (the hind pair's interference and the actuated wings' swept disc are not modelled yet, issue #38); allowed: \"off\"",
+                "{}: inflow = \"{model}\" needs one pair of wings (the hind pair's interference with the fore pair's wake is not modelled yet, issue #38); allowed: \"off\"",
+                v.name
+            )));
+        }
+        if model == wingforce::InflowModel::Frozen && v.actuation.is_some() {
+            return Err(crate::error::Error::Input(format!(
+                "{}: inflow = \"frozen\" on actuated wings: a frozen wake's disc is a prescribed stroke, and their stroke is an output of their dynamics; allowed: \"off\" or \"dynamic\"",
                 v.name
             )));
         }

@@ -9,7 +9,8 @@ impl Simulation {
     /// The motion spans whole drive periods, so it joins the simulation's phase 0; call it
     /// before the first step. Does nothing for prescribed kinematics.
     pub fn start_wings_from(&mut self, p: &crate::actuated::PeriodicWings) {
-        self.wings.start_dynamic_from(&p.dynamic, &p.wings);
+        self.wings
+            .start_dynamic_from(&p.dynamic, &p.wings, p.inflow.as_ref());
     }
 
     /// An actuated vehicle's wings now (their dynamics, and the wings with the stroke
@@ -19,6 +20,7 @@ impl Simulation {
         Some(ActuatedWings {
             dynamic: self.wings.dynamic_wings()?.to_vec(),
             wings: self.wings.wings().to_vec(),
+            inflow: self.wings.pair_inflows().cloned(),
         })
     }
 
@@ -26,7 +28,8 @@ impl Simulation {
     /// ([`Simulation::wings_now`]), at a step of the same drive phase; call it before the
     /// first step. Does nothing for prescribed kinematics.
     pub fn continue_wings(&mut self, w: &ActuatedWings) {
-        self.wings.start_dynamic_from(&w.dynamic, &w.wings);
+        self.wings
+            .start_dynamic_from(&w.dynamic, &w.wings, w.inflow.as_ref());
     }
 
     /// The wings' dynamic states (left, right) of an actuated vehicle.

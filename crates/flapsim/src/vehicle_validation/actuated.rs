@@ -4,7 +4,6 @@
 use crate::actuated::{ResponseOptions, Stroke, TetheredRun, run_tethered};
 use crate::error::Result;
 use crate::model::Vehicle;
-use crate::operating_points::builtin;
 
 use super::data::*;
 use super::rows::*;
@@ -71,7 +70,7 @@ fn identified_hinges(v: &Vehicle, freq_hz: f64, amplitude_v: f64) -> String {
 }
 
 pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
-    let v = builtin("robobee")?;
+    let v = b.vehicle("robobee")?;
     let act = v.actuation.as_ref().expect("robobee is actuated");
     let d = &act.dynamics;
     let limit_v = d.stroke.voltage_limit_v();
@@ -101,8 +100,11 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
             false,
             || {
                 format!(
-                    "model/bench {:.2}: the model's quasi-static stroke at {amp_180:.0} V is {quasi_static_pp:.1} deg p-p (2 T F_V V / k, force per volt an estimate, k = {k:.2e} N m/rad) against the bench's 56 deg at 100-140 Hz, and its stroke resonates at {fn_hz:.0} Hz undamped where the bench's stroke jumps between 160 and 165 Hz{}",
+                    "model/bench {:.2}: the model's quasi-static stroke at {amp_180:.0} V is {quasi_static_pp:.1} deg p-p (2 T F_V V / k, force per volt an estimate, k = {k:.2e} N m/rad) against the bench's 56 deg at 100-140 Hz; its stroke's undamped resonance is {fn_hz:.0} Hz, but the air damps it at {:.2} of critical here (energy-equivalent, from the aerodynamic stroke moment over the measured periods) with the wing at a mid-stroke angle of attack of {:.0} deg (pitch +-{:.0} deg), so no resonance rise shows where the bench's stroke jumps between 160 and 165 Hz{}",
                     model / bench,
+                    r.stroke_damping_ratio,
+                    r.motion.mid_stroke_aoa_deg,
+                    r.motion.pitch_amplitude_deg,
                     r.failed
                         .as_ref()
                         .map(|e| format!("; the run stopped: {e}"))
@@ -242,7 +244,7 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
 }
 
 pub(super) fn hummingbird_rows(b: &mut RowBuilder) -> Result<()> {
-    let v = builtin("hummingbird")?;
+    let v = b.vehicle("hummingbird")?;
     let act = v.actuation.as_ref().expect("hummingbird is actuated");
     let drive = act.drives[0];
     let r = tethered(&v, drive.freq_hz, drive.amplitude_v)?;

@@ -70,10 +70,7 @@ pub fn vehicle_section() -> Result<VehicleSection> {
     let mut section = vehicle_section_with(false)?;
     let other = vehicle_section_with(true)?;
     for (row, o) in section.rows.iter_mut().zip(other.rows) {
-        if let Some(inflow) = builtin(row.vehicle)
-            .ok()
-            .and_then(|v| other_wake(v.inflow_model()))
-        {
+        if let Some(inflow) = builtin(row.vehicle).ok().and_then(|v| other_wake(&v)) {
             row.other_wake = Some(OtherWake {
                 inflow,
                 model: o.model,

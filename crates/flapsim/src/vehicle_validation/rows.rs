@@ -175,7 +175,7 @@ impl RowBuilder {
     /// A built-in vehicle, with this pass's wake.
     pub(super) fn vehicle(&self, name: &str) -> crate::error::Result<crate::model::Vehicle> {
         let v = crate::operating_points::builtin(name)?;
-        match other_wake(v.inflow_model()) {
+        match other_wake(&v) {
             Some(m) if self.other_wake => v.with_inflow_model(m),
             _ => Ok(v),
         }
@@ -215,9 +215,14 @@ impl RowBuilder {
 }
 
 /// The wake a vehicle's rows are shown under beside its own: dynamic for frozen, frozen for
-/// dynamic; none for still air (the actuated, four-winged and fixed-mount models).
-pub fn other_wake(model: wingforce::InflowModel) -> Option<wingforce::InflowModel> {
-    match model {
+/// dynamic; an actuated vehicle in still air beside the dynamic wake (a frozen wake's disc
+/// would be a prescribed stroke: `model/build.rs`); none for the other still-air models
+/// (the four-winged and fixed-mount ones).
+pub fn other_wake(v: &crate::model::Vehicle) -> Option<wingforce::InflowModel> {
+    match v.inflow_model() {
+        wingforce::InflowModel::Off if v.actuation.is_some() => {
+            Some(wingforce::InflowModel::Dynamic)
+        }
         wingforce::InflowModel::Off => None,
         wingforce::InflowModel::Frozen => Some(wingforce::InflowModel::Dynamic),
         wingforce::InflowModel::Dynamic => Some(wingforce::InflowModel::Frozen),

@@ -268,6 +268,7 @@ impl Setup<'_> {
                 wings: flapsim::actuated::ActuatedWings {
                     dynamic: p.dynamic.to_vec(),
                     wings: p.wings.to_vec(),
+                    inflow: p.inflow,
                 },
                 in_force: self.built_in_force(k),
                 step: seg.step0,

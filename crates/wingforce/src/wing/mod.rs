@@ -238,7 +238,19 @@ impl Wing {
     /// (a dynamic wing's stroke is an output; see [`StrokeReference`]).
     pub fn set_stroke_reference(&mut self, reference: Option<StrokeReference>) {
         self.stroke_reference = reference;
+        // The measured stroke moves Re and the wake-capture inputs, not the air: a dynamic
+        // inflow's field ([`Self::set_inflow_field`]) stays as its wing set set it.
+        let field = (
+            self.cache.translational_inflow_s,
+            self.cache.inflow_gradient_per_s,
+        );
         self.refresh();
+        if self.options.induced_inflow.is_some_and(|i| i.dynamic) {
+            (
+                self.cache.translational_inflow_s,
+                self.cache.inflow_gradient_per_s,
+            ) = field;
+        }
     }
 
     /// The measured stroke in use, if any.

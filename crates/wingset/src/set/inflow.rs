@@ -15,6 +15,14 @@
 //!    step held: its aerodynamic force along the stroke-plane normal and that force's first
 //!    moments over the plane about the disc's centre, and the disc's velocity through the air.
 //!
+//! **Actuated wings** sweep the disc their dynamics make, not a prescribed one: a pair built
+//! with [`DiscAmplitude::Measured`] sizes its disc from the stroke its wings actually swept
+//! over the last wingbeat (the mean of its last two half-stroke excursions, each wing's
+//! extremes found where its stroke rate changes sign, interpolated within the step; the pair
+//! the mean of its wings). Until a wing has swept a whole wingbeat the disc is its
+//! kinematics' nominal amplitude (the model file's `[kinematics]`, which for an actuated
+//! vehicle is its nominal motion), so a run from rest starts from that disc.
+//!
 //! Several pairs: a hind pair meets only its own wake here; the fore pair's wake on it is
 //! not modelled (issue #38 leaves it open), and a set of several pairs says so by refusing
 //! the dynamic inflow until it is.
@@ -25,6 +33,55 @@ use wingforce::{BodyMotion, Wing, WingForces};
 
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;
+
+/// Where a pair's disc takes its stroke amplitude from (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DiscAmplitude {
+    /// The wings' kinematics (prescribed wings: a controller changes it between wingbeats).
+    Kinematics,
+    /// The stroke the wings swept over their last wingbeat (actuated wings, whose stroke is
+    /// an output of their dynamics).
+    Measured,
+}
+
+/// One wing's stroke extremes as its dynamics sweep them: the last stroke angle and rate
+/// seen, and the last reversals' angles.
+#[derive(Debug, Clone, Copy, Default)]
+struct StrokeTracker {
+    /// The last sample's stroke angle (rad) and rate (rad/s), if any.
+    last: Option<(f64, f64)>,
+    /// The stroke angles of the last three reversals, newest last (rad).
+    reversals: [Option<f64>; 3],
+}
+
+impl StrokeTracker {
+    /// Takes the stroke angle and rate of a step `dt_s` after the last one.
+    fn push(&mut self, phi: f64, phi_dot: f64, dt_s: f64) {
+        if let Some((phi0, rate0)) = self.last
+            && rate0 != 0.0
+            && (rate0 > 0.0) != (phi_dot > 0.0)
+        {
+            // The rate taken linear over the step: it vanishes s after the last sample,
+            // where the angle has moved by the trapezoid rate0 s / 2.
+            let s = dt_s * rate0 / (rate0 - phi_dot);
+            self.reversals = [
+                self.reversals[1],
+                self.reversals[2],
+                Some(phi0 + 0.5 * rate0 * s),
+            ];
+        }
+        self.last = Some((phi, phi_dot));
+    }
+
+    /// The stroke swept over the last wingbeat (the mean of the last two half-stroke
+    /// excursions), rad; `None` before three reversals.
+    fn amplitude_rad(&self) -> Option<f64> {
+        match self.reversals {
+            [Some(a), Some(b), Some(c)] => Some(0.5 * ((b - a).abs() + (c - b).abs())),
+            _ => None,
+        }
+    }
+}
 
 /// One pair's disc and states.
 #[derive(Debug, Clone)]
@@ -44,6 +101,8 @@ struct Pair {
     last: Option<InflowState>,
     /// The amplitude the disc was last sized for, rad.
     amplitude_rad: f64,
+    /// Each wing's swept stroke, for a disc of [`DiscAmplitude::Measured`].
+    trackers: Option<Vec<StrokeTracker>>,
 }
 
 /// Every pair's dynamic inflow (see the module documentation).
@@ -54,8 +113,10 @@ pub struct PairInflows {
 
 impl PairInflows {
     /// The pairs of `wings` when their inflow is dynamic; `None` when no wing's is. Every
-    /// wing must then have one, and one pair at most (module documentation).
-    pub fn of(wings: &[Wing]) -> Result<Option<Self>> {
+    /// wing must then have one, and one pair at most (module documentation). Each disc's
+    /// amplitude comes from `amplitude` (the kinematics' for prescribed wings, the swept
+    /// stroke for actuated ones).
+    pub fn of(wings: &[Wing], amplitude: DiscAmplitude) -> Result<Option<Self>> {
         let dynamic = |w: &Wing| w.options().induced_inflow.is_some_and(|i| i.dynamic);
         let n_dynamic = wings.iter().filter(|w| dynamic(w)).count();
         if n_dynamic == 0 {
@@ -76,7 +137,7 @@ impl PairInflows {
         let mut pairs = Vec::new();
         for start in (0..wings.len()).step_by(2) {
             let idx: Vec<usize> = (start..(start + 2).min(wings.len())).collect();
-            pairs.push(Pair::new(wings, idx));
+            pairs.push(Pair::new(wings, idx, amplitude));
         }
         Ok(Some(Self { pairs }))
     }
@@ -116,6 +177,7 @@ impl PairInflows {
         dt_s: f64,
     ) -> Result<()> {
         for p in &mut self.pairs {
+            p.track_stroke(forces, dt_s);
             let forcing = p.forcing(wings, forces, motion);
             let before = p.inflow.state;
             p.inflow
@@ -175,7 +237,7 @@ impl PairInflows {
 }
 
 impl Pair {
-    fn new(wings: &[Wing], idx: Vec<usize>) -> Self {
+    fn new(wings: &[Wing], idx: Vec<usize>, amplitude: DiscAmplitude) -> Self {
         let first = &wings[idx[0]];
         let thrust: f64 = idx
             .iter()
@@ -192,7 +254,7 @@ impl Pair {
             .sum::<Vector3<f64>>()
             / idx.len() as f64;
         let stroke_from_body = first.body_from_stroke().transpose();
-        let disc = Self::disc_of(wings, &idx);
+        let disc = Self::disc_of(wings, &idx, first.kinematics().amplitude_rad);
         let inflow = DynamicInflow::hover(disc, thrust);
         Self {
             centre_s: stroke_from_body * centre_body_m,
@@ -200,28 +262,51 @@ impl Pair {
             stroke_from_body,
             used: inflow.state,
             inflow,
-            wings: idx,
             last: None,
             amplitude_rad: first.kinematics().amplitude_rad,
+            trackers: (amplitude == DiscAmplitude::Measured)
+                .then(|| vec![StrokeTracker::default(); idx.len()]),
+            wings: idx,
         }
     }
 
-    fn disc_of(wings: &[Wing], idx: &[usize]) -> InflowDisc {
+    fn disc_of(wings: &[Wing], idx: &[usize], amplitude_rad: f64) -> InflowDisc {
         let w = &wings[idx[0]];
         InflowDisc::swept(
             w.fluid().density_kg_m3,
-            w.kinematics().amplitude_rad,
+            amplitude_rad,
             w.geometry().r_tip_m,
             idx.len(),
         )
     }
 
-    /// The disc follows the amplitude the kinematics now have (a controller changes it).
+    /// The amplitude the disc has now: the kinematics' (a controller changes it), or the
+    /// mean stroke the wings swept over their last wingbeat once each has swept one.
+    fn amplitude_now(&self, wings: &[Wing]) -> f64 {
+        let nominal = wings[self.wings[0]].kinematics().amplitude_rad;
+        let Some(trackers) = &self.trackers else {
+            return nominal;
+        };
+        let swept: Option<Vec<f64>> = trackers.iter().map(StrokeTracker::amplitude_rad).collect();
+        swept.map_or(nominal, |a| a.iter().sum::<f64>() / a.len() as f64)
+    }
+
+    /// The disc follows the amplitude its wings now have.
     fn refresh_disc(&mut self, wings: &[Wing]) {
-        let amplitude_rad = wings[self.wings[0]].kinematics().amplitude_rad;
+        let amplitude_rad = self.amplitude_now(wings);
         if amplitude_rad != self.amplitude_rad {
             self.amplitude_rad = amplitude_rad;
-            self.inflow.disc = Self::disc_of(wings, &self.wings);
+            self.inflow.disc = Self::disc_of(wings, &self.wings, amplitude_rad);
+        }
+    }
+
+    /// Takes each wing's stroke of the step into its tracker (a measured disc).
+    fn track_stroke(&mut self, forces: &[WingForces], dt_s: f64) {
+        if let Some(trackers) = &mut self.trackers {
+            for (t, &i) in trackers.iter_mut().zip(&self.wings) {
+                let a = &forces[i].angles;
+                t.push(a.phi, a.phi_dot, dt_s);
+            }
         }
     }
 
@@ -245,5 +330,36 @@ impl Pair {
             load_moment_nm,
             disc_velocity_m_s: self.stroke_from_body * v_body,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::StrokeTracker;
+
+    /// A stroke phi = phi0 + A cos(2 pi f t) sampled at 17 steps a wingbeat (its reversals
+    /// fall between samples) reads as 2A swept: the extremes, interpolated on a rate taken
+    /// linear over the step, are second order in the step (error about (pi / 17)^2 / 8 of A
+    /// here), and nothing before three reversals.
+    #[test]
+    fn a_sampled_sinusoid_sweeps_twice_its_amplitude() {
+        let (amp, f, n) = (1.1_f64, 30.0, 17);
+        let dt = 1.0 / (f * n as f64);
+        let w = 2.0 * std::f64::consts::PI * f;
+        let mut t = StrokeTracker::default();
+        let mut seen = Vec::new();
+        for k in 0..(3 * n) {
+            let s = k as f64 * dt + 0.13 * dt;
+            t.push(0.2 + amp * (w * s).cos(), -amp * w * (w * s).sin(), dt);
+            seen.push(t.amplitude_rad());
+        }
+        assert!(seen[..n].iter().all(Option::is_none), "{seen:?}");
+        let swept = t.amplitude_rad().unwrap();
+        let bound = (std::f64::consts::PI / n as f64).powi(2) / 8.0;
+        assert!(
+            (swept / (2.0 * amp) - 1.0).abs() < bound,
+            "{swept} against {} (bound {bound})",
+            2.0 * amp
+        );
     }
 }

@@ -42,7 +42,7 @@ use wingforce::{Kinematics, Side, Wing};
 
 pub use body::{BodyLoad, MeanLoads, State};
 pub use dt::{MIN_STEPS_PER_WINGBEAT, check_dt, max_dt_s};
-pub use inflow::PairInflows;
+pub use inflow::{DiscAmplitude, PairInflows};
 pub use map::ControlMap;
 pub use output::{WingSetOutput, zero_forces};
 
@@ -248,12 +248,12 @@ impl WingSet {
                 g.strips.iter().map(|s| s.area_m2 * s.r_m).sum::<f64>() / g.area_m2
             })
             .collect();
-        let inflow = PairInflows::of(&wings)?;
-        if inflow.is_some() && dynamic.is_some() {
-            return Err(Error::Input(
-                "wing set: a dynamic inflow on actuated wings: the disc their stroke sweeps is an output of the wing dynamics, not yet measured for it (issue #38); allowed: inflow = \"frozen\" or \"off\"".into(),
-            ));
-        }
+        // Actuated wings sweep the disc their dynamics make (module `inflow`).
+        let disc = match dynamic {
+            Some(_) => DiscAmplitude::Measured,
+            None => DiscAmplitude::Kinematics,
+        };
+        let inflow = PairInflows::of(&wings, disc)?;
         let n = wings.len();
         let sampling = match dynamic {
             Some(_) => LoadSampling::StepStart,
@@ -594,7 +594,19 @@ impl WingSet {
 
     /// Continues the actuated wings from given dynamics and wings (a periodic motion found
     /// at a frozen body state); does nothing for prescribed kinematics.
-    pub fn start_dynamic_from(&mut self, dynamic: &[DynamicWing], wings: &[Wing]) {
+    ///
+    /// `inflow`: the pair's dynamic inflow that went with them (its states and the stroke its
+    /// disc was measured from), when the set's wake answers; `None` keeps the set's own.
+    pub fn start_dynamic_from(
+        &mut self,
+        dynamic: &[DynamicWing],
+        wings: &[Wing],
+        inflow: Option<&PairInflows>,
+    ) {
+        if let (Some(mine), Some(given)) = (&mut self.inflow, inflow) {
+            mine.clone_from(given);
+            mine.restart();
+        }
         if let Some(d) = &mut self.dynamic {
             d.clone_from_slice(dynamic);
             for w in d.iter_mut() {
