@@ -97,6 +97,8 @@ pub struct PeriodicInflow {
     /// Each pair's inflow states at the start of a wingbeat on the periodic motion (where a
     /// simulation of the same step count continues it at phase 0).
     pub states: Vec<InflowState>,
+    /// Each pair's inflow states averaged over the last wingbeat.
+    pub state_means: Vec<InflowState>,
     /// Wingbeats run.
     pub wingbeats: usize,
 }
@@ -161,6 +163,7 @@ pub fn periodic_inflow(
     // time constant at the inflow it reached needs.
     let mut wingbeats = MAX_INFLOW_WINGBEATS;
     let mut beat = 0;
+    let mut state_sums = Vec::new();
     while beat < wingbeats {
         if beat == 1 {
             wingbeats = settling_wingbeats(&inflow, period_s);
@@ -168,7 +171,13 @@ pub fn periodic_inflow(
         crate::cancel::check()?;
         start = inflow.states();
         mean = MeanLoads::default();
+        state_sums = vec![[0.0; 3]; start.len()];
         for k in 0..steps {
+            for (sum, s) in state_sums.iter_mut().zip(inflow.states()) {
+                for (x, y) in sum.iter_mut().zip(s.to_array()) {
+                    *x += y / steps as f64;
+                }
+            }
             inflow.apply(&mut wings, sampling);
             step_loads(vehicle, &wings, k, steps, motion, &mut forces);
             accumulate(&wings, &forces, 1.0 / steps as f64, &mut mean);
@@ -205,6 +214,10 @@ pub fn periodic_inflow(
     Ok(Some(PeriodicInflow {
         mean,
         states: end,
+        state_means: state_sums
+            .into_iter()
+            .map(InflowState::from_array)
+            .collect(),
         wingbeats,
     }))
 }

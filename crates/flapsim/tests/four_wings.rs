@@ -14,9 +14,11 @@
 //! dragonfly of Wang & Sun 2005 (J Exp Biol 208:3785) measured it: in hover, with the hindwing
 //! leading by 180 deg, the interaction lowers the fore- and hindwing's vertical forces by 14%
 //! and 16% of what each wing makes alone (Sun & Lan 2004, J Exp Biol 207:1887, abstract).
-//! flapwing leaves this out, so its cycle-mean forces do
-//! not depend on the fore/hind phase at all; the tests assert that flatness and state the size
-//! of what is missing.
+//! In still air (the dragonfly's file) flapwing leaves this out, so its cycle-mean forces
+//! do not depend on the fore/hind phase at all; the tests assert that flatness and state the
+//! size of what is missing. Under the dynamic wake each pair also meets the share of the
+//! other's induced flow that crosses its disc (`wingforce::inflow::interference`), whose
+//! coaxial limit (two pairs on one disc) is tested against momentum theory at the end.
 //!
 //! The dragonfly itself (models/dragonfly.toml: Azuma & Watanabe 1988, J Exp Biol 137:221,
 //! experiment 2, steady flight at 1.5 m/s) is checked against the only force its steady flight
@@ -416,11 +418,14 @@ fn bad_pairs_name_file_field_value_and_range() {
             && e.contains("one frequency"),
         "{e}"
     );
-    // The hover downwash and the actuated wings are one pair's.
-    for line in ["induced_inflow = true", "inflow = \"dynamic\""] {
+    // The frozen hover downwash is one pair's (the dynamic wake models tandem pairs).
+    for line in ["induced_inflow = true", "inflow = \"frozen\""] {
         let e = err(&format!("{good}\n[aero]\n{line}\n"));
         assert!(
-            e.starts_with("bad.toml") && e.contains("aero.inflow") && e.contains("[[pairs]]"),
+            e.starts_with("bad.toml")
+                && e.contains("aero.inflow")
+                && e.contains("[[pairs]]")
+                && e.contains("\"dynamic\""),
             "{line}: {e}"
         );
     }
@@ -486,4 +491,71 @@ fn a_four_winged_fly_trims_on_all_its_wings() {
     // The same trim at either phase (tolerance: 1e-6 deg, the Newton iteration's residual).
     assert!((amp(&a, &ta) - amp(&b, &tb)).abs() < 1e-6);
     assert!((ta.pitch_rad - tb.pitch_rad).abs() < 1e-8);
+}
+
+/// The dynamic wake of tandem pairs (`wingforce::inflow::interference`) in its coaxial limit:
+/// two pairs on one disc (the hind pair 1 um behind the fore pair, same planform and
+/// kinematics) each meet the other's downwash in their momentum balance, so together they
+/// induce what one disc carrying both thrusts does, sqrt(T / (2 rho A)) over the disc's area
+/// A (the simple momentum theory of a coaxial rotor, Leishman & Ananthan 2006, AHS 62nd
+/// Forum; Rankine-Froude for the disc): the sum of the pairs' mean inflow over the wingbeat
+/// within 2% of it, with T the four wings' mean thrust along the stroke-plane normal (the
+/// states follow a thrust pulsing twice a wingbeat, so their mean is not exactly the balance
+/// of the mean thrust). Apart by more than the discs' diameters, each pair meets only its
+/// own wake.
+#[test]
+fn tandem_pairs_on_one_disc_induce_what_one_disc_carrying_both_does() {
+    let fly = flapsim::DROSOPHILA_TOML.replacen("inflow = \"frozen\"", "inflow = \"dynamic\"", 1);
+    let with_pair_at = |x_m: f64| {
+        vehicle(&format!(
+            "{fly}\n[[pairs]]\nphase_offset_deg = 0.0\n[pairs.hinge]\nleft_in_body_m = [{x_m:e}, 0.45e-3, 0.28e-3]\nstroke_plane_tilt_deg = 45.0\n"
+        ))
+    };
+    let v = with_pair_at(0.28e-3 - 1e-6);
+    let motion = BodyMotion::default();
+    let p = flapsim::averaged::periodic_inflow(&v, &motion, 200)
+        .unwrap()
+        .expect("the wake answers");
+    let normal_body = v.wings[0].body_from_stroke() * Vector3::z();
+    let thrust_n = p.mean.total.force_n.dot(&normal_body);
+    let disc = p_disc(&v);
+    let expected = disc.hover_m_s(thrust_n);
+    let total: f64 = p.state_means.iter().map(|s| s.mean_m_s).sum();
+    eprintln!(
+        "coincident pairs: inflow {:.4} + {:.4} = {total:.4} m/s, sqrt(T / (2 rho A)) {expected:.4} m/s (T {thrust_n:.4e} N)",
+        p.state_means[0].mean_m_s, p.state_means[1].mean_m_s
+    );
+    assert!(
+        (total / expected - 1.0).abs() < 0.02,
+        "{total} against {expected}"
+    );
+    // Apart: each pair alone, as the fly's own pair (the same thrust, the same disc; the
+    // fly at half the mass, so that its wings start from the same share of the weight, on
+    // which the added-mass term's inflow rests: wingforce::Wing::set_inflow_field).
+    let apart = with_pair_at(0.28e-3 - 0.02);
+    let q = flapsim::averaged::periodic_inflow(&apart, &motion, 200)
+        .unwrap()
+        .unwrap();
+    let alone = vehicle(&fly.replacen("mass_kg = 1.0e-6", "mass_kg = 0.5e-6", 1));
+    let r = flapsim::averaged::periodic_inflow(&alone, &motion, 200)
+        .unwrap()
+        .unwrap();
+    for s in &q.state_means {
+        assert!(
+            (s.mean_m_s / r.state_means[0].mean_m_s - 1.0).abs() < 1e-12,
+            "{s:?} against {:?}",
+            r.state_means[0]
+        );
+    }
+}
+
+/// The disc of the fly's first pair: its stroke amplitude and tip radius.
+fn p_disc(v: &Vehicle) -> wingforce::inflow::InflowDisc {
+    let w = &v.wings[0];
+    wingforce::inflow::InflowDisc::swept(
+        w.fluid().density_kg_m3,
+        w.kinematics().amplitude_rad,
+        w.geometry().r_tip_m,
+        2,
+    )
 }

@@ -51,15 +51,12 @@ impl VehicleSpec {
         }
         let inflow = self.aero.inflow_model(&v)?;
         if inflow != wingforce::InflowModel::Off {
-            if !self.pairs.is_empty() {
+            if !self.pairs.is_empty() && inflow == wingforce::InflowModel::Frozen {
                 return Err(v
                     .invalid(
                         "aero.inflow",
                         inflow,
-                        match inflow {
-                            wingforce::InflowModel::Frozen => "\"off\" for a model with [[pairs]] (the frozen momentum-theory downwash is that of one pair's disc; tandem pairs share and overlap theirs)",
-                            _ => "\"off\" for a model with [[pairs]]: the hind pair's interference with the fore pair's wake is not modelled yet (issue #38)",
-                        },
+                        "\"off\" or \"dynamic\" for a model with [[pairs]] (the frozen momentum-theory downwash is that of one pair's disc; tandem pairs share and overlap theirs, which the dynamic wake models: wingforce::inflow::interference)",
                     )
                     .into());
             }
@@ -72,9 +69,10 @@ impl VehicleSpec {
                     )
                     .into());
             }
-            // Hover: the pair carries the weight, each wing half of it (wingforce::inflow);
-            // a dynamic inflow starts there and then follows the pair's own loads.
-            let mut i = wingforce::InducedInflow::hover(0.5 * mass * g);
+            // Hover: the wings carry the weight, each its share (wingforce::inflow); a
+            // dynamic inflow starts there and then follows each pair's own loads.
+            let wings = 2.0 * (1 + self.pairs.len()) as f64;
+            let mut i = wingforce::InducedInflow::hover(mass * g / wings);
             i.dynamic = inflow == wingforce::InflowModel::Dynamic;
             aero.induced_inflow = Some(i);
         }

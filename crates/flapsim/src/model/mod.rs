@@ -93,10 +93,11 @@ impl Vehicle {
         if model == self.inflow_model() {
             return Ok(v);
         }
-        if model != wingforce::InflowModel::Off && v.wings.len() > 2 {
+        if model == wingforce::InflowModel::Frozen && v.wings.len() > 2 {
             return Err(crate::error::Error::Input(format!(
-                "{}: inflow = \"{model}\" needs one pair of wings (the hind pair's interference with the fore pair's wake is not modelled yet, issue #38); allowed: \"off\"",
-                v.name
+                "{}: inflow = \"frozen\" on {} wings: the frozen downwash is one pair's disc, and tandem pairs overlap theirs (the dynamic wake models that); allowed: \"off\" or \"dynamic\"",
+                v.name,
+                v.wings.len()
             )));
         }
         if model == wingforce::InflowModel::Frozen && v.actuation.is_some() {
@@ -105,7 +106,7 @@ impl Vehicle {
                 v.name
             )));
         }
-        let thrust_n = 0.5 * v.weight_n();
+        let thrust_n = v.weight_n() / v.wings.len() as f64;
         for w in &mut v.wings {
             let mut o = w.options().clone();
             o.induced_inflow = match model {

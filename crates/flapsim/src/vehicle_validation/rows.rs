@@ -174,7 +174,14 @@ pub(super) struct RowBuilder {
 impl RowBuilder {
     /// A built-in vehicle, with this pass's wake.
     pub(super) fn vehicle(&self, name: &str) -> crate::error::Result<crate::model::Vehicle> {
-        let v = crate::operating_points::builtin(name)?;
+        self.with_pass_wake(crate::operating_points::builtin(name)?)
+    }
+
+    /// `v` with this pass's wake (its own, or the other one: [`other_wake`]).
+    pub(super) fn with_pass_wake(
+        &self,
+        v: crate::model::Vehicle,
+    ) -> crate::error::Result<crate::model::Vehicle> {
         match other_wake(&v) {
             Some(m) if self.other_wake => v.with_inflow_model(m),
             _ => Ok(v),
@@ -207,7 +214,8 @@ impl RowBuilder {
         };
         if row.passes() {
             row.verdict = Verdict::Pass;
-        } else {
+        } else if !self.other_wake {
+            // The other pass shows its value and verdict only ([`OtherWake`]).
             row.cause = Some(cause());
         }
         self.rows.push(row);
@@ -215,12 +223,12 @@ impl RowBuilder {
 }
 
 /// The wake a vehicle's rows are shown under beside its own: dynamic for frozen, frozen for
-/// dynamic; an actuated vehicle in still air beside the dynamic wake (a frozen wake's disc
-/// would be a prescribed stroke: `model/build.rs`); none for the other still-air models
-/// (the four-winged and fixed-mount ones).
+/// dynamic; an actuated or four-winged vehicle in still air beside the dynamic wake (a
+/// frozen wake's disc would be a prescribed stroke, or one pair's: `model/build.rs`); none
+/// for the other still-air models.
 pub fn other_wake(v: &crate::model::Vehicle) -> Option<wingforce::InflowModel> {
     match v.inflow_model() {
-        wingforce::InflowModel::Off if v.actuation.is_some() => {
+        wingforce::InflowModel::Off if v.actuation.is_some() || v.wings.len() > 2 => {
             Some(wingforce::InflowModel::Dynamic)
         }
         wingforce::InflowModel::Off => None,

@@ -47,10 +47,12 @@
 //! returns the root its bisection finds there and callers refuse such conditions.
 
 pub mod dynamic;
+pub mod interference;
 
 use serde::{Deserialize, Serialize};
 
 pub use dynamic::{DynamicInflow, InflowDisc, InflowError, InflowForcing, InflowState};
+pub use interference::{PlacedDisc, WakeShare, wake_share};
 
 /// Which induced flow a vehicle's wings meet (`[aero] inflow` in a model file; MODEL.md 4.5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

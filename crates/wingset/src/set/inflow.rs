@@ -23,12 +23,16 @@
 //! kinematics' nominal amplitude (the model file's `[kinematics]`, which for an actuated
 //! vehicle is its nominal motion), so a run from rest starts from that disc.
 //!
-//! Several pairs: a hind pair meets only its own wake here; the fore pair's wake on it is
-//! not modelled (issue #38 leaves it open), and a set of several pairs says so by refusing
-//! the dynamic inflow until it is.
+//! **Several pairs** (a four-winged flier) overlap: each pair's disc also receives the share
+//! of every other pair's wake that crosses it ([`wingforce::inflow::interference`]: the
+//! other pair's linear field at the overlap's centroid, times the overlap's share of the
+//! disc), in its momentum balance (as a flow through it) and on its wings (uniformly, on top
+//! of their own field). The shares follow the discs as their amplitudes change.
 
 use nalgebra::{Matrix3, Vector2, Vector3};
-use wingforce::inflow::{DynamicInflow, InflowDisc, InflowForcing, InflowState};
+use wingforce::inflow::{
+    DynamicInflow, InflowDisc, InflowForcing, InflowState, PlacedDisc, WakeShare, wake_share,
+};
 use wingforce::{BodyMotion, Wing, WingForces};
 
 use crate::error::{Error, Result};
@@ -103,12 +107,17 @@ struct Pair {
     amplitude_rad: f64,
     /// Each wing's swept stroke, for a disc of [`DiscAmplitude::Measured`].
     trackers: Option<Vec<StrokeTracker>>,
+    /// The other pairs' downwash through this disc that its wings met in the last step
+    /// (several pairs), m/s.
+    external_m_s: f64,
 }
 
 /// Every pair's dynamic inflow (see the module documentation).
 #[derive(Debug, Clone)]
 pub struct PairInflows {
     pairs: Vec<Pair>,
+    /// shares[p][q]: the share of pair q's wake that crosses pair p's disc (zero for p = q).
+    shares: Vec<Vec<WakeShare>>,
 }
 
 impl PairInflows {
@@ -128,25 +137,60 @@ impl PairInflows {
                 wings.len()
             )));
         }
-        if wings.len() > 2 {
-            return Err(Error::Input(format!(
-                "a dynamic inflow on {} wings: the hind pair's interference with the fore pair's wake is not modelled yet (issue #38); allowed: one pair, or inflow = \"frozen\" or \"off\"",
-                wings.len()
-            )));
-        }
         let mut pairs = Vec::new();
         for start in (0..wings.len()).step_by(2) {
             let idx: Vec<usize> = (start..(start + 2).min(wings.len())).collect();
             pairs.push(Pair::new(wings, idx, amplitude));
         }
-        Ok(Some(Self { pairs }))
+        let mut set = Self {
+            pairs,
+            shares: Vec::new(),
+        };
+        set.place();
+        Ok(Some(set))
+    }
+
+    /// The shares of each pair's wake on every other pair's disc, at the discs' sizes now.
+    fn place(&mut self) {
+        let placed: Vec<PlacedDisc> = self.pairs.iter().map(Pair::placed).collect();
+        self.shares = placed
+            .iter()
+            .enumerate()
+            .map(|(p, to)| {
+                placed
+                    .iter()
+                    .enumerate()
+                    .map(|(q, from)| {
+                        if p == q {
+                            WakeShare::default()
+                        } else {
+                            wake_share(to, from)
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+    }
+
+    /// The other pairs' downwash through pair `p`'s disc at their states `states`, m/s.
+    fn external_m_s(&self, p: usize, states: impl Iterator<Item = InflowState>) -> f64 {
+        states
+            .zip(&self.shares[p])
+            .map(|(s, share)| share.downwash_m_s(&s))
+            .sum()
     }
 
     /// Sets each wing's inflow field from its pair's states for the coming step (module
     /// documentation, 1).
     pub fn apply(&mut self, wings: &mut [Wing], sampling: LoadSampling) {
+        let mut resized = false;
         for p in &mut self.pairs {
-            p.refresh_disc(wings);
+            resized |= p.refresh_disc(wings);
+        }
+        if resized && self.pairs.len() > 1 {
+            self.place();
+        }
+        for p in &mut self.pairs {
             p.used = match (sampling, &p.last) {
                 (s, Some(last)) if s.is_second_order() => {
                     let now = p.inflow.state;
@@ -158,10 +202,19 @@ impl PairInflows {
                 }
                 _ => p.inflow.state,
             };
+        }
+        for k in 0..self.pairs.len() {
+            let external = if self.pairs.len() > 1 {
+                self.external_m_s(k, self.pairs.iter().map(|p| p.used))
+            } else {
+                0.0
+            };
+            let p = &mut self.pairs[k];
+            p.external_m_s = external;
             let r = p.inflow.disc.radius_m();
             for &i in &p.wings {
                 let hinge = wings[i].hinge_in_stroke_m() - p.centre_s;
-                let at_hinge = p.used.at(&hinge.xy(), r);
+                let at_hinge = p.used.at(&hinge.xy(), r) + external;
                 wings[i].set_inflow_field(at_hinge, p.used.gradient_m_s / r);
             }
         }
@@ -178,7 +231,9 @@ impl PairInflows {
     ) -> Result<()> {
         for p in &mut self.pairs {
             p.track_stroke(forces, dt_s);
-            let forcing = p.forcing(wings, forces, motion);
+            let mut forcing = p.forcing(wings, forces, motion);
+            // The other pairs' downwash the wings met crosses the disc as a climb's flow.
+            forcing.disc_velocity_m_s.z += p.external_m_s;
             let before = p.inflow.state;
             p.inflow
                 .advance(&forcing, dt_s)
@@ -266,6 +321,7 @@ impl Pair {
             amplitude_rad: first.kinematics().amplitude_rad,
             trackers: (amplitude == DiscAmplitude::Measured)
                 .then(|| vec![StrokeTracker::default(); idx.len()]),
+            external_m_s: 0.0,
             wings: idx,
         }
     }
@@ -291,12 +347,24 @@ impl Pair {
         swept.map_or(nominal, |a| a.iter().sum::<f64>() / a.len() as f64)
     }
 
-    /// The disc follows the amplitude its wings now have.
-    fn refresh_disc(&mut self, wings: &[Wing]) {
+    /// The disc follows the amplitude its wings now have; true when it changed.
+    fn refresh_disc(&mut self, wings: &[Wing]) -> bool {
         let amplitude_rad = self.amplitude_now(wings);
-        if amplitude_rad != self.amplitude_rad {
-            self.amplitude_rad = amplitude_rad;
-            self.inflow.disc = Self::disc_of(wings, &self.wings, amplitude_rad);
+        if amplitude_rad == self.amplitude_rad {
+            return false;
+        }
+        self.amplitude_rad = amplitude_rad;
+        self.inflow.disc = Self::disc_of(wings, &self.wings, amplitude_rad);
+        true
+    }
+
+    /// The disc placed in the body.
+    fn placed(&self) -> PlacedDisc {
+        let s = &self.stroke_from_body;
+        PlacedDisc {
+            centre_body_m: self.centre_body_m,
+            axes_body: [0, 1, 2].map(|k| s.row(k).transpose()),
+            radius_m: self.inflow.disc.radius_m(),
         }
     }
 
