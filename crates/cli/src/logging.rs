@@ -237,14 +237,6 @@ pub fn range_warnings(vehicle: &flapsim::Vehicle) -> Vec<String> {
     out
 }
 
-/// Records one step if there is a recorder.
-pub fn record(rec: &mut Option<Recorder>, out: &flapsim::StepOutput) -> anyhow::Result<()> {
-    if let Some(r) = rec.as_mut() {
-        r.record(out)?;
-    }
-    Ok(())
-}
-
 /// Records one step of `sim` (`out`, the step's output, copied out of the simulation) with
 /// every wing's forces from its wing set, if there is a recorder: any number of wings.
 pub fn record_all(

@@ -254,7 +254,8 @@ fn hover_logs_the_wind_it_flies_in() {
 
 /// A vehicle whose wake answers (`[aero] inflow = "dynamic"`) logs its pair's inflow states
 /// to `/inflow`, each logged step's as flapsim's simulation takes its loads at them, and
-/// `replay --check` re-runs the log bit for bit; a frozen wake logs no `/inflow`.
+/// `replay --check` re-runs the log bit for bit; a frozen wake logs no `/inflow`; an actuated
+/// vehicle's dynamic wake is logged and re-run alike.
 #[test]
 fn simulate_logs_the_dynamic_inflow() {
     let dir = tempfile::tempdir().unwrap();
@@ -315,4 +316,18 @@ fn simulate_logs_the_dynamic_inflow() {
     assert_eq!(c.code, 0, "{c:?}");
     let frozen = run("drosophila", "frozen.mcap");
     assert!(!topics(&frozen).iter().any(|t| t == "/inflow"));
+    // Actuated wings too (their disc the stroke they sweep): logged, and re-run bit for bit.
+    let bee = format!(
+        "{}\n[aero]\ninflow = \"dynamic\"\n",
+        include_str!("../../../models/robobee.toml")
+    );
+    std::fs::write(d.join("bee.toml"), &bee).unwrap();
+    let b = run("bee.toml", "bee.mcap");
+    let means: Vec<f64> = rows(&b, "/inflow")
+        .iter()
+        .map(|r| r["pairs.0.mean_m_s"])
+        .collect();
+    assert!(means.len() > 10 && means.iter().any(|&m| m != means[0]));
+    let c = flapwing_in(d, &["replay", "bee.mcap", "--check"]);
+    assert_eq!(c.code, 0, "{c:?}");
 }

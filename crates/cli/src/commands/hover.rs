@@ -227,7 +227,9 @@ pub fn run(args: HoverArgs) -> Result<()> {
         if out.step % 1024 == 0 {
             bar.set_position(out.step);
         }
-        let logged = crate::logging::record(&mut rec, out)
+        // With every wing's output (the pairs' inflow states on `/inflow` where the wake
+        // answers).
+        let logged = crate::logging::record_all(&mut rec, out, step.sim)
             .and_then(|()| match fb {
                 Some(fb) => log_estimate(&mut rec, out.t_s, fb),
                 None => crate::sensing::observe(&mut sensors, &mut rec, out),
