@@ -95,3 +95,23 @@ def test_a_python_run_logs_the_inflow_where_the_wake_answers(tmp_path):
     sim.run(20, record=False)
     sim.close_log()
     assert "/inflow" not in flapwing.read_log(str(frozen), pandas=False)
+
+
+def test_actuated_and_four_winged_sets_carry_every_pairs_states(tmp_path):
+    """The dynamic wake on actuated wings (their disc the stroke they sweep) and on tandem
+    pairs (each pair's states, crossing each other's discs): the Python wing set carries one
+    state triple per pair, and the states move with the loads from the hover start."""
+    for name, pairs in (("robobee", 1), ("dragonfly", 2)):
+        text = (ROOT / f"models/{name}.toml").read_text()
+        assert "[aero]" not in text  # still air, the files' default
+        text += '\n[aero]\ninflow = "dynamic"\n'
+        path = tmp_path / f"{name}_dynamic.toml"
+        path.write_text(text)
+        assert flapwing.Vehicle(str(path)).inflow_model == "dynamic"
+        wings = flapwing.WingSet(str(path))
+        start = [tuple(s) for s in wings.inflow_states]
+        assert len(start) == pairs
+        for _ in range(50):
+            wings.step(**REST)
+        now = [tuple(s) for s in wings.inflow_states]
+        assert len(now) == pairs and all(a[0] != b[0] for a, b in zip(start, now)), (start, now)
