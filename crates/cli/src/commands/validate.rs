@@ -505,7 +505,7 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
     )?;
     writeln!(
         s,
-        "(model: the built-in model as it stands; other wake: for a vehicle with an induced flow, the same row under the other wake, [aero] inflow = \"dynamic\" (the pair's wake answers its loads and the body) for a frozen one and \"frozen\" for a dynamic one; for an actuated vehicle in still air, under \"dynamic\", its disc the stroke its wings sweep)"
+        "(model: the built-in model as it stands; other wake: for a vehicle with an induced flow, the same row under the other wake, [aero] inflow = \"dynamic\" (the pair's wake answers its loads and the body) for a frozen one and \"frozen\" for a dynamic one; for an actuated or four-winged vehicle in still air, under \"dynamic\")"
     )?;
     writeln!(
         s,
@@ -586,7 +586,7 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
         };
         writeln!(
             s,
-            "the {} rows shown under another wake (the vehicles with an induced flow, and the actuated ones in still air): {} pass as the models stand, {} under the other wake ({})",
+            "the {} rows shown under another wake (the vehicles with an induced flow, and the actuated and four-winged ones in still air): {} pass as the models stand, {} under the other wake ({})",
             others.len(),
             pass(true),
             pass(false),
