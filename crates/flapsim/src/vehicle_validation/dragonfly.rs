@@ -15,6 +15,8 @@
 //! model: the same flight without Lee et al.'s aspect-ratio and Rossby corrections, under the
 //! other wake, the fore pair's share, and the paper's own calculation beside it.
 
+use std::cell::OnceCell;
+
 use nalgebra::Vector3;
 
 use crate::averaged::{FrozenState, mean_loads};
@@ -180,36 +182,47 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
                 _ => Ok(own.clone()),
             }
         };
+        // Measured once per flight, for whichever of its rows miss.
+        let plain_forces = OnceCell::new();
+        let other_forces = OnceCell::new();
+        let interference = OnceCell::new();
         let cause = |quantity: &str, value: f64, pick: fn(&FlightForces) -> f64| {
-            let mut plain = v.clone();
-            for wing in &mut plain.wings {
-                let mut o = wing.options().clone();
-                o.ar_ro_corrections = false;
-                wing.set_options(o);
-            }
-            let measured = |w: Result<Vehicle>| {
-                w.and_then(|w| {
-                    let x = flight.forces(&w)?;
-                    Ok(format!("{:.3} {}", pick(&x), under(w.inflow_model())))
-                })
-                .unwrap_or_else(|e| e.to_string())
+            let forces_of = |w: Result<Vehicle>| {
+                w.and_then(|w| Ok((flight.forces(&w)?, w.inflow_model())))
+                    .map_err(|e| e.to_string())
             };
-            let interference = own
-                .with_inflow_model(wingforce::InflowModel::Dynamic)
-                .and_then(|d| {
-                    let together = flight.forces(&d)?.vertical;
-                    let [fore, hind] = flight.vertical_alone(&d)?;
-                    Ok(format!(
-                        "under the dynamic wake the fore pair alone carries {fore:.3} and the hind pair alone {hind:.3} of the weight, together {together:.3} ({:+.1}% for the pairs' wakes on each other)",
-                        100.0 * (together / (fore + hind) - 1.0)
-                    ))
-                })
-                .unwrap_or_else(|e| e.to_string());
+            let shown =
+                |x: &std::result::Result<(FlightForces, wingforce::InflowModel), String>| match x {
+                    Ok((f, m)) => format!("{:.3} {}", pick(f), under(*m)),
+                    Err(e) => e.clone(),
+                };
+            let plain = plain_forces.get_or_init(|| {
+                let mut plain = v.clone();
+                for wing in &mut plain.wings {
+                    let mut o = wing.options().clone();
+                    o.ar_ro_corrections = false;
+                    wing.set_options(o);
+                }
+                forces_of(Ok(plain))
+            });
+            let other = other_forces.get_or_init(|| forces_of(other()));
+            let interference = interference.get_or_init(|| {
+                own.with_inflow_model(wingforce::InflowModel::Dynamic)
+                    .and_then(|d| {
+                        let together = flight.forces(&d)?.vertical;
+                        let [fore, hind] = flight.vertical_alone(&d)?;
+                        Ok(format!(
+                            "under the dynamic wake the fore pair alone carries {fore:.3} and the hind pair alone {hind:.3} of the weight, together {together:.3} ({:+.1}% for the pairs' wakes on each other)",
+                            100.0 * (together / (fore + hind) - 1.0)
+                        ))
+                    })
+                    .unwrap_or_else(|e| e.to_string())
+            });
             format!(
                 "{quantity} {value:.3} {}; without Lee et al.'s f_AR f_Ro {}; {}; {interference}; the paper's own local-circulation calculation gives a load factor of {} with the measured spanwise twist and the wake's unsteady, non-uniform induced flow, neither modelled here",
                 under(v.inflow_model()),
-                measured(Ok(plain)),
-                measured(other()),
+                shown(plain),
+                shown(other),
                 flight.paper_load_factor
             )
         };

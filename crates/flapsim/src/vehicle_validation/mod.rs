@@ -69,8 +69,12 @@ pub fn added_mass_lift_share(vehicle: &Vehicle) -> Result<(f64, f64, f64)> {
 /// vehicles with an induced flow, beside it the same row under the other wake
 /// ([`VehicleRow::other_wake`]; issue #38).
 pub fn vehicle_section() -> Result<VehicleSection> {
-    let mut section = vehicle_section_with(false)?;
-    let other = vehicle_section_with(true)?;
+    // The two passes are independent: side by side on the machine's cores.
+    let (section, other) = rayon::join(
+        || vehicle_section_with(false),
+        || vehicle_section_with(true),
+    );
+    let (mut section, other) = (section?, other?);
     for (row, o) in section.rows.iter_mut().zip(other.rows) {
         if let Some(inflow) = builtin(row.vehicle).ok().and_then(|v| other_wake(&v)) {
             row.other_wake = Some(OtherWake {
