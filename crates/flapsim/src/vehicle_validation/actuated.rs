@@ -50,10 +50,11 @@ fn identified_hinges(v: &Vehicle, freq_hz: f64, amplitude_v: f64) -> String {
             }
             match tethered(&variant, freq_hz, amplitude_v) {
                 Ok(r) if r.failed.is_none() => format!(
-                    "{k:.1e} N m/rad: pitch +-{:.1} deg, phase {:+.1} deg, stroke {:.1} deg p-p",
+                    "{k:.1e} N m/rad: pitch +-{:.1} deg, phase {:+.1} deg, stroke {:.1} deg p-p, the air's damping of the stroke {:.2} of critical",
                     r.motion.pitch_amplitude_deg,
                     r.motion.pitch_phase_deg,
-                    2.0 * r.motion.stroke_amplitude_deg
+                    2.0 * r.motion.stroke_amplitude_deg,
+                    r.stroke_damping_ratio
                 ),
                 Ok(r) => format!(
                     "{k:.1e} N m/rad: the run stopped: {}",
@@ -100,7 +101,7 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
             false,
             || {
                 format!(
-                    "model/bench {:.2}: the model's quasi-static stroke at {amp_180:.0} V is {quasi_static_pp:.1} deg p-p (2 T F_V V / k, force per volt an estimate, k = {k:.2e} N m/rad) against the bench's 56 deg at 100-140 Hz; its stroke's undamped resonance is {fn_hz:.0} Hz, but the air damps it at {:.2} of critical here (energy-equivalent, from the aerodynamic stroke moment over the measured periods) with the wing at a mid-stroke angle of attack of {:.0} deg (pitch +-{:.0} deg), so no resonance rise shows where the bench's stroke jumps between 160 and 165 Hz{}",
+                    "model/bench {:.2}: the model's quasi-static stroke at {amp_180:.0} V is {quasi_static_pp:.1} deg p-p (2 T F_V V / k, force per volt an estimate, k = {k:.2e} N m/rad) against the bench's 56 deg at 100-140 Hz; its stroke's undamped resonance is {fn_hz:.0} Hz, but the air damps it at {:.2} of critical here (energy-equivalent, from the aerodynamic stroke moment over the measured periods) with the wing at a mid-stroke angle of attack of {:.0} deg (pitch +-{:.0} deg), so no resonance rise shows where the bench's stroke jumps between 160 and 165 Hz{}; {}",
                     model / bench,
                     r.stroke_damping_ratio,
                     r.motion.mid_stroke_aoa_deg,
@@ -108,7 +109,8 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
                     r.failed
                         .as_ref()
                         .map(|e| format!("; the run stopped: {e}"))
-                        .unwrap_or_default()
+                        .unwrap_or_default(),
+                    identified_hinges(&v, f, amp_180)
                 )
             },
         );
