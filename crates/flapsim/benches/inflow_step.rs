@@ -1,6 +1,9 @@
 //! A free-flight step of the fruit fly with its wake dynamic (`[aero] inflow = "dynamic"`:
 //! the pair's three inflow states stepped with the loads, issue #38) beside the same step
-//! with the wake frozen (the built-in model).
+//! with the wake frozen (the built-in model); and the RoboBee's actuated step and the
+//! four-winged dragonfly's step with the dynamic wake beside their own still air (the
+//! actuated pair's disc measured from its stroke; the dragonfly's two pairs crossing each
+//! other's discs).
 //!
 //! Besides the criterion functions, `ratio_rounds` interleaves the two (this VM's speed
 //! changes by up to 2x from minute to minute, so only ratios measured side by side mean
@@ -45,12 +48,26 @@ fn bench(c: &mut Criterion) {
     c.bench_function("fly_free_step_frozen_wake", |b| b.iter(&mut f));
     let mut d = stepper(&dynamic);
     c.bench_function("fly_free_step_dynamic_wake", |b| b.iter(&mut d));
-    ratio_rounds(&frozen, &dynamic);
+    ratio_rounds("fly free step, dynamic / frozen wake", &frozen, &dynamic);
+    for (name, text) in [
+        ("robobee", flapsim::ROBOBEE_TOML),
+        ("dragonfly", flapsim::DRAGONFLY_TOML),
+    ] {
+        let still = Vehicle::from_toml(text, name).expect("built-in model");
+        let dynamic = still
+            .with_inflow_model(InflowModel::Dynamic)
+            .expect("every vehicle takes the dynamic wake");
+        ratio_rounds(
+            &format!("{name} free step, dynamic wake / still air"),
+            &still,
+            &dynamic,
+        );
+    }
 }
 
-/// Interleaved rounds of 2000 steps each; prints the median cost ratio dynamic / frozen and
-/// its quartiles.
-fn ratio_rounds(frozen: &Vehicle, dynamic: &Vehicle) {
+/// Interleaved rounds of 2000 steps each; prints the median cost ratio `dynamic` / `frozen`
+/// and its quartiles.
+fn ratio_rounds(label: &str, frozen: &Vehicle, dynamic: &Vehicle) {
     let n = 2000;
     let time = |v: &Vehicle| {
         let mut sim = started(v);
@@ -75,7 +92,7 @@ fn ratio_rounds(frozen: &Vehicle, dynamic: &Vehicle) {
     ratios.sort_by(f64::total_cmp);
     let q = |p: f64| ratios[((ratios.len() - 1) as f64 * p).round() as usize];
     println!(
-        "fly free step, dynamic / frozen wake ({} interleaved rounds of {n} steps): median {:.3}x [quartiles {:.3} {:.3}]",
+        "{label} ({} interleaved rounds of {n} steps): median {:.3}x [quartiles {:.3} {:.3}]",
         ratios.len(),
         q(0.5),
         q(0.25),

@@ -14,8 +14,9 @@
 //!
 //! The model here, with the pairs' Pitt-Peters states ([`super::dynamic`]):
 //!
-//! - each pair's disc (the circle of its swept area, [`super::InflowDisc::radius_m`], centred
-//!   between its hinges in its stroke plane) receives from every other pair q the induced
+//! - each pair's disc (the circle of its swept area,
+//!   [`super::dynamic::InflowDisc::radius_m`], centred between its hinges in its stroke
+//!   plane) receives from every other pair q the induced
 //!   velocity of q's linear field (w0 + w_x x / R + w_y y / R, q's own states) taken at the
 //!   centroid of the part of the disc that q's disc covers, times that part's share of the
 //!   disc's area, along the disc's normal ([`WakeShare`]);
@@ -54,7 +55,7 @@ pub struct WakeShare {
     /// The overlap's area over the receiving disc's area, in [0, 1].
     pub fraction: f64,
     /// The overlap's centroid in the giving disc's stroke plane over its radius: where its
-    /// linear field is taken ([`super::InflowState::at`] with radius 1).
+    /// linear field is taken ([`super::dynamic::InflowState::at`] with radius 1).
     pub at_over_radius: Vector2<f64>,
     /// The cosine between the two normals: the giving pair's downwash along the receiving
     /// disc's normal.
@@ -63,7 +64,7 @@ pub struct WakeShare {
 
 impl WakeShare {
     /// The downwash the giving pair's states `from` put through the receiving disc, m/s.
-    pub fn downwash_m_s(&self, from: &super::InflowState) -> f64 {
+    pub fn downwash_m_s(&self, from: &super::dynamic::InflowState) -> f64 {
         if self.fraction == 0.0 {
             return 0.0;
         }
