@@ -112,17 +112,12 @@ pub const PERIODIC_INFLOW_TOLERANCE: f64 = 1e-9;
 pub const MAX_INFLOW_WINGBEATS: usize = 200;
 
 /// Wingbeats for the slowest inflow state to decay by 1e-14 from where one wingbeat took
-/// it: the mean's time constant for small perturbations about hover at that inflow,
-/// 2 R_e / (3 pi w0) (`InflowDisc::hover_time_constant_s`; an upper bound of the time
-/// constants in climb, forward flight and of the gradients), at least two and at most
-/// [`MAX_INFLOW_WINGBEATS`].
-fn settling_wingbeats(inflow: &wingset::PairInflows, period_s: f64) -> usize {
-    let tau_s = inflow
-        .discs()
-        .iter()
-        .zip(inflow.states())
-        .map(|(d, s)| 2.0 * d.radius_m() / (3.0 * std::f64::consts::PI * s.mean_m_s.abs()))
-        .fold(0.0, f64::max);
+/// it: the slowest of the states' time constants for small perturbations at that inflow and
+/// the body's motion (`PairInflows::slowest_time_constant_s`: Pitt-Peters' m0 / (2 rho A V)
+/// and m1 L_ii / (rho A R_e V), V the mass-flow parameter, which forward flight raises well
+/// above the hover inflow), at least two and at most [`MAX_INFLOW_WINGBEATS`].
+fn settling_wingbeats(inflow: &wingset::PairInflows, motion: &BodyMotion, period_s: f64) -> usize {
+    let tau_s = inflow.slowest_time_constant_s(motion);
     let n = (14.0 * std::f64::consts::LN_10 * tau_s / period_s).ceil();
     if n.is_finite() {
         (n as usize).clamp(2, MAX_INFLOW_WINGBEATS)
@@ -166,7 +161,7 @@ pub fn periodic_inflow(
     let mut state_sums = Vec::new();
     while beat < wingbeats {
         if beat == 1 {
-            wingbeats = settling_wingbeats(&inflow, period_s);
+            wingbeats = settling_wingbeats(&inflow, motion, period_s);
         }
         crate::cancel::check()?;
         start = inflow.states();

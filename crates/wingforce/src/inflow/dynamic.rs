@@ -368,6 +368,23 @@ impl DynamicInflow {
         Ok(())
     }
 
+    /// The states' time constants for small perturbations at the states now, with the disc
+    /// moving as `forcing` says (its loads do not enter), s: the mean's m0 / (2 rho A V) and
+    /// the gradients' m1 L_ii / (rho A R_e V) along and across the free stream (module
+    /// documentation; V the mass-flow parameter). Infinite where no air flows through the
+    /// disc.
+    pub fn time_constants_s(&self, forcing: &InflowForcing) -> [f64; 3] {
+        let d = &self.disc;
+        let w0 = self.state.mean_m_s;
+        let (_, mass_flow, _, _) = flow(w0, forcing);
+        if !(mass_flow > 0.0 && d.area_m2 > 0.0) {
+            return [f64::INFINITY; 3];
+        }
+        let mean = d.mean_apparent_mass_kg() / (2.0 * d.density_kg_m3 * d.area_m2 * mass_flow);
+        let [t, n] = self.targets(forcing, w0).time_constant_s;
+        [mean, t, n]
+    }
+
     /// The steady state under `forcing` (the loads held), by stepping to convergence: what
     /// the states settle to. For tests and for starting a run at a flight condition.
     pub fn settle(&mut self, forcing: &InflowForcing) -> Result<(), InflowError> {

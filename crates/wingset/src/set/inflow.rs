@@ -231,9 +231,7 @@ impl PairInflows {
     ) -> Result<()> {
         for p in &mut self.pairs {
             p.track_stroke(forces, dt_s);
-            let mut forcing = p.forcing(wings, forces, motion);
-            // The other pairs' downwash the wings met crosses the disc as a climb's flow.
-            forcing.disc_velocity_m_s.z += p.external_m_s;
+            let forcing = p.forcing(wings, forces, motion);
             let before = p.inflow.state;
             p.inflow
                 .advance(&forcing, dt_s)
@@ -259,6 +257,23 @@ impl PairInflows {
     /// The states each pair's wings took their last loads at.
     pub fn used(&self) -> Vec<InflowState> {
         self.pairs.iter().map(|p| p.used).collect()
+    }
+
+    /// The slowest time constant of any pair's states at the states now, for a body moving
+    /// through the air as `motion` (`DynamicInflow::time_constants_s`: in forward flight
+    /// and climb the flow through the disc is faster than the induced velocity alone, and
+    /// the states settle faster than in hover), s.
+    pub fn slowest_time_constant_s(&self, motion: &BodyMotion) -> f64 {
+        self.pairs
+            .iter()
+            .flat_map(|p| {
+                let forcing = InflowForcing {
+                    disc_velocity_m_s: p.disc_velocity_m_s(motion),
+                    ..Default::default()
+                };
+                p.inflow.time_constants_s(&forcing)
+            })
+            .fold(0.0, f64::max)
     }
 
     /// Each pair's disc.
@@ -392,12 +407,18 @@ impl Pair {
         }
         // A normal load dT at (x, y) has the moment (y dT, -x dT) about the centre.
         let load_moment_nm = Vector2::new(-moment_s.y, moment_s.x);
-        let v_body = motion.velocity_m_s + motion.angular_velocity_rad_s.cross(&self.centre_body_m);
         InflowForcing {
             thrust_n,
             load_moment_nm,
-            disc_velocity_m_s: self.stroke_from_body * v_body,
+            disc_velocity_m_s: self.disc_velocity_m_s(motion),
         }
+    }
+
+    /// The disc's velocity through the air, stroke frame, with the other pairs' downwash
+    /// its wings met as a climb's flow through it (module documentation), m/s.
+    fn disc_velocity_m_s(&self, motion: &BodyMotion) -> Vector3<f64> {
+        let v_body = motion.velocity_m_s + motion.angular_velocity_rad_s.cross(&self.centre_body_m);
+        self.stroke_from_body * v_body + Vector3::z() * self.external_m_s
     }
 }
 
