@@ -119,3 +119,64 @@ fn the_handle_steps_reads_and_sets_the_pairs_inflow() {
     // SAFETY: a live handle, freed once.
     unsafe { flapwing_wings_free(frozen) };
 }
+
+/// The dynamic wake of an actuated vehicle (the RoboBee: its pair's disc the stroke its
+/// dynamics sweep) and of a four-winged one (the dragonfly: two pairs, each crossing the
+/// other's disc) through the C ABI: one state triple per pair, each stepped exactly as
+/// flapsim's wing set of the same model steps it (the element, bit for bit).
+#[test]
+fn actuated_and_four_winged_handles_carry_every_pairs_inflow() {
+    for (name, text, pairs) in [
+        ("robobee", flapsim::ROBOBEE_TOML, 1),
+        ("dragonfly", flapsim::DRAGONFLY_TOML, 2),
+    ] {
+        let model = format!("{text}\n[aero]\ninflow = \"dynamic\"\n");
+        let c_model = CString::new(model.clone()).unwrap();
+        let c_name = CString::new(name).unwrap();
+        let mut wings: *mut FlapwingWings = ptr::null_mut();
+        // SAFETY: NUL-terminated strings and a valid out pointer.
+        let s =
+            unsafe { flapwing_wings_from_toml(c_model.as_ptr(), c_name.as_ptr(), 0.0, &mut wings) };
+        assert_eq!(s, FlapwingStatus::FLAPWING_OK, "{name}: {}", last_error());
+        let mut n = 0;
+        // SAFETY: a live handle and a valid out pointer.
+        unsafe { flapwing_wings_inflow_pairs(wings, &mut n) };
+        assert_eq!(n, pairs, "{name}");
+        let vehicle = Vehicle::from_toml(&model, name).unwrap();
+        let mut set = WingSet::from_vehicle_sized(&vehicle).unwrap();
+        let q = vehicle.initial_attitude;
+        let body = FlapwingBodyState {
+            position_m: [0.0; 3],
+            world_from_body_wxyz: [q.w, q.i, q.j, q.k],
+            velocity_world_m_s: [0.0; 3],
+            angular_velocity_body_rad_s: [0.0; 3],
+        };
+        let state = flapsim::State {
+            position_m: nalgebra::Vector3::zeros(),
+            world_from_body: q,
+            velocity_m_s: nalgebra::Vector3::zeros(),
+            angular_velocity_body_rad_s: nalgebra::Vector3::zeros(),
+        };
+        for _ in 0..200 {
+            let mut w = FlapwingWrench::default();
+            // SAFETY: a live handle, a valid state and out pointer.
+            let s = unsafe { flapwing_wings_step(wings, &body, &mut w) };
+            assert_eq!(s, FlapwingStatus::FLAPWING_OK, "{name}: {}", last_error());
+            set.step(&state).unwrap();
+        }
+        for (p, expected) in set.inflow_states().iter().enumerate() {
+            let mut got = FlapwingInflow::default();
+            // SAFETY: a live handle and a valid out pointer.
+            let s = unsafe { flapwing_wings_inflow(wings, p, &mut got) };
+            assert_eq!(s, FlapwingStatus::FLAPWING_OK);
+            let [w0, fore, left] = expected.to_array();
+            assert_eq!((got.mean_m_s, got.fore_m_s, got.left_m_s), (w0, fore, left));
+            assert!(
+                got.mean_m_s > 0.0 && start > 0.0,
+                "{name} pair {p}: {got:?}"
+            );
+        }
+        // SAFETY: a live handle, freed once.
+        unsafe { flapwing_wings_free(wings) };
+    }
+}
