@@ -171,10 +171,8 @@ fn actuated_and_four_winged_handles_carry_every_pairs_inflow() {
             assert_eq!(s, FlapwingStatus::FLAPWING_OK);
             let [w0, fore, left] = expected.to_array();
             assert_eq!((got.mean_m_s, got.fore_m_s, got.left_m_s), (w0, fore, left));
-            assert!(
-                got.mean_m_s > 0.0 && start > 0.0,
-                "{name} pair {p}: {got:?}"
-            );
+            // Each pair pushes air down.
+            assert!(got.mean_m_s > 0.0, "{name} pair {p}: {got:?}");
         }
         // SAFETY: a live handle, freed once.
         unsafe { flapwing_wings_free(wings) };
