@@ -99,6 +99,9 @@ pub struct PeriodicInflow {
     pub states: Vec<InflowState>,
     /// Each pair's inflow states averaged over the last wingbeat.
     pub state_means: Vec<InflowState>,
+    /// Every wing's forces at each step of the last wingbeat (the wings' order), as the
+    /// simulation takes them (what the wings' power over the wingbeat needs).
+    pub samples: Vec<Vec<wingforce::WingForces>>,
     /// Wingbeats run.
     pub wingbeats: usize,
 }
@@ -159,6 +162,7 @@ pub fn periodic_inflow(
     let mut wingbeats = MAX_INFLOW_WINGBEATS;
     let mut beat = 0;
     let mut state_sums = Vec::new();
+    let mut samples = Vec::with_capacity(steps);
     while beat < wingbeats {
         if beat == 1 {
             wingbeats = settling_wingbeats(&inflow, motion, period_s);
@@ -176,6 +180,9 @@ pub fn periodic_inflow(
             inflow.apply(&mut wings, sampling);
             step_loads(vehicle, &wings, k, steps, motion, &mut forces);
             accumulate(&wings, &forces, 1.0 / steps as f64, &mut mean);
+            if beat + 1 == wingbeats {
+                samples.push(forces.clone());
+            }
             inflow
                 .advance(&wings, &forces, motion, dt_s)
                 .map_err(|e| {
@@ -213,6 +220,7 @@ pub fn periodic_inflow(
             .into_iter()
             .map(InflowState::from_array)
             .collect(),
+        samples,
         wingbeats,
     }))
 }

@@ -46,8 +46,10 @@ where
 }
 
 /// The wings' power over one wingbeat at a frozen body state: `steps` samples of the
-/// prescribed kinematics, or an actuated vehicle's periodic motion at that state
-/// ([`crate::actuated::periodic`], at the simulation's step).
+/// prescribed kinematics (with a wake that answers, over its periodic motion at that state:
+/// [`crate::averaged::periodic_inflow`], as the averaged model's loads), or an actuated
+/// vehicle's periodic motion at that state ([`crate::actuated::periodic`], at the
+/// simulation's step, its pair's inflow with it).
 pub fn power_at(
     vehicle: &Vehicle,
     state: &crate::averaged::FrozenState,
@@ -60,6 +62,9 @@ pub fn power_at(
     if vehicle.actuation.is_some() {
         let p = crate::actuated::periodic::settle(vehicle, &motion)?;
         return Ok(cycle_power(&p.wings, p.samples.iter()));
+    }
+    if let Some(p) = crate::averaged::periodic_inflow(vehicle, &motion, steps)? {
+        return Ok(cycle_power(&vehicle.wings, p.samples.iter()));
     }
     let samples: Vec<Vec<WingForces>> = (0..steps)
         .map(|k| {
