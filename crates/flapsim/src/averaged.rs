@@ -161,7 +161,7 @@ pub fn periodic_inflow(
     // time constant at the inflow it reached needs.
     let mut wingbeats = MAX_INFLOW_WINGBEATS;
     let mut beat = 0;
-    let mut state_sums = Vec::new();
+    let mut state_means = Vec::new();
     let mut samples = Vec::with_capacity(steps);
     while beat < wingbeats {
         if beat == 1 {
@@ -170,13 +170,9 @@ pub fn periodic_inflow(
         crate::cancel::check()?;
         start = inflow.states();
         mean = MeanLoads::default();
-        state_sums = vec![[0.0; 3]; start.len()];
+        state_means.clear();
         for k in 0..steps {
-            for (sum, s) in state_sums.iter_mut().zip(inflow.states()) {
-                for (x, y) in sum.iter_mut().zip(s.to_array()) {
-                    *x += y / steps as f64;
-                }
-            }
+            inflow.add_states_to(&mut state_means, 1.0 / steps as f64);
             inflow.apply(&mut wings, sampling);
             step_loads(vehicle, &wings, k, steps, motion, &mut forces);
             accumulate(&wings, &forces, 1.0 / steps as f64, &mut mean);
@@ -216,10 +212,7 @@ pub fn periodic_inflow(
     Ok(Some(PeriodicInflow {
         mean,
         states: end,
-        state_means: state_sums
-            .into_iter()
-            .map(InflowState::from_array)
-            .collect(),
+        state_means,
         samples,
         wingbeats,
     }))

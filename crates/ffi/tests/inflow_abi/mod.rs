@@ -26,6 +26,25 @@ fn dynamic_fly_toml() -> String {
     text
 }
 
+/// The body at `vehicle`'s initial attitude flying forward (world x) at `speed_m_s`, as the
+/// C ABI and flapsim's wing set take it.
+fn body_at(vehicle: &Vehicle, speed_m_s: f64) -> (FlapwingBodyState, flapsim::State) {
+    let q = vehicle.initial_attitude;
+    let body = FlapwingBodyState {
+        position_m: [0.0; 3],
+        world_from_body_wxyz: [q.w, q.i, q.j, q.k],
+        velocity_world_m_s: [speed_m_s, 0.0, 0.0],
+        angular_velocity_body_rad_s: [0.0; 3],
+    };
+    let state = flapsim::State {
+        position_m: nalgebra::Vector3::zeros(),
+        world_from_body: q,
+        velocity_m_s: nalgebra::Vector3::new(speed_m_s, 0.0, 0.0),
+        angular_velocity_body_rad_s: nalgebra::Vector3::zeros(),
+    };
+    (body, state)
+}
+
 #[test]
 fn the_handle_steps_reads_and_sets_the_pairs_inflow() {
     let text = CString::new(dynamic_fly_toml()).unwrap();
@@ -45,19 +64,7 @@ fn the_handle_steps_reads_and_sets_the_pairs_inflow() {
     let mut set = WingSet::from_vehicle_sized(&vehicle).unwrap();
     // The body at the model's initial attitude (its stroke plane level), flying forward at
     // 0.5 m/s.
-    let q = vehicle.initial_attitude;
-    let body = FlapwingBodyState {
-        position_m: [0.0; 3],
-        world_from_body_wxyz: [q.w, q.i, q.j, q.k],
-        velocity_world_m_s: [0.5, 0.0, 0.0],
-        angular_velocity_body_rad_s: [0.0; 3],
-    };
-    let state = flapsim::State {
-        position_m: nalgebra::Vector3::zeros(),
-        world_from_body: q,
-        velocity_m_s: nalgebra::Vector3::new(0.5, 0.0, 0.0),
-        angular_velocity_body_rad_s: nalgebra::Vector3::zeros(),
-    };
+    let (body, state) = body_at(&vehicle, 0.5);
     for _ in 0..150 {
         let mut w = FlapwingWrench::default();
         // SAFETY: a live handle, a valid state and out pointer.
@@ -144,19 +151,7 @@ fn actuated_and_four_winged_handles_carry_every_pairs_inflow() {
         assert_eq!(n, pairs, "{name}");
         let vehicle = Vehicle::from_toml(&model, name).unwrap();
         let mut set = WingSet::from_vehicle_sized(&vehicle).unwrap();
-        let q = vehicle.initial_attitude;
-        let body = FlapwingBodyState {
-            position_m: [0.0; 3],
-            world_from_body_wxyz: [q.w, q.i, q.j, q.k],
-            velocity_world_m_s: [0.0; 3],
-            angular_velocity_body_rad_s: [0.0; 3],
-        };
-        let state = flapsim::State {
-            position_m: nalgebra::Vector3::zeros(),
-            world_from_body: q,
-            velocity_m_s: nalgebra::Vector3::zeros(),
-            angular_velocity_body_rad_s: nalgebra::Vector3::zeros(),
-        };
+        let (body, state) = body_at(&vehicle, 0.0);
         for _ in 0..200 {
             let mut w = FlapwingWrench::default();
             // SAFETY: a live handle, a valid state and out pointer.

@@ -122,7 +122,7 @@ pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
     let inflow_start = pair.inflow.as_ref().map(PairInflows::states);
     let mut mean = MeanLoads::default();
     let mut samples = Vec::with_capacity(n);
-    let mut inflow_mean: Vec<[f64; 3]> = Vec::new();
+    let mut inflow_mean = Vec::new();
     let w = 1.0 / n as f64;
     for _ in 0..n {
         let s = pair.step(motion, dt_s).map_err(what)?;
@@ -137,13 +137,7 @@ pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
         }
         samples.push([s[0].forces, s[1].forces]);
         if let Some(i) = &pair.inflow {
-            let now = i.states();
-            inflow_mean.resize(now.len(), [0.0; 3]);
-            for (m, x) in inflow_mean.iter_mut().zip(now) {
-                for (m, x) in m.iter_mut().zip(x.to_array()) {
-                    *m += w * x;
-                }
-            }
+            i.add_states_to(&mut inflow_mean, w);
         }
     }
     let end = states(&pair);
@@ -183,10 +177,7 @@ pub fn settle(vehicle: &Vehicle, motion: &BodyMotion) -> Result<PeriodicWings> {
         dynamic,
         wings,
         inflow,
-        inflow_mean: inflow_mean
-            .into_iter()
-            .map(wingforce::inflow::InflowState::from_array)
-            .collect(),
+        inflow_mean,
         mean,
         samples,
         drift_rad,

@@ -254,6 +254,16 @@ impl PairInflows {
         self.pairs.iter().map(|p| p.inflow.state).collect()
     }
 
+    /// Adds each pair's states now, times `weight`, to `sums` (one per pair; grown to the
+    /// pairs' count): the running mean of the states over a wingbeat.
+    pub fn add_states_to(&self, sums: &mut Vec<InflowState>, weight: f64) {
+        sums.resize(self.pairs.len(), InflowState::default());
+        for (sum, p) in sums.iter_mut().zip(&self.pairs) {
+            sum.mean_m_s += weight * p.inflow.state.mean_m_s;
+            sum.gradient_m_s += weight * p.inflow.state.gradient_m_s;
+        }
+    }
+
     /// The states each pair's wings took their last loads at.
     pub fn used(&self) -> Vec<InflowState> {
         self.pairs.iter().map(|p| p.used).collect()

@@ -3,7 +3,8 @@
 //! A [`WingSet`] holds any number of wings (each with its own hinge position, stroke plane,
 //! planform and kinematics, or actuation) and their own state: the wingbeat phase, the
 //! actuated wings' stroke and pitch dynamics, each pair's dynamic inflow when its wake
-//! answers (module `inflow`) and the table of kinematic loads. Each
+//! answers (module `inflow`) and the table of kinematic loads (what a host carries from one
+//! run to another: module `carried`). Each
 //! [`WingSet::step`] takes the body's state at t_k from the host and returns the loads on the
 //! body over [t_k, t_k + dt] about its centre of mass, body frame: the aerodynamic load of
 //! each of wingforce's four terms, the inertial reaction of the wings and actuators, and each
@@ -27,6 +28,7 @@
 //! (both wings at the left wing's frequency, the right table stretched to it).
 
 mod body;
+mod carried;
 mod drag;
 mod dt;
 mod inflow;
@@ -46,7 +48,7 @@ pub use inflow::{DiscAmplitude, PairInflows};
 pub use map::ControlMap;
 pub use output::{WingSetOutput, zero_forces};
 
-use crate::actuated::{Drive, DynamicWing};
+use crate::actuated::DynamicWing;
 use crate::controls::Controls;
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;
@@ -414,60 +416,6 @@ impl WingSet {
         }
     }
 
-    /// The memory the next step's midpoint prediction uses: the last step's body state
-    /// ([`StepMemory`]); `None` for the step-start sampling and after a restart.
-    pub fn step_memory(&self) -> Option<StepMemory> {
-        self.previous()
-    }
-
-    /// Gives the set the memory of the step before the next one (a restart from a logged
-    /// state that logged it too): an error unless the memory is of the step just before.
-    pub fn set_step_memory(&mut self, memory: StepMemory) -> Result<()> {
-        if memory.step + 1 != self.step {
-            return Err(Error::Input(format!(
-                "wing set: a step memory of step {} does not precede step {}",
-                memory.step, self.step
-            )));
-        }
-        self.prev_body = Some(memory);
-        Ok(())
-    }
-
-    /// Forgets the body states of earlier steps: the host moved the body other than by
-    /// integrating the set's loads (a reset, a disturbance set by hand), so the next step
-    /// takes the body's state at its start ([`LoadSampling::Midpoint`] predicts the
-    /// midpoint from the last two states otherwise).
-    pub fn restart_motion(&mut self) {
-        self.prev_body = None;
-        if let Some(i) = &mut self.inflow {
-            i.restart();
-        }
-    }
-
-    /// Each wing pair's dynamic inflow states now (empty unless the wake answers:
-    /// `wingforce::inflow::dynamic`).
-    pub fn inflow_states(&self) -> Vec<wingforce::inflow::InflowState> {
-        self.inflow
-            .as_ref()
-            .map_or_else(Vec::new, PairInflows::states)
-    }
-
-    /// Replaces each pair's dynamic inflow states (a start at a periodic inflow, a Floquet
-    /// perturbation); an error for a set whose wake does not answer or a wrong count.
-    pub fn set_inflow_states(&mut self, states: &[wingforce::inflow::InflowState]) -> Result<()> {
-        match &mut self.inflow {
-            Some(i) => i.set_states(states),
-            None => Err(Error::Input(
-                "wing set: no dynamic inflow to set (its wings' inflow is frozen or off)".into(),
-            )),
-        }
-    }
-
-    /// The dynamic inflow of the set's pairs, if its wake answers.
-    pub fn pair_inflows(&self) -> Option<&PairInflows> {
-        self.inflow.as_ref()
-    }
-
     /// Controls to apply at the start of the next wingbeat (immediately if none has begun).
     /// Only a set built from a vehicle model has controls; for others see
     /// [`WingSet::set_kinematics`].
@@ -587,47 +535,6 @@ impl WingSet {
         }
     }
 
-    /// The actuated wings' dynamics (`None` for prescribed kinematics).
-    pub fn dynamic_wings(&self) -> Option<&[DynamicWing]> {
-        self.dynamic.as_deref()
-    }
-
-    /// Continues the actuated wings from given dynamics and wings (a periodic motion found
-    /// at a frozen body state); does nothing for prescribed kinematics.
-    ///
-    /// `inflow`: the pair's dynamic inflow that went with them (its states and the stroke its
-    /// disc was measured from), when the set's wake answers; `None` keeps the set's own.
-    pub fn start_dynamic_from(
-        &mut self,
-        dynamic: &[DynamicWing],
-        wings: &[Wing],
-        inflow: Option<&PairInflows>,
-    ) {
-        if let (Some(mine), Some(given)) = (&mut self.inflow, inflow) {
-            mine.clone_from(given);
-            mine.restart();
-        }
-        if let Some(d) = &mut self.dynamic {
-            d.clone_from_slice(dynamic);
-            for w in d.iter_mut() {
-                w.set_load_sampling(self.sampling);
-            }
-            for (w, settled) in self.wings.iter_mut().zip(wings) {
-                w.set_stroke_reference(settled.stroke_reference().cloned());
-            }
-        }
-    }
-
-    /// Overwrites the actuated wings' states (Floquet perturbations).
-    pub fn set_wing_states(&mut self, states: &[crate::actuated::WingState]) {
-        if let Some(d) = &mut self.dynamic {
-            for (w, s) in d.iter_mut().zip(states) {
-                w.set_state(*s);
-            }
-        }
-        self.restart_motion();
-    }
-
     /// Applies controls now and restarts the wingbeat bookkeeping from the current phase.
     /// Controls whose wingbeat the step no longer resolves ([`check_dt`]) are an error, and
     /// those in force stay.
@@ -695,12 +602,5 @@ impl WingSet {
         a.mount().side == Side::Left
             && b.mount().side == Side::Right
             && a.kinematics() == b.kinematics()
-    }
-
-    /// The drives of the actuated wings now.
-    pub fn drives(&self) -> Option<Vec<Drive>> {
-        self.dynamic
-            .as_ref()
-            .map(|d| d.iter().map(|w| *w.drive()).collect())
     }
 }
