@@ -32,7 +32,7 @@ use crate::error::{Error, Result};
 use crate::json::Json;
 use crate::options::SimSettings;
 use crate::read::read_log;
-use crate::schema::{TOPIC_STATE, TOPIC_WIND};
+use crate::schema::{ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, TOPIC_STATE, TOPIC_WIND};
 
 /// The verdict of [`check_log`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -159,7 +159,7 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
     };
     let mut spec = flapsim::VehicleSpec::from_toml(toml, origin).map_err(embedded)?;
     spec.aero.added_mass = logged_added_mass_form(md, spec.aero.added_mass)?;
-    spec.sim.load_sampling = Some(logged_load_sampling(md)?);
+    spec.sim.load_sampling = Some(logged_load_sampling(md, spec.actuation.is_some())?);
     let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let rate = match md.get("log_rate_hz").map(String::as_str) {
@@ -364,18 +364,29 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
 
 /// Where in a step the logged run took the wings' loads: the log's `load_sampling`
 /// metadata, else (a log written before issue 37, when there was one sampling) the step's
-/// start.
+/// start. Actuated wings (`actuated`) logged under the step mean before it split their steps
+/// at stroke reversals (no [`ACTUATED_STEP_MEAN_KEY`]) took their loads as the midpoint
+/// sampling still does, and re-run with it.
 fn logged_load_sampling(
     md: &std::collections::BTreeMap<String, String>,
+    actuated: bool,
 ) -> Result<flapsim::LoadSampling> {
     use flapsim::LoadSampling;
     match md.get("load_sampling") {
-        Some(name) => LoadSampling::from_name(name).ok_or_else(|| {
-            Error::Embedded(format!(
+        Some(name) => match LoadSampling::from_name(name) {
+            Some(LoadSampling::StepMean)
+                if actuated
+                    && md.get(ACTUATED_STEP_MEAN_KEY).map(String::as_str)
+                        != Some(ACTUATED_STEP_MEAN_SPLIT) =>
+            {
+                Ok(LoadSampling::Midpoint)
+            }
+            Some(s) => Ok(s),
+            None => Err(Error::Embedded(format!(
                 "the log's `load_sampling` metadata `{name}` is not a sampling: allowed {}",
                 LoadSampling::allowed()
-            ))
-        }),
+            ))),
+        },
         None => Ok(LoadSampling::StepStart),
     }
 }

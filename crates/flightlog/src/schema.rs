@@ -332,3 +332,10 @@ pub fn schema_data(name: &str) -> Option<Vec<u8>> {
         _ => None,
     }
 }
+
+/// The metadata key that says how the logged run's actuated wings took the step mean, and
+/// its value since they split their steps at stroke reversals (wingset's
+/// `DynamicWing::reversal_within`, issue 37).
+pub const ACTUATED_STEP_MEAN_KEY: &str = "actuated_step_mean";
+/// See [`ACTUATED_STEP_MEAN_KEY`].
+pub const ACTUATED_STEP_MEAN_SPLIT: &str = "split_at_reversals";

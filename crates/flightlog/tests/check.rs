@@ -142,3 +142,71 @@ fn a_midpoint_log_of_before_the_step_mean_matches() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A RoboBee log under the step mean (its actuated wings split their steps at stroke
+/// reversals since issue 37's last change) re-runs bit for bit, and one written before that
+/// change still does: then the actuated wings' step mean was the midpoint sampling's, and a
+/// log without the `actuated_step_mean` metadata re-runs with it. The old log is made as it
+/// was: a midpoint run labelled `step_mean`, without the key.
+#[test]
+fn an_actuated_step_mean_log_of_before_the_reversal_split_matches() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |path: &std::path::Path, sampling: &str| {
+        let toml = flapsim::ROBOBEE_TOML.replace(
+            "load_sampling = \"step_start\"",
+            &format!("load_sampling = \"{sampling}\""),
+        );
+        assert_ne!(toml, flapsim::ROBOBEE_TOML);
+        let vehicle = flapsim::Vehicle::from_toml(&toml, common::ORIGIN).unwrap();
+        let duration = 3.0 / vehicle.freq_hz();
+        let settings = flightlog::SimSettings::new(flapsim::Mode::Free, duration, None, [0.0; 3]);
+        let info = flightlog::RunInfo::new(
+            "simulate",
+            "flapwing simulate",
+            &toml,
+            common::ORIGIN,
+            settings.to_json(),
+        );
+        let mut rec = flightlog::Recorder::create(&mcap_opts(path, None), &info, &vehicle).unwrap();
+        let mut sim = flapsim::Simulation::new(vehicle, flapsim::Mode::Free);
+        sim.run_while(duration, |out| {
+            rec.record(out).unwrap();
+            true
+        })
+        .unwrap();
+        rec.finish().unwrap().samples
+    };
+    let new = dir.path().join("step_mean.mcap");
+    let samples = write(&new, "step_mean");
+    match check_log(&new).unwrap() {
+        CheckOutcome::Match { samples: n, note } => {
+            assert_eq!((n, note), (samples, None));
+        }
+        other => panic!("{other:?}"),
+    }
+    let midpoint = dir.path().join("midpoint.mcap");
+    write(&midpoint, "midpoint");
+    let old = dir.path().join("old.mcap");
+    copy_with_metadata(&midpoint, &old, |md| {
+        assert_eq!(
+            md.remove("actuated_step_mean").as_deref(),
+            Some("split_at_reversals")
+        );
+        md.insert("load_sampling".into(), "step_mean".into());
+        let toml = md["model_toml"].replace("\"midpoint\"", "\"step_mean\"");
+        md.insert("model_toml".into(), toml);
+    });
+    assert!(matches!(
+        check_log(&old).unwrap(),
+        CheckOutcome::Match { .. }
+    ));
+    // The two samplings do differ on this run, so the match above says something.
+    let relabelled = dir.path().join("relabelled.mcap");
+    copy_with_metadata(&new, &relabelled, |md| {
+        md.remove("actuated_step_mean");
+    });
+    assert!(matches!(
+        check_log(&relabelled).unwrap(),
+        CheckOutcome::Mismatch { .. }
+    ));
+}

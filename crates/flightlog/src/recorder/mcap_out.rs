@@ -18,7 +18,8 @@ use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, WingLayout, channel_id,
+    self, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, MESSAGE_ENCODING, OPTIONAL_CHANNELS,
+    SCHEMA_ENCODING, WingLayout, channel_id,
 };
 use crate::writer::{Flushed, Writer};
 
@@ -132,6 +133,10 @@ fn run_metadata(
         (
             "load_sampling".to_owned(),
             vehicle.load_sampling().name().to_owned(),
+        ),
+        (
+            ACTUATED_STEP_MEAN_KEY.to_owned(),
+            ACTUATED_STEP_MEAN_SPLIT.to_owned(),
         ),
         ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
     ])

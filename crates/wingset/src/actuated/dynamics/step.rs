@@ -14,6 +14,7 @@ use super::equations::Held;
 use super::model::Stroke;
 use super::wing::{DynamicWing, WingState, WingStep};
 use crate::error::{Error, Result};
+use crate::sampling::LoadSampling;
 
 /// Deepest penetration into a contact stop before a run stops with an error, rad (10 deg):
 /// a stop is meant to be stiff, so a wing this deep in it says the contact is too soft for
@@ -113,6 +114,11 @@ impl DynamicWing {
         let mut start_loads = None;
         let last_loads: Cell<Option<Loads>> = Cell::new(None);
         let mut next_reference = None;
+        // Stroke reversals the step was split at (the step mean without stops): time and the
+        // stroke phase that starts there.
+        let split_reversals =
+            self.sampling == LoadSampling::StepMean && self.model.hinge.contact.is_none();
+        let mut reversals: Vec<(f64, StrokePhase)> = Vec::new();
         for sub in 0..n {
             let (held, aero) = self.aero_held(wing, body);
             let y0 = self.y();
@@ -148,11 +154,68 @@ impl DynamicWing {
                 held
             };
             let y = self.advance(t0, &y0, h, &held, k1a, &mut nodes, &reheld)?;
+            // The step mean without stops: a stroke reversal inside the sub-step splits it
+            // (see `reversal_within`), each part integrated with its own half stroke's loads.
+            let split = match split_reversals {
+                true => self.reversal_within(wing, t0, &y0, h, &y),
+                false => None,
+            };
+            let y = match split {
+                Some((tau, after)) if tau < h => {
+                    nodes.pop();
+                    let t_rev = t0 + tau;
+                    let ya = self.rk4(t0, &y0, tau, &held, Some(k1a), Some(&reheld)).0;
+                    nodes.push((t_rev, ya, true));
+                    nodes.push((t_rev, ya, false));
+                    let reheld_after = |t_s: f64, y: &[f64; 4]| {
+                        let at = StepStart {
+                            state: WingState::from_y(y),
+                            t_s,
+                            phase: StrokePhase {
+                                t_star: (t_s - t_rev) * freq_hz,
+                                ..after
+                            },
+                        };
+                        let (held, aero) = self.aero_at(wing, body, &at);
+                        last_loads.set(Some((at, held, aero)));
+                        held
+                    };
+                    let held_after = reheld_after(t_rev, &ya);
+                    let k1b = self.accelerations(t_rev, &ya, &held_after);
+                    let y = self
+                        .rk4(
+                            t_rev,
+                            &ya,
+                            h - tau,
+                            &held_after,
+                            Some(k1b),
+                            Some(&reheld_after),
+                        )
+                        .0;
+                    nodes.push((t0 + h, y, false));
+                    reversals.push((t_rev, after));
+                    y
+                }
+                _ => y,
+            };
             self.state = WingState::from_y(&y);
             self.t_s = t0 + h;
             self.check(wing)?;
-            self.track_reversal(pd_old, t0, h);
-            if let Some(r) = self.track_period() {
+            let pd = self.angles([0.0; 2]).phi_dot;
+            match split {
+                Some((tau, after)) => {
+                    self.last_reversal_s = t0 + tau;
+                    self.half_stroke = after.half_stroke;
+                    self.downstroke = after.downstroke;
+                    self.half_stroke_peak_rate_rad_s = pd.abs();
+                }
+                None if split_reversals => {
+                    self.half_stroke_peak_rate_rad_s =
+                        self.half_stroke_peak_rate_rad_s.max(pd.abs())
+                }
+                None => self.track_reversal(pd_old, t0, h),
+            }
+            if let Some(r) = self.track_period(wing) {
                 if stops {
                     // Taken up after the step's mean loads, which are those the integrator
                     // used over the step (the period's reference).
@@ -196,17 +259,31 @@ impl DynamicWing {
                 (s1.phi_dot_rad_s - s0.phi_dot_rad_s - jumped[0]) / dt_s,
                 (s1.theta_dot_rad_s - s0.theta_dot_rad_s - jumped[1]) / dt_s,
             ];
-            let at = |t_s: f64, y: &[f64; 4]| StepStart {
+            // A node's stroke phase: that of the last reversal the step was split at before
+            // it (at a reversal, the node on its left side keeps the half stroke ending
+            // there), else the step start's.
+            let f = self.drive.freq_hz;
+            let at = |t_s: f64, y: &[f64; 4], left: bool| StepStart {
                 state: WingState::from_y(y),
                 t_s,
-                phase: StrokePhase {
-                    t_star: start.phase.t_star + (t_s - start.t_s) * self.drive.freq_hz,
-                    ..start.phase
+                phase: match reversals
+                    .iter()
+                    .rev()
+                    .find(|(t_rev, _)| t_s > *t_rev || (t_s == *t_rev && !left))
+                {
+                    Some((t_rev, after)) => StrokePhase {
+                        t_star: (t_s - t_rev) * f,
+                        ..*after
+                    },
+                    None => StrokePhase {
+                        t_star: start.phase.t_star + (t_s - start.t_s) * f,
+                        ..start.phase
+                    },
                 },
             };
             let strikes: Vec<(StepStart, [f64; 2])> = jumps
                 .iter()
-                .map(|&(k, j)| (at(nodes[k].0, &nodes[k].1), j))
+                .map(|&(k, j)| (at(nodes[k].0, &nodes[k].1, nodes[k].2), j))
                 .collect();
             let mid = at(
                 start.t_s + 0.5 * dt_s,
@@ -216,6 +293,7 @@ impl DynamicWing {
                     (s1.phi_rad - s0.phi_rad) / dt_s,
                     (s1.theta_rad - s0.theta_rad) / dt_s,
                 ],
+                false,
             );
             // Each node's loads and accelerations (the strike's spike resolved by the
             // contact steps), the accelerations then shifted by one constant so that their
@@ -229,7 +307,7 @@ impl DynamicWing {
                 let after = kept.get(k + 1).map_or(0.0, |n| n.0 - t_s);
                 let w = 0.5 * (before + after) / span_s;
                 if w > 0.0 {
-                    let at = at(*t_s, y);
+                    let at = at(*t_s, y, *free);
                     let (held, aero) = match (k, last_loads.get()) {
                         (0, _) => start_loads.expect("the first sub-step's loads"),
                         (_, Some((last, held, aero))) if last == at => (held, aero),
@@ -397,6 +475,51 @@ impl DynamicWing {
         Ok(())
     }
 
+    /// Where a sub-step from (t0, y0) to (t0 + h, y) crosses a stroke reversal under the
+    /// step mean: its offset from t0 (h when the rate reaches zero at the end), located as
+    /// [`Self::track_reversal`] does (the rate linear over the sub-step, so within O(h^2)),
+    /// and the stroke phase that starts there.
+    ///
+    /// Why the step is split there: the wake-capture term restarts at a reversal, so the
+    /// loads jump; a Runge-Kutta step or a trapezoid across the jump carries an O(h) error
+    /// in its mean once per half stroke, which makes the trajectory first order. Split
+    /// there, each part is smooth.
+    ///
+    /// Why a reversal needs a half stroke behind it (its peak rate at least
+    /// [`REVERSAL_MIN_PEAK_FRACTION`] of the wing's nominal peak stroke rate): a wing
+    /// starting from rest dithers about zero rate in its first microseconds (the RoboBee:
+    /// -0.0024 to +0.006 rad/s, 2e-6 of its peak rate, at 7 us), which a sub-step of 5 us
+    /// resolves and one of 10 us does not; counted as reversals, those restart the wake
+    /// capture and flip the half stroke, a difference of O(1) between step sizes (measured:
+    /// the RoboBee's states after a quarter wingbeat at 800 and 1600 steps per wingbeat
+    /// differed 40x more than at 400 and 800).
+    fn reversal_within(
+        &self,
+        wing: &Wing,
+        t0: f64,
+        y0: &[f64; 4],
+        h: f64,
+        y: &[f64; 4],
+    ) -> Option<(f64, StrokePhase)> {
+        let rate =
+            |t: f64, y: &[f64; 4]| self.angles_at(&WingState::from_y(y), t, [0.0; 2]).phi_dot;
+        let (pd0, pd1) = (rate(t0, y0), rate(t0 + h, y));
+        let crossed = (pd0 > 0.0 && pd1 <= 0.0) || (pd0 < 0.0 && pd1 >= 0.0);
+        let stroked = self.half_stroke_peak_rate_rad_s.max(pd0.abs())
+            >= REVERSAL_MIN_PEAK_FRACTION * wing.kinematics().peak_stroke_rate_rad_s();
+        let frac = pd0 / (pd0 - pd1);
+        (crossed && stroked && frac > 0.0 && frac <= 1.0).then(|| {
+            (
+                frac * h,
+                StrokePhase {
+                    half_stroke: self.half_stroke + 1,
+                    t_star: 0.0,
+                    downstroke: pd1 > 0.0,
+                },
+            )
+        })
+    }
+
     fn track_reversal(&mut self, pd_old: f64, t0: f64, h: f64) {
         let pd = self.angles([0.0; 2]).phi_dot;
         let crossed = (pd_old > 0.0 && pd <= 0.0) || (pd_old < 0.0 && pd >= 0.0);
@@ -410,14 +533,33 @@ impl DynamicWing {
 
     /// Collects the stroke-rate profile of each drive period and, at its end, measures the
     /// stroke reference (peak rate, dtau_A, dtau_D by the half-peak rule) the wing takes up.
-    fn track_period(&mut self) -> Option<StrokeReference> {
+    fn track_period(&mut self, wing: &Wing) -> Option<StrokeReference> {
         let f = self.drive.freq_hz;
-        let period = (self.t_s * f).floor() as i64;
+        // Under the step mean, a step that ends within round-off of a period's end ends
+        // that period, so that its stroke reference is taken up from the next step on,
+        // exactly at the period's start (the wing set's steps divide the wingbeat, and
+        // round-off in the accumulated time would otherwise move the take-up one step
+        // later at some step counts and not others: an O(h) error whose sign alternated
+        // with the count, measured on the RoboBee over three periods).
+        let eps = match self.sampling {
+            LoadSampling::StepMean => PERIOD_END_TOLERANCE,
+            _ => 0.0,
+        };
+        let period = (self.t_s * f + eps).floor() as i64;
         let pd = self.angles([0.0; 2]).phi_dot;
         let mut reference = None;
         if period != self.period_index {
             if self.model.aero {
-                reference = measure_reference(&self.samples, self.period_index, f);
+                // Under the step mean, a sign change of the rate is a reversal only after a
+                // half stroke (`reversal_within`); the other samplings count every one, as
+                // their logs were written.
+                let min_peak_rad_s = match self.sampling {
+                    LoadSampling::StepMean => {
+                        REVERSAL_MIN_PEAK_FRACTION * wing.kinematics().peak_stroke_rate_rad_s()
+                    }
+                    _ => 0.0,
+                };
+                reference = measure_reference(&self.samples, self.period_index, f, min_peak_rad_s);
             }
             self.samples.clear();
             self.period_index = period;
@@ -532,6 +674,18 @@ fn quadrature_nodes(nodes: &[(f64, [f64; 4], bool)]) -> Vec<(f64, [f64; 4], bool
     kept
 }
 
+/// The least peak stroke rate of a half stroke, as a fraction of the wing's nominal peak
+/// stroke rate, for its end to count as a stroke reversal under the step mean
+/// ([`DynamicWing::reversal_within`]). A numerical threshold, not a physical one: it only
+/// has to lie between a start-up dither (2e-6 of the peak rate, measured on the RoboBee) and
+/// a stroke (its peak rate, 1); no built-in vehicle's results change between 1e-4 and 0.1.
+const REVERSAL_MIN_PEAK_FRACTION: f64 = 0.01;
+
+/// How close to a drive period's end, in periods, a step's end counts as that end (under the
+/// step mean, `DynamicWing::track_period`): far above the round-off of the accumulated time
+/// (1e-16 per step) and far below a step (1e-3 of a period at most).
+const PERIOD_END_TOLERANCE: f64 = 1e-9;
+
 /// The largest change of a rate, as a fraction of the step's largest rate, between two
 /// nodes of a step's mean loads ([`quadrature_nodes`]).
 const NODE_RATE_FRACTION: f64 = 0.001;
@@ -539,7 +693,12 @@ const NODE_RATE_FRACTION: f64 = 0.001;
 /// The stroke reference of one drive period from its (t, phi_dot) samples: peak |phi_dot|,
 /// and dtau_A, dtau_D by wingforce's half-peak rule on the linearly interpolated profile.
 /// `None` when the period does not hold two stroke reversals.
-fn measure_reference(samples: &[(f64, f64)], period: i64, freq_hz: f64) -> Option<StrokeReference> {
+fn measure_reference(
+    samples: &[(f64, f64)],
+    period: i64,
+    freq_hz: f64,
+    min_peak_rad_s: f64,
+) -> Option<StrokeReference> {
     if samples.len() < 8 {
         return None;
     }
@@ -548,9 +707,13 @@ fn measure_reference(samples: &[(f64, f64)], period: i64, freq_hz: f64) -> Optio
     let rate: Vec<f64> = samples.iter().map(|s| s.1).collect();
     let peak = rate.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let mut reversals = Vec::new();
+    // The largest |rate| since the last reversal counted.
+    let mut half_peak = rate[0].abs();
     for i in 1..rate.len() {
         let (a, b) = (rate[i - 1], rate[i]);
-        if (a > 0.0 && b <= 0.0) || (a < 0.0 && b >= 0.0) {
+        half_peak = half_peak.max(a.abs());
+        if ((a > 0.0 && b <= 0.0) || (a < 0.0 && b >= 0.0)) && half_peak >= min_peak_rad_s {
+            half_peak = b.abs();
             let x = phase[i - 1] + (phase[i] - phase[i - 1]) * a / (a - b);
             reversals.push((x.rem_euclid(1.0), b > 0.0));
         }

@@ -135,6 +135,9 @@ pub struct DynamicWing {
     pub(super) last_reversal_s: f64,
     pub(super) half_stroke: i64,
     pub(super) downstroke: bool,
+    /// Largest |phi_dot| since the last reversal (the step mean's reversals, see
+    /// `reversal_within`), rad/s.
+    pub(super) half_stroke_peak_rate_rad_s: f64,
     /// (t, phi_dot) over the current drive period, to measure the stroke reference.
     pub(super) samples: Vec<(f64, f64)>,
     pub(super) period_index: i64,
@@ -175,6 +178,7 @@ impl DynamicWing {
             last_reversal_s: 0.0,
             half_stroke: 0,
             downstroke: true,
+            half_stroke_peak_rate_rad_s: 0.0,
             samples: Vec::new(),
             period_index: 0,
             // Step-start until a wing set that samples at the midpoint says otherwise (the
