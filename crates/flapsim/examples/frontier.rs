@@ -90,6 +90,29 @@ fn fly(name: &str, steps: usize, sampling: LoadSampling) -> Result<(State, f64),
     Ok((sim.state(), start.elapsed().as_secs_f64()))
 }
 
+/// A table cell for a run's failures: each one's first two clauses (what failed and why, e.g.
+/// "trim: no hover trim for `robobee`: the balance needs a drive peaking at 103.9 V and the
+/// actuator allows 100 V"), a failure whose reason repeats the one before it named only;
+/// the whole messages go to stderr.
+fn failures_cell(name: &str, steps: usize, sampling: LoadSampling, failures: &[String]) -> String {
+    let mut cells: Vec<String> = Vec::new();
+    let mut last_reason = "";
+    for f in failures {
+        eprintln!("{name} {} {steps}: {f}", sampling.name());
+        let (what, rest) = f.split_once(": ").unwrap_or((f, ""));
+        let reason = rest.split("; ").next().unwrap_or(rest);
+        let short: Vec<&str> = reason.splitn(3, ": ").take(2).collect();
+        let short = short.join(": ");
+        if reason == last_reason {
+            cells.push(format!("{what}: as above"));
+        } else {
+            cells.push(format!("{what}: {short}"));
+        }
+        last_reason = reason;
+    }
+    cells.join("; ")
+}
+
 /// Everything the frontier measures at one step count and sampling.
 fn measure(name: &str, steps: usize, sampling: LoadSampling) -> Measured {
     let mut m = Measured::default();
@@ -336,7 +359,7 @@ fn main() {
         if !reference.failures.is_empty() {
             println!(
                 "| {name} | step_mean | {REFERENCE} (reference) | | | | | | | | | | {} |",
-                reference.failures.join("; ")
+                failures_cell(name, REFERENCE, LoadSampling::StepMean, &reference.failures)
             );
         }
         let mut held: Option<usize> = None;
@@ -356,7 +379,7 @@ fn main() {
                     cell(e[6]),
                     m.open_s,
                     m.hover_s,
-                    m.failures.join("; ")
+                    failures_cell(name, steps, sampling, &m.failures)
                 );
                 rows.push((name.to_owned(), sampling, steps, m.open_loop.map(|_| e[4])));
                 if sampling == LoadSampling::StepMean {

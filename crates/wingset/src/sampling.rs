@@ -29,7 +29,9 @@
 //!   and the attitude the set integrates itself from the rates by the trapezoidal rule (the
 //!   loads are handed back in the host's frame, so a host's first-order attitude does not
 //!   turn them). Actuated wings take their aerodynamic loads afresh at every Runge-Kutta
-//!   stage and report the step's trapezoidal mean over their integrator's nodes. The first
+//!   stage and report the step's trapezoidal mean over their integrator's nodes (under
+//!   `StepMean`, a step without hinge stops is split at a stroke reversal inside it: see
+//!   `actuated::dynamics`). The first
 //!   step, and the first after a host restarts the body ([`crate::WingSet::restart_motion`]),
 //!   has no previous state and takes the body's state at t_k (one step's O(dt^2) error).
 //!

@@ -3,7 +3,10 @@
 //! ([`super::response`]) and every analysis built on them share.
 //!
 //! Each step takes each wing's dynamics one step on ([`DynamicWing::step`]) in the wings'
-//! order. When the vehicle's wake answers (`[aero] inflow = "dynamic"`), the pair's
+//! order, with the loads sampled as the vehicle's wing set samples them
+//! ([`Vehicle::load_sampling`]; until issue 37's actuated step mean they were always taken
+//! at the step's start here, so that the trim and the averaged model of an actuated vehicle
+//! stayed first order under a second-order sampling). When the vehicle's wake answers (`[aero] inflow = "dynamic"`), the pair's
 //! dynamic inflow goes with them as the wing set steps it (`wingset::set::inflow`): its
 //! field is set on the wings before the step, and its states advance with the step's loads
 //! after it; its disc is the stroke the wings swept over their last wingbeat
@@ -29,6 +32,8 @@ pub struct DrivenPair {
     pub inflow: Option<PairInflows>,
     /// The last step's forces, in the wings' order (the inflow's loads).
     forces: Vec<WingForces>,
+    /// Where in a step the loads are taken: the vehicle's, as its wing set takes them.
+    sampling: LoadSampling,
 }
 
 impl DrivenPair {
@@ -42,22 +47,25 @@ impl DrivenPair {
         })?;
         let wings: [Wing; 2] = [vehicle.wings[0].clone(), vehicle.wings[1].clone()];
         let inflow = PairInflows::of(&wings, wingset::DiscAmplitude::Measured)?;
+        let sampling = vehicle.load_sampling();
+        let wing = |drive: Drive| -> Result<DynamicWing> {
+            let mut w = DynamicWing::new(act.dynamics.clone(), drive)?;
+            w.set_load_sampling(sampling);
+            Ok(w)
+        };
         Ok(Self {
-            dynamic: [
-                DynamicWing::new(act.dynamics.clone(), drives[0])?,
-                DynamicWing::new(act.dynamics.clone(), drives[1])?,
-            ],
+            dynamic: [wing(drives[0])?, wing(drives[1])?],
             wings,
             inflow,
             forces: Vec::with_capacity(2),
+            sampling,
         })
     }
 
     /// One step of `dt_s` with the body moving as `motion`: each wing's step (left, right).
     pub fn step(&mut self, motion: &BodyMotion, dt_s: f64) -> Result<[WingStep; 2]> {
         if let Some(i) = &mut self.inflow {
-            // Actuated wings take their loads at the step's start (their own sampling).
-            i.apply(&mut self.wings, LoadSampling::StepStart);
+            i.apply(&mut self.wings, self.sampling);
         }
         let left = self.dynamic[0].step(&mut self.wings[0], motion, dt_s)?;
         let right = self.dynamic[1].step(&mut self.wings[1], motion, dt_s)?;

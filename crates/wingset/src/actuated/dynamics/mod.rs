@@ -82,7 +82,17 @@
 //!   would act along axes that turn with the stroke over the step). The angles and actuator
 //!   it reports are the mid-step mean motion's.
 //!
-//! Without stops a step reports its start, as before. A vehicle with compliant stops costs
+//! Under the step mean (`LoadSampling::StepMean`) a sub-step without stops that crosses a
+//! stroke reversal is split there, each part integrated with its own half stroke's loads,
+//! and the step's mean takes both sides of the reversal as nodes: the wake-capture term
+//! restarts at a reversal, and a Runge-Kutta step or a trapezoid across that jump is first
+//! order. A reversal counts only after a half stroke (a peak rate of at least 1% of the
+//! nominal), and a step ending within round-off of a drive period's end ends that period.
+//! With the three, the RoboBee's trajectory converges at second order over many periods
+//! (`flapsim/tests/second_order.rs`); the midpoint sampling keeps the loads as they were
+//! before (logs written with it, or with the step mean before the split, replay with it).
+//!
+//! Without stops and at the step-start sampling a step reports its start, as before. A vehicle with compliant stops costs
 //! about 3.5x more per step than before the mean loads (`flapwing validate`: 11.4 s against
 //! 3.2 s); the hummingbird's inelastic stops cost 5.1x a prescribed step (docs/speed.md).
 //!
