@@ -115,7 +115,7 @@ CASES = [
       "reset", setup=ENV),
     # --- Gymnasium: the built-in vehicles the tasks cannot fly say why ---
     C("gym-robobee", "gym.make('flapwing/Hover-v0', model='robobee')", "ValueError",
-      "robobee", "102.4 V", "Gym tasks by vehicle", setup=GYM),
+      "robobee", "101.9 V", "Gym tasks by vehicle", setup=GYM),
     C("gym-recover-dragonfly", "gym.make('flapwing/Recover-v0', model='dragonfly')",
       "ValueError", "dragonfly", "[sensors]", "Gym tasks by vehicle", setup=GYM),
     C("vec-env-dragonfly", "VecHoverEnv(2, model='dragonfly')", "ValueError", "dragonfly",

@@ -180,7 +180,7 @@ def test_every_builtin_vehicle_runs_in_every_task_or_is_refused_as_the_table_say
             gym.make(env_id, model=model)
         assert flapwing.envs.UNSUPPORTED[model] in str(e.value)
         kind = "hover" if env_id == "flapwing/Hover-v0" else "recover"
-        why = {"robobee": "needs a drive peaking at 102.4 V", "dragonfly": r"no \[sensors\] table"}
+        why = {"robobee": "needs a drive peaking at 101.9 V", "dragonfly": r"no \[sensors\] table"}
         with pytest.raises(flapwing.AnalysisError, match=why[model]):
             flapwing.HoverTask(model, kind)
         return

@@ -23,7 +23,7 @@ fn robobee() -> Vehicle {
 /// The built-in RoboBee with the other published hinge: the softer of the two wings that
 /// robobee3d's system identification measured (PR #93: 2.4e-6 N m/rad), in place of the lab
 /// hinge model's 7.5e-6 that `models/robobee.toml` takes with the rest of its parameter set.
-/// The built-in one lifts 0.95 W at its 100 V limit and has no hover; this one trims inside
+/// The built-in one lifts 0.96 W at its 100 V limit and has no hover; this one trims inside
 /// it, so the piezo-driven trim, stability and hover are tested on it.
 pub fn robobee_identified_hinge() -> Vehicle {
     let text =
@@ -169,7 +169,7 @@ fn insect_like_averaged_modes(name: &str, r: &flapsim::stability::StabilityRepor
 #[test]
 fn the_actuated_robobee_and_hummingbird_hover_under_lqr_from_a_5_deg_pitch_disturbance() {
     // The built-in RoboBee with its voltage limit lifted hovers too: of its published
-    // parameter set, only the drive's limit keeps it from hovering (it needs 102.4 V).
+    // parameter set, only the drive's limit keeps it from hovering (it needs 101.9 V).
     for name in [
         "robobee, identified hinge",
         "robobee, limit lifted",

@@ -3,7 +3,8 @@
 //! optimizer's start when designs fail.
 //!
 //! The RoboBee's wings must settle into a periodic motion within `[actuation] settle_cycles`
-//! drive periods; with 3 of them, 6 of the 9 cases below do not (cheap: a few ms each).
+//! drive periods; with 3 of them, 6 of the 9 cases below do not (cheap: a few ms each), at
+//! the step-start sampling and 100 steps per wingbeat (`pinned`).
 
 use flapstudy::optimize::{NelderMeadOptions, optimize_hover, start_candidates};
 use flapstudy::spec::StudySpec;
@@ -24,10 +25,30 @@ path = "actuation.drive.freq_hz"
 levels = [120.0, 150.0, 170.0]
 "#;
 
-/// The study on the built-in RoboBee with `settle` drive periods to settle in.
+/// `model` with the sampling and step count these failure-handling cases were written
+/// against (the step-start sampling at 100 steps per wingbeat, the RoboBee's default before
+/// its step mean): which designs settle within a few drive periods depends on them.
+fn pinned(model: &str) -> String {
+    let pinned: String = model
+        .lines()
+        .map(|l| {
+            if l.starts_with("steps_per_wingbeat = ") {
+                "steps_per_wingbeat = 100\n".to_owned()
+            } else if l.starts_with("load_sampling = ") {
+                "load_sampling = \"step_start\"\n".to_owned()
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    assert!(pinned.contains("\nload_sampling = \"step_start\"\n"));
+    pinned
+}
+
+/// The study on the built-in RoboBee (pinned) with `settle` drive periods to settle in.
 fn robobee_study(settle: usize) -> Study {
     let spec = StudySpec::from_toml(STUDY, "test.toml").unwrap();
-    let base = flapsim::builtin_model("robobee").unwrap();
+    let base = pinned(flapsim::builtin_model("robobee").unwrap());
     let edited = base.replacen(
         "\n[actuation]\n",
         &format!("\n[actuation]\nsettle_cycles = {settle}\n"),

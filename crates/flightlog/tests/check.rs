@@ -152,11 +152,14 @@ fn a_midpoint_log_of_before_the_step_mean_matches() {
 fn an_actuated_step_mean_log_of_before_the_reversal_split_matches() {
     let dir = tempfile::tempdir().unwrap();
     let write = |path: &std::path::Path, sampling: &str| {
-        let toml = flapsim::ROBOBEE_TOML.replace(
-            "load_sampling = \"step_start\"",
-            &format!("load_sampling = \"{sampling}\""),
-        );
-        assert_ne!(toml, flapsim::ROBOBEE_TOML);
+        let toml: String = flapsim::ROBOBEE_TOML
+            .lines()
+            .map(|l| match l.starts_with("load_sampling = ") {
+                true => format!("load_sampling = \"{sampling}\"\n"),
+                false => format!("{l}\n"),
+            })
+            .collect();
+        assert!(toml.contains(&format!("\nload_sampling = \"{sampling}\"\n")));
         let vehicle = flapsim::Vehicle::from_toml(&toml, common::ORIGIN).unwrap();
         let duration = 3.0 / vehicle.freq_hz();
         let settings = flightlog::SimSettings::new(flapsim::Mode::Free, duration, None, [0.0; 3]);

@@ -62,7 +62,7 @@ _OBS_BOUND = 1e6  # observations are physical values; the box is only their dtyp
 #: every other built-in vehicle).
 UNSUPPORTED = {
     "robobee": "it has no hover trim at its 120 Hz drive: the balance needs a drive peaking "
-               "at 102.4 V and its piezo actuators allow 100 V",
+               "at 101.9 V and its piezo actuators allow 100 V",
     "dragonfly": "it has no [sensors] table for the tasks' observations (and no hover trim: "
                  "it is modelled in forward flight at 1.5 m/s)",
 }
