@@ -102,6 +102,7 @@
 
 mod equations;
 mod model;
+mod reversal;
 mod step;
 mod wing;
 
