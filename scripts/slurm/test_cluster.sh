@@ -194,7 +194,7 @@ rb=$work/robobee_hinge_drive.toml
 rbname=robobee_hinge_drive
 cp "$root/examples/studies/$rbname.toml" "$rb"
 "$bin" sweep "$rb" --out "$work/rb-whole" | tee "$work/rb-whole.out"
-grep -q "^1 of 9 case(s) failed" "$work/rb-whole.out" || fail "the unsharded RoboBee sweep does not report 1 failed case"
+grep -q "^2 of 9 case(s) failed" "$work/rb-whole.out" || fail "the unsharded RoboBee sweep does not report its 2 failed cases"
 "$bin" submit "$rb" --out "$work/rb" --shards 3 >/dev/null
 job=$(last_job "$work/rb/$rbname.slurm.json")
 jobs+=("$job")
@@ -202,13 +202,14 @@ wait_job "$job"
 for k in 1 2 3; do
     [[ -s $work/rb/$rbname-shard-$k-of-3.csv ]] || fail "job $job: shard $k was not written ($(cat "$work"/rb/slurm/*_$k.out 2>/dev/null))"
 done
-# Case 2 is in shard 1 (cases 0..3): that task's log lists it.
-grep -q "^1 of 3 case(s) failed" "$work/rb/slurm/$rbname-${job}_1.out" ||
-    fail "task ${job}_1's log does not list its failed case: $(cat "$work/rb/slurm/$rbname-${job}_1.out")"
+# Cases 1 and 2 are in shard 1 (cases 0..2): that task's log lists them.
+grep -q "^2 of 3 case(s) failed" "$work/rb/slurm/$rbname-${job}_1.out" ||
+    fail "task ${job}_1's log does not list its failed cases: $(cat "$work/rb/slurm/$rbname-${job}_1.out")"
 "$bin" status "$work/rb" | tee "$work/rb-status.txt"
 grep -Eq '^  done +3  1,2,3$' "$work/rb-status.txt" || fail "status does not count the 3 shards done"
-grep -q '^  failed cases in done shards: 1 (2;' "$work/rb-status.txt" || fail "status does not list failed case 2"
+grep -q '^  failed cases in done shards: 2 (1,2;' "$work/rb-status.txt" || fail "status does not list failed cases 1 and 2"
 "$bin" sweep merge "$work/rb" | tee "$work/rb-merge.out"
+grep -q "^  case 1 (.*no periodic motion" "$work/rb-merge.out" || fail "merge does not list failed case 1"
 grep -q "^  case 2 (.*did not settle" "$work/rb-merge.out" || fail "merge does not list failed case 2"
 cmp "$work/rb/$rbname.csv" "$work/rb-whole/$rbname.csv" || fail "the merged RoboBee table differs from the unsharded one"
 echo "tasks completed with the failed case in their table; the merge equals the unsharded table (cmp)"
