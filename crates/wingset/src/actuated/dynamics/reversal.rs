@@ -12,7 +12,7 @@ use super::wing::{DynamicWing, WingState};
 use crate::sampling::LoadSampling;
 
 impl DynamicWing {
-    /// Where a sub-step from (t0, y0) to (t0 + h, y) crosses a stroke reversal under the
+    /// Where a sub-step from t0 (stroke rate `pd0`) to (t0 + h, y) crosses a stroke reversal under the
     /// step mean: its offset from t0 (h when the rate reaches zero at the end), located as
     /// [`Self::track_reversal`] does (the rate linear over the sub-step, so within O(h^2)),
     /// and the stroke phase that starts there.
@@ -33,14 +33,14 @@ impl DynamicWing {
     pub(super) fn reversal_within(
         &self,
         wing: &Wing,
+        pd0: f64,
         t0: f64,
-        y0: &[f64; 4],
         h: f64,
         y: &[f64; 4],
     ) -> Option<(f64, StrokePhase)> {
-        let rate =
-            |t: f64, y: &[f64; 4]| self.angles_at(&WingState::from_y(y), t, [0.0; 2]).phi_dot;
-        let (pd0, pd1) = (rate(t0, y0), rate(t0 + h, y));
+        let pd1 = self
+            .angles_at(&WingState::from_y(y), t0 + h, [0.0; 2])
+            .phi_dot;
         let crossed = (pd0 > 0.0 && pd1 <= 0.0) || (pd0 < 0.0 && pd1 >= 0.0);
         let stroked = self.half_stroke_peak_rate_rad_s.max(pd0.abs())
             >= REVERSAL_MIN_PEAK_FRACTION * wing.kinematics().peak_stroke_rate_rad_s();

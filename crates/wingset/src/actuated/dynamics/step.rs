@@ -155,7 +155,7 @@ impl DynamicWing {
             // The step mean without stops: a stroke reversal inside the sub-step splits it
             // (see `reversal_within`), each part integrated with its own half stroke's loads.
             let split = match split_reversals {
-                true => self.reversal_within(wing, t0, &y0, h, &y),
+                true => self.reversal_within(wing, pd_old, t0, h, &y),
                 false => None,
             };
             let y = match split {
@@ -199,19 +199,21 @@ impl DynamicWing {
             self.state = WingState::from_y(&y);
             self.t_s = t0 + h;
             self.check(wing)?;
-            let pd = self.angles([0.0; 2]).phi_dot;
-            match split {
-                Some((tau, after)) => {
-                    self.last_reversal_s = t0 + tau;
-                    self.half_stroke = after.half_stroke;
-                    self.downstroke = after.downstroke;
-                    self.half_stroke_peak_rate_rad_s = pd.abs();
+            if split_reversals {
+                let pd = self.angles([0.0; 2]).phi_dot.abs();
+                match split {
+                    Some((tau, after)) => {
+                        self.last_reversal_s = t0 + tau;
+                        self.half_stroke = after.half_stroke;
+                        self.downstroke = after.downstroke;
+                        self.half_stroke_peak_rate_rad_s = pd;
+                    }
+                    None => {
+                        self.half_stroke_peak_rate_rad_s = self.half_stroke_peak_rate_rad_s.max(pd)
+                    }
                 }
-                None if split_reversals => {
-                    self.half_stroke_peak_rate_rad_s =
-                        self.half_stroke_peak_rate_rad_s.max(pd.abs())
-                }
-                None => self.track_reversal(pd_old, t0, h),
+            } else {
+                self.track_reversal(pd_old, t0, h);
             }
             if let Some(r) = self.track_period(wing) {
                 if stops {
