@@ -7,7 +7,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 use wingforce::inflow::InflowState;
-use wingforce::{BodyMotion, Term, Wing, WingForces};
+use wingforce::{BodyMotion, KinematicLoads, Term, Wing, WingForces};
 
 use crate::error::Result;
 use crate::model::Vehicle;
@@ -32,6 +32,59 @@ pub struct FrozenState {
 /// that body state by the dynamics ([`crate::actuated::periodic`], which integrates at the
 /// simulation's step and ignores `steps`; its error says when there is no periodic motion).
 pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> Result<MeanLoads> {
+    mean_loads_with(vehicle, state, steps, None)
+}
+
+/// Each prescribed wing's kinematic loads over each of `steps` steps of the wingbeat under a
+/// second-order load sampling: what [`mean_loads`] computes afresh at every body state (the
+/// body's motion enters only the translational term, evaluated on top of them), tabled for
+/// the many states of one vehicle (the averaged model's Jacobian: [`mean_loads_tabled`]).
+/// The same loads bit for bit.
+#[derive(Debug, Clone)]
+pub struct StepTable {
+    steps: usize,
+    /// Step-major, then the wings' order.
+    loads: Vec<KinematicLoads>,
+}
+
+impl StepTable {
+    /// The table of `vehicle` at `steps` steps, or `None` where [`mean_loads`] takes no such
+    /// loads (actuated wings, a wake that answers, the step-start sampling).
+    pub fn of(vehicle: &Vehicle, steps: usize) -> Option<Self> {
+        let rule = vehicle.load_sampling().step_rule()?;
+        if vehicle.actuation.is_some() || vehicle.inflow_model() == wingforce::InflowModel::Dynamic
+        {
+            return None;
+        }
+        let w = 1.0 / steps as f64;
+        let dt_s = w / vehicle.freq_hz();
+        let loads = (0..steps)
+            .flat_map(|k| {
+                vehicle.wings.iter().map(move |wing| {
+                    wing.loads_over_step(k as f64 * w, (k + 1) as f64 * w, dt_s, rule)
+                        .mean
+                })
+            })
+            .collect();
+        Some(Self { steps, loads })
+    }
+}
+
+/// [`mean_loads`] with the kinematic loads from `table` (of this vehicle, [`StepTable::of`]).
+pub fn mean_loads_tabled(
+    vehicle: &Vehicle,
+    state: &FrozenState,
+    table: &StepTable,
+) -> Result<MeanLoads> {
+    mean_loads_with(vehicle, state, table.steps, Some(table))
+}
+
+fn mean_loads_with(
+    vehicle: &Vehicle,
+    state: &FrozenState,
+    steps: usize,
+    table: Option<&StepTable>,
+) -> Result<MeanLoads> {
     crate::cancel::check()?;
     let motion = BodyMotion {
         velocity_m_s: state.velocity_body_m_s,
@@ -45,8 +98,22 @@ pub fn mean_loads(vehicle: &Vehicle, state: &FrozenState, steps: usize) -> Resul
     }
     let mut out = MeanLoads::default();
     let mut forces = Vec::with_capacity(vehicle.wings.len());
+    let n = vehicle.wings.len();
     for k in 0..steps {
-        step_loads(vehicle, &vehicle.wings, k, steps, &motion, &mut forces);
+        match table {
+            Some(t) => {
+                forces.clear();
+                let kin = &t.loads[k * n..(k + 1) * n];
+                forces.extend(
+                    vehicle
+                        .wings
+                        .iter()
+                        .zip(kin)
+                        .map(|(wing, kin)| wing.evaluate_with(kin, &motion)),
+                );
+            }
+            None => step_loads(vehicle, &vehicle.wings, k, steps, &motion, &mut forces),
+        }
         accumulate(&vehicle.wings, &forces, 1.0 / steps as f64, &mut out);
     }
     Ok(out)

@@ -14,7 +14,9 @@
 
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 
-use crate::averaged::{FrozenState, mean_loads};
+use std::sync::OnceLock;
+
+use crate::averaged::{FrozenState, StepTable, mean_loads, mean_loads_tabled};
 use crate::error::Result;
 use crate::model::{Controls, Vehicle};
 
@@ -53,6 +55,9 @@ pub struct AveragedModel {
     q_ref: UnitQuaternion<f64>,
     base_controls: Controls,
     samples: usize,
+    /// The vehicle's kinematic step loads, shared by every state at the base controls (the
+    /// Jacobian's 24 state columns), tabled when first needed.
+    table: OnceLock<Option<StepTable>>,
 }
 
 impl AveragedModel {
@@ -68,6 +73,7 @@ impl AveragedModel {
             q_ref,
             base_controls: controls,
             samples,
+            table: OnceLock::new(),
         }
     }
 
@@ -79,7 +85,8 @@ impl AveragedModel {
     /// dx/dt for state `x` and control offsets `u` (on [`Vehicle::control_channels`]).
     pub fn rhs(&self, x: &DVector<f64>, u: &[f64]) -> Result<DVector<f64>> {
         let mut v = self.vehicle.clone();
-        if u.iter().any(|&x| x != 0.0) || v.controls != self.base_controls {
+        let moved = u.iter().any(|&x| x != 0.0) || v.controls != self.base_controls;
+        if moved {
             let c = v.controls_with(&self.base_controls, u);
             v.apply_controls(&c)?;
         }
@@ -87,15 +94,22 @@ impl AveragedModel {
         let q = self.q_ref * UnitQuaternion::from_scaled_axis(delta);
         let vel_w = Vector3::new(x[3], x[4], x[5]);
         let w_b = Vector3::new(x[9], x[10], x[11]);
-        let loads = mean_loads(
-            &v,
-            &FrozenState {
-                world_from_body: q,
-                velocity_body_m_s: q.inverse() * vel_w,
-                angular_velocity_body_rad_s: w_b,
-            },
-            self.samples,
-        )?;
+        let state = FrozenState {
+            world_from_body: q,
+            velocity_body_m_s: q.inverse() * vel_w,
+            angular_velocity_body_rad_s: w_b,
+        };
+        let table = match moved {
+            false => self
+                .table
+                .get_or_init(|| StepTable::of(&self.vehicle, self.samples))
+                .as_ref(),
+            true => None,
+        };
+        let loads = match table {
+            Some(t) => mean_loads_tabled(&v, &state, t)?,
+            None => mean_loads(&v, &state, self.samples)?,
+        };
         let acc = (q * loads.total.force_n + v.body_drag_world_n(&vel_w)) / v.mass_kg
             - Vector3::new(0.0, 0.0, v.gravity_m_s2);
         let i = &v.inertia_kg_m2;

@@ -16,6 +16,10 @@
 //!   on pieces of at most 0.02 of the wingbeat, and the translational term's still-air
 //!   quadrature error at the midpoint added to its one sample, so that odd step counts no
 //!   longer alias (wingforce's `wing::step_mean` module says why and what it measured).
+//!   While a controller holds the kinematics away from those the set was built with, a step
+//!   takes its loads from samples plus the build's quadrature refinement, tabled once
+//!   (module `set::held_correction`: one wing evaluation where the step mean takes 14, an
+//!   error O(dt^2 dk), still second order).
 //! - [`LoadSampling::Midpoint`] (the default from issue 37's first stop until the step mean;
 //!   logs written with it replay with it bit for bit): loads that represent the step. Prescribed wings: the rotational, added-mass and
 //!   wake-capture terms and the wings' inertial reaction are their means over the step

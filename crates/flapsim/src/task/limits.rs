@@ -59,7 +59,6 @@ pub(super) fn admissible_limit(vehicle: &Vehicle, t: &Trim, design: [f64; 4]) ->
 
 #[cfg(test)]
 mod tests {
-    use super::*;
     use crate::control::LqrWeights;
     use crate::task::{Task, TaskSpec};
 

@@ -66,7 +66,7 @@
 use nalgebra::Vector3;
 
 use super::Wing;
-use crate::forces::StepKinematicLoads;
+use crate::forces::{KinematicLoads, StepKinematicLoads};
 use crate::frame::WingFrame;
 use crate::mount::BodyMotion;
 use crate::terms::{Term, TermForce};
@@ -126,30 +126,7 @@ impl Wing {
         let start = WingFrame::new(&k.angles(phase_start), side);
         let end = WingFrame::new(&k.angles(phase_end), side);
         let mut mean = self.kinematic_loads(0.5 * (phase_start + phase_end));
-        // The pieces of the step between reversals (at most two reversals in a step of at
-        // most 1/10 of the wingbeat).
-        let mut cuts = [phase_start, phase_end, phase_end, phase_end];
-        let mut n_cuts = 2;
-        let mut a = phase_start;
-        while n_cuts < 4 && k.stroke_phase(a).half_stroke != k.stroke_phase(phase_end).half_stroke {
-            let h0 = k.stroke_phase(a).half_stroke;
-            let (mut lo, mut hi) = (a, phase_end);
-            for _ in 0..60 {
-                let m = 0.5 * (lo + hi);
-                if m <= lo || m >= hi {
-                    break;
-                }
-                if k.stroke_phase(m).half_stroke == h0 {
-                    lo = m;
-                } else {
-                    hi = m;
-                }
-            }
-            cuts[n_cuts - 1] = hi;
-            cuts[n_cuts] = phase_end;
-            n_cuts += 1;
-            a = hi;
-        }
+        let (cuts, n_cuts) = self.reversal_cuts(phase_start, phase_end);
         let span = phase_end - phase_start;
         let mut sums = [TermForce::default(); 4];
         // The added mass's moment: the remainder R's mean (stroke frame), the rest exactly.
@@ -206,21 +183,113 @@ impl Wing {
             };
         }
         mean.terms[1..].copy_from_slice(&sums[1..]);
+        self.exact_added_mass(&mut mean, &start, &end, dt_s, remainder_s);
+        StepKinematicLoads { mean, start, end }
+    }
+
+    /// The loads of a step from samples alone: the added mass's force and the part of its
+    /// moment that jumps with the accelerations exactly from the wing's motion at the
+    /// step's ends (as in [`Wing::loads_over_step`]), every other kinematic term and the
+    /// added mass's remainder at the midpoint of each side of a stroke reversal in the step
+    /// (the step's midpoint when there is none), and no still-air correction in the
+    /// translational entry. It costs one kinematic evaluation where the step mean costs one
+    /// per quadrature node; what it misses, [`Wing::loads_over_step`] minus it, is the
+    /// quadrature's refinement over the midpoint, O(dt^2) where the loads are smooth (the
+    /// wing set carries it across a controller's small changes of the kinematics: its
+    /// `held_correction` module).
+    pub fn sampled_loads_over_step(
+        &self,
+        phase_start: f64,
+        phase_end: f64,
+        dt_s: f64,
+    ) -> StepKinematicLoads {
+        let k = &self.kinematics;
+        let side = self.mount.side;
+        let start = WingFrame::new(&k.angles(phase_start), side);
+        let end = WingFrame::new(&k.angles(phase_end), side);
+        let mut mean = self.kinematic_loads(0.5 * (phase_start + phase_end));
+        let remainder = |f: &WingFrame| {
+            self.added_mass_moment_parts(f)
+                .map_or_else(Vector3::zeros, |(_, r)| r)
+        };
+        let mut remainder_s = remainder(&mean.frame);
+        // A step across a reversal: each side at its own midpoint (the wake capture jumps
+        // there, and one sample of a jump is an O(1) error in the step's mean).
+        let (cuts, n_cuts) = self.reversal_cuts(phase_start, phase_end);
+        if n_cuts > 2 {
+            let span = phase_end - phase_start;
+            let mut sums = [TermForce::default(); 4];
+            remainder_s = Vector3::zeros();
+            for piece in cuts[..n_cuts].windows(2) {
+                let node = self.kinematic_loads(0.5 * (piece[0] + piece[1]));
+                let weight = (piece[1] - piece[0]) / span;
+                remainder_s += weight * remainder(&node.frame);
+                for (t, n) in sums.iter_mut().zip(&node.terms).skip(1) {
+                    t.force_n += weight * n.force_n;
+                    t.moment_hinge_nm += weight * n.moment_hinge_nm;
+                    t.c_l += weight * n.c_l;
+                    t.c_d += weight * n.c_d;
+                }
+            }
+            mean.terms[1..].copy_from_slice(&sums[1..]);
+        }
+        self.exact_added_mass(&mut mean, &start, &end, dt_s, remainder_s);
+        StepKinematicLoads { mean, start, end }
+    }
+
+    /// The ends of the pieces of the step from `phase_start` to `phase_end` between stroke
+    /// reversals, and how many of them are used (at most two reversals in a step of at most
+    /// 1/10 of the wingbeat).
+    fn reversal_cuts(&self, phase_start: f64, phase_end: f64) -> ([f64; 4], usize) {
+        let k = &self.kinematics;
+        let mut cuts = [phase_start, phase_end, phase_end, phase_end];
+        let mut n_cuts = 2;
+        let mut a = phase_start;
+        while n_cuts < 4 && k.stroke_phase(a).half_stroke != k.stroke_phase(phase_end).half_stroke {
+            let h0 = k.stroke_phase(a).half_stroke;
+            let (mut lo, mut hi) = (a, phase_end);
+            for _ in 0..60 {
+                let m = 0.5 * (lo + hi);
+                if m <= lo || m >= hi {
+                    break;
+                }
+                if k.stroke_phase(m).half_stroke == h0 {
+                    lo = m;
+                } else {
+                    hi = m;
+                }
+            }
+            cuts[n_cuts - 1] = hi;
+            cuts[n_cuts] = phase_end;
+            n_cuts += 1;
+            a = hi;
+        }
+        (cuts, n_cuts)
+    }
+
+    /// Replaces the added-mass entry of a step's `mean` loads by its exact mean force and
+    /// its moment's mean: (W_end - W_start)/dt exactly (the part that jumps with the
+    /// accelerations) plus `remainder_s`, the remainder's mean (stroke frame).
+    fn exact_added_mass(
+        &self,
+        mean: &mut KinematicLoads,
+        start: &WingFrame,
+        end: &WingFrame,
+        dt_s: f64,
+        remainder_s: Vector3<f64>,
+    ) {
         let i = Term::AddedMass as usize;
         if let Some(mut exact) =
-            self.added_mass_over_step(&start, &end, dt_s, &mean.terms[i], mean.phase.downstroke)
+            self.added_mass_over_step(start, end, dt_s, &mean.terms[i], mean.phase.downstroke)
         {
-            // The exact mean force, and the moment's mean: (W_end - W_start)/dt exactly
-            // (the part that jumps with the accelerations) plus its remainder's quadrature.
             if let (Some((w0, _)), Some((w1, _))) = (
-                self.added_mass_moment_parts(&start),
-                self.added_mass_moment_parts(&end),
+                self.added_mass_moment_parts(start),
+                self.added_mass_moment_parts(end),
             ) {
                 exact.moment_hinge_nm =
                     self.cache.body_from_stroke * ((w1 - w0) / dt_s + remainder_s);
             }
             mean.terms[i] = exact;
         }
-        StepKinematicLoads { mean, start, end }
     }
 }

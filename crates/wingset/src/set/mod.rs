@@ -31,6 +31,7 @@ mod body;
 mod carried;
 mod drag;
 mod dt;
+mod held_correction;
 mod inflow;
 mod limits;
 mod map;
@@ -102,6 +103,9 @@ pub struct WingSet {
     body_drag_area_m2: f64,
     /// Where in a step the loads are taken ([`LoadSampling`]).
     sampling: LoadSampling,
+    /// The step mean's refinement held across control changes (sets built from a control
+    /// map with prescribed wings; module `held_correction`).
+    held: Option<held_correction::HeldCorrection>,
     /// What the last step was given and took (the midpoint prediction's previous state;
     /// `None` after a restart).
     prev_body: Option<StepMemory>,
@@ -204,7 +208,11 @@ impl WingSet {
         controls: Controls,
     ) -> Result<Self> {
         let wings = map.wings().to_vec();
+        let mut base = map.clone_box();
+        let held = (dynamic.is_none() && base.apply(&controls).is_ok())
+            .then(|| held_correction::HeldCorrection::new(base.wings().to_vec()));
         let mut set = Self::assemble(wings, dynamic, Some(map), wing_mass_kg, dt_s)?;
+        set.held = held;
         set.controls = controls;
         set.pending = Some(controls);
         Ok(set)
@@ -288,6 +296,7 @@ impl WingSet {
             // Actuated wings step-start until told otherwise (their own default,
             // `DynamicWing::set_load_sampling`); prescribed ones at the midpoint.
             sampling,
+            held: None,
             prev_body: None,
             sampled: State::at_rest(),
             rate_damping: None,
@@ -413,6 +422,19 @@ impl WingSet {
                     w.set_load_sampling(sampling);
                 }
             }
+        }
+    }
+
+    /// Whether a step under the step mean whose kinematics the controls moved from the
+    /// build's takes its sampled loads plus the build's quadrature refinement (true, the
+    /// default) or the step mean in full (as before the held correction: logs written
+    /// before it replay with it). Module `held_correction`.
+    pub fn set_held_correction(&mut self, on: bool) {
+        if let Some(h) = &mut self.held
+            && h.enabled != on
+        {
+            h.enabled = on;
+            self.generation += 1;
         }
     }
 

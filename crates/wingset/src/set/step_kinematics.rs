@@ -11,6 +11,7 @@ use wingforce::{KinematicLoads, StepRule, Wing, WingFrame};
 
 use super::WingSet;
 use super::body::BodyLoad;
+use super::held_correction;
 use crate::sampling::LoadSampling;
 
 /// One wing's part of a prescribed step that the kinematics decide.
@@ -88,8 +89,24 @@ impl WingSet {
             LoadSampling::Midpoint | LoadSampling::StepMean => {
                 let rule = self.sampling.step_rule().unwrap_or(StepRule::Midpoint);
                 let half = 0.5 * self.phase_per_step;
-                for (w, r_c) in self.wings.iter().zip(&self.centroid_r_m) {
-                    let k = w.loads_over_step(phase - half, phase + half, self.dt_s, rule);
+                let (p0, p1) = (phase - half, phase + half);
+                let held = match (&self.held, self.steps_per_wingbeat) {
+                    (Some(h), Some(per))
+                        if self.periodic && held_correction::serves(self.sampling) =>
+                    {
+                        h.at(p0, per, self.dt_s).map(|c| (h, c))
+                    }
+                    _ => None,
+                };
+                let map = self.control_map.as_deref().map(|m| m.wings());
+                for (i, (w, r_c)) in self.wings.iter().zip(&self.centroid_r_m).enumerate() {
+                    let from_controls = map.is_some_and(|m| m[i].kinematics() == w.kinematics());
+                    let k = match held {
+                        Some((h, c)) if h.applies(i, w, from_controls) => {
+                            held_correction::held_step(w, p0, p1, self.dt_s, &c[i])
+                        }
+                        _ => w.loads_over_step(p0, p1, self.dt_s, rule),
+                    };
                     let inertia = if m_w > 0.0 {
                         inertia_over_step(w, &k.start, &k.end, *r_c, m_w, self.dt_s)
                     } else {
