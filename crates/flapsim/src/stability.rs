@@ -75,6 +75,9 @@ pub struct FloquetAnalysis {
     pub monodromy: Vec<Vec<f64>>,
     /// The multipliers, exponents and eigenvectors, sorted by real exponent, largest first.
     pub modes: Vec<FloquetMode>,
+    /// One warning per column of the monodromy whose one-sided differences disagree (the
+    /// one-wingbeat map has a jump at the orbit: [`SMOOTH_GAP`]); empty when it is smooth.
+    pub nonsmooth: Vec<String>,
 }
 
 /// State names of [`FloquetAnalysis::states`]: the body's four.
@@ -113,6 +116,9 @@ pub struct StabilityReport {
     pub floquet_monodromy: Vec<Vec<f64>>,
     /// The wingbeat period of the Floquet analysis, s (when computed).
     pub floquet_period_s: Option<f64>,
+    /// Where the Floquet analysis's one-wingbeat map is not smooth, one warning per state
+    /// ([`FloquetAnalysis::nonsmooth`]); empty when it is, or when not computed.
+    pub floquet_warnings: Vec<String>,
     /// Dimensional derivatives of the averaged longitudinal model, d(accel)/d(state).
     pub derivatives: Vec<(String, f64)>,
     /// The reference quantities of [`StabilityReport::nondimensional`].
@@ -314,6 +320,7 @@ pub fn analyze_trim(vehicle: &Vehicle, t: &Trim, floquet: bool) -> Result<Stabil
         floquet_period_s: f.as_ref().map(|f| f.period_s),
         floquet_states: f.as_ref().map(|f| f.states.clone()).unwrap_or_default(),
         floquet_monodromy: f.as_ref().map(|f| f.monodromy.clone()).unwrap_or_default(),
+        floquet_warnings: f.as_ref().map(|f| f.nonsmooth.clone()).unwrap_or_default(),
         floquet_longitudinal: f.map(|f| f.modes).unwrap_or_default(),
         derivatives,
         nondimensional_reference,
@@ -485,26 +492,30 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
     }
     let n = eps.len();
     let mut phi = DMatrix::zeros(n, n);
+    let run = |y: &[f64]| {
+        one_wingbeat(
+            v,
+            periodic.as_ref(),
+            &wing_states,
+            inflow.as_deref(),
+            &q,
+            &v_trim,
+            y,
+        )
+    };
+    // The unperturbed wingbeat, for the one-sided differences that check the map is smooth.
+    let base = run(&vec![0.0; n])?;
+    let mut jumps = Vec::with_capacity(n);
     for j in 0..n {
         let mut yp = vec![0.0; n];
         let mut ym = vec![0.0; n];
         yp[j] = eps[j];
         ym[j] = -eps[j];
-        let run = |y: &[f64]| {
-            one_wingbeat(
-                v,
-                periodic.as_ref(),
-                &wing_states,
-                inflow.as_deref(),
-                &q,
-                &v_trim,
-                y,
-            )
-        };
         let (p, m) = (run(&yp)?, run(&ym)?);
         for i in 0..n {
             phi[(i, j)] = (p[i] - m[i]) / (2.0 * eps[j]);
         }
+        jumps.push(one_sided_gap(&p, &base, &m, &eps));
     }
     let period = 1.0 / v.freq_hz();
     let mut out: Vec<FloquetMode> = phi
@@ -535,13 +546,45 @@ pub fn floquet_analysis(v: &Vehicle, t: &Trim) -> Result<FloquetAnalysis> {
         states.push(format!("inflow_mean_m_s{pair}"));
         states.push(format!("inflow_fore_m_s{pair}"));
     }
+    let nonsmooth = jumps
+        .iter()
+        .enumerate()
+        .filter(|(_, (gap, _))| *gap > SMOOTH_GAP)
+        .map(|(j, (gap, i))| {
+            format!(
+                "the one-wingbeat map is not smooth at the periodic orbit along {}: its forward and backward differences disagree by {gap:.3} of a perturbation in {} (a smooth map: below {SMOOTH_GAP}), so it has a jump or a kink there and the exponents are not to be trusted at {} steps per wingbeat: run another count (--steps-per-wingbeat)",
+                states[j], states[*i], v.sim.steps_per_wingbeat
+            )
+        })
+        .collect();
     Ok(FloquetAnalysis {
         states,
         period_s: period,
         monodromy: rows(&phi),
         modes: out,
+        nonsmooth,
     })
 }
+
+/// The largest disagreement between the forward and the backward difference of column `j`
+/// (from the runs perturbed by `+eps[j]` and `-eps[j]` and the unperturbed `base`), each
+/// entry in units of its own state's perturbation (Phi's entries are then of order one: a
+/// multiplier near 1 keeps a perturbation's size): |(p_i - b_i) - (b_i - m_i)| / eps_i. A
+/// smooth map gives O(eps) (its curvature); a map with a jump at the orbit (a discrete event
+/// that the perturbation moves across a step) gives the jump over eps_i, whatever eps_j.
+/// Returns the gap and the row where it is largest.
+fn one_sided_gap(p: &[f64], base: &[f64], m: &[f64], eps: &[f64]) -> (f64, usize) {
+    (0..p.len())
+        .map(|i| (((p[i] - base[i]) - (base[i] - m[i])).abs() / eps[i], i))
+        .fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a })
+}
+
+/// Largest [`one_sided_gap`] of a smooth one-wingbeat map. Measured at the built-in
+/// vehicles' own step counts: at most 1.3e-3 (the hummingbird; the fly 7e-5, the bumblebee
+/// 3e-5, the RoboBee kinematics 2e-4); the hummingbird at 3200 steps per wingbeat, whose
+/// exponents stand apart from those at 200-2800 (docs/speed.md row 30's method), 1.84 in
+/// its vx and vz columns.
+const SMOOTH_GAP: f64 = 0.1;
 
 /// `v` scaled to unit 2-norm with its largest entry real and positive, as (re, im) pairs.
 fn normalized(v: &DVector<Complex<f64>>) -> Vec<(f64, f64)> {
@@ -648,5 +691,29 @@ mod tests {
         assert!(((v0.norm_sqr() + v1.norm_sqr()).sqrt() - 1.0).abs() < 1e-12);
         let big = if v0.norm() >= v1.norm() { v0 } else { v1 };
         assert!(big.re > 0.0 && big.im.abs() < 1e-15, "{v:?}");
+    }
+
+    #[test]
+    fn one_sided_differences_tell_a_smooth_map_from_one_with_a_jump() {
+        // x -> (a x + b x^2, c x) at x = 0 with perturbations eps = (1e-3, 1e-2): a smooth
+        // map's forward and backward differences differ by 2 b eps_j^2 (its curvature), in
+        // units of the row's eps 2 b eps_j^2 / eps_i; a jump J taken on one side only
+        // (x > 0) adds J / eps_i whatever eps_j.
+        let eps = [1e-3, 1e-2];
+        let (a, b, c) = (0.9, 2.0, 0.5);
+        let map = |x: f64, jump: f64| {
+            let j = if x > 0.0 { jump } else { 0.0 };
+            vec![a * x + b * x * x + j, c * x]
+        };
+        let gap = |jump: f64| {
+            let (p, base, m) = (map(eps[0], jump), map(0.0, jump), map(-eps[0], jump));
+            one_sided_gap(&p, &base, &m, &eps)
+        };
+        let (smooth, row) = gap(0.0);
+        assert!((smooth - 2.0 * b * eps[0]).abs() < 1e-12 && row == 0, "{smooth} {row}");
+        assert!(smooth < SMOOTH_GAP);
+        let (jumped, row) = gap(1e-3);
+        assert!((jumped - (1e-3 / eps[0] + 2.0 * b * eps[0])).abs() < 1e-12 && row == 0);
+        assert!(jumped > SMOOTH_GAP);
     }
 }

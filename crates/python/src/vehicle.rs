@@ -291,7 +291,10 @@ impl Vehicle {
     /// Phi over one wingbeat, rows and columns `floquet_states`), `floquet_multipliers` (its
     /// eigenvalues mu), `floquet_exponents` (ln(mu) / T, so mu = exp(exponent T) with T =
     /// `floquet_period_s`) and `floquet_eigenvectors` (complex, column k the eigenvector of
-    /// multiplier k: Phi v = mu v, unit norm, largest entry real and positive).
+    /// multiplier k: Phi v = mu v, unit norm, largest entry real and positive), and
+    /// `floquet_warnings`: one string per state whose column of Phi is not to be trusted (its
+    /// forward and backward differences disagree: the one-wingbeat map has a jump or a kink
+    /// at the orbit; empty when it is smooth).
     /// `speed_m_s` and `climb_m_s` analyse about the trim at that flight condition.
     #[pyo3(signature = (floquet = true, speed_m_s = None, climb_m_s = None))]
     fn stability<'py>(

@@ -67,6 +67,9 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     )?);
     let report = flapsim::stability::analyze_at(&vehicle, &condition, !args.no_floquet)
         .map_err(sim_error)?;
+    for w in &report.floquet_warnings {
+        eprintln!("warning: Floquet analysis: {w}");
+    }
     if let Some(p) = &args.plot {
         plot(&report, p, &vehicle.name)?;
     }
