@@ -4,7 +4,7 @@
 //! through [`from_glam`] / [`quat_from_glam`] and hands forces back through [`to_glam`].
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use rapier3d_f64::math::{Rotation, Vector};
+use rapier3d_f64::math::{Matrix, Rotation, Vector};
 
 /// glam vector to nalgebra.
 #[inline]
@@ -28,4 +28,11 @@ pub fn quat_from_glam(q: &Rotation) -> UnitQuaternion<f64> {
 #[inline]
 pub fn quat_to_glam(q: &UnitQuaternion<f64>) -> Rotation {
     Rotation::from_xyzw(q.i, q.j, q.k, q.w)
+}
+
+/// glam 3x3 matrix to nalgebra.
+#[inline]
+pub fn matrix_from_glam(m: &Matrix) -> nalgebra::Matrix3<f64> {
+    let c = m.to_cols_array();
+    nalgebra::Matrix3::from_column_slice(&c)
 }

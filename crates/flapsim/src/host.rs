@@ -16,7 +16,7 @@ use nalgebra::Vector3;
 use rapier3d_f64::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::frames::{from_glam, quat_from_glam, quat_to_glam, to_glam};
+use crate::frames::{from_glam, matrix_from_glam, quat_from_glam, quat_to_glam, to_glam};
 use crate::model::Vehicle;
 use crate::wings::{State, WingSet, WingSetOutput};
 
@@ -119,6 +119,38 @@ pub fn body_state(rb: &RigidBody) -> State {
     }
 }
 
+/// The world torque to hand rapier for a step whose loads represent it (a second-order load
+/// sampling, `wingset::sampling`), so that the body's angular velocity is second order too.
+///
+/// rapier updates the angular velocity as w_{k+1} = w_k + dt I_w(t_k)^-1 tau, with the world
+/// inertia I_w = R I R^T at the step's start and its own explicit gyroscopic correction at the
+/// step's start. Euler's equations in the world frame, dw/dt = R I^-1 (tau_b - w_b x I w_b),
+/// need both at the step's midpoint: with the start's, a body turning about more than one axis
+/// is first order (measured on the fly with a 1 deg left-right amplitude difference: 1.83x and
+/// 1.97x per halved step over 10 wingbeats; with this torque and rapier's gyroscopic term off,
+/// 3.99x and 4.00x: `flapsim/tests/second_order.rs`). A turn about a principal axis alone
+/// (the symmetric flights) was second order already. So rapier is handed
+/// tau' = I_w(t_k) R_mid I^-1 (tau_b,mid - w_mid x I w_mid), with the body's midpoint attitude
+/// R_mid and rates w_mid the wing set took its loads at ([`WingSet::sampled_state`]):
+/// `moment_world` the loads' moment (world), `start` the attitude at the step's start,
+/// `inertia_kg_m2` the body's inertia about its centre of mass, body frame. The body's own
+/// gyroscopic forces must be off (`RigidBody::enable_gyroscopic_forces(false)`).
+pub fn midpoint_torque_world(
+    moment_world: &Vector3<f64>,
+    start: &nalgebra::UnitQuaternion<f64>,
+    mid: &State,
+    inertia_kg_m2: &nalgebra::Matrix3<f64>,
+) -> Vector3<f64> {
+    let (q_mid, w) = (mid.world_from_body, mid.angular_velocity_body_rad_s);
+    let Some(i_inv) = inertia_kg_m2.try_inverse() else {
+        return *moment_world;
+    };
+    let tau_b = q_mid.inverse() * moment_world;
+    let alpha_world = q_mid * (i_inv * (tau_b - w.cross(&(inertia_kg_m2 * w))));
+    let r = start.to_rotation_matrix();
+    r * (inertia_kg_m2 * (r.inverse() * alpha_world))
+}
+
 /// The body origin relative to rapier's centre of mass, world frame, or `None` where they
 /// coincide (every body [`vehicle_body`] builds). Taken from the local centre of mass and the
 /// pose, not `RigidBody::center_of_mass`, which rapier updates only when it steps.
@@ -176,7 +208,8 @@ impl RapierWings {
             )));
         };
         let state = body_state(rb);
-        let out = self.wings.step(&state)?;
+        self.wings.step(&state)?;
+        let out = self.wings.output();
         let q = state.world_from_body;
         let force_world = q * out.total.force_n;
         // Moment about the body origin (the model's CoM) moved to rapier's centre of mass.
@@ -184,10 +217,23 @@ impl RapierWings {
         if let Some(arm) = origin_from_com_world(rb) {
             moment_world += arm.cross(&force_world);
         }
+        // Under a second-order sampling the angular velocity is advanced by the midpoint
+        // rule ([`midpoint_torque_world`]), the body's own gyroscopic forces off.
+        let torque_world = if self.wings.load_sampling().is_second_order() {
+            rb.enable_gyroscopic_forces(false);
+            let inertia = matrix_from_glam(
+                &rb.mass_properties()
+                    .local_mprops
+                    .reconstruct_inertia_matrix(),
+            );
+            midpoint_torque_world(&moment_world, &q, self.wings.sampled_state(), &inertia)
+        } else {
+            moment_world
+        };
         rb.reset_forces(false);
         rb.reset_torques(false);
         rb.add_force(to_glam(&force_world), false);
-        rb.add_torque(to_glam(&moment_world), false);
-        Ok(out)
+        rb.add_torque(to_glam(&torque_world), false);
+        Ok(self.wings.output())
     }
 }

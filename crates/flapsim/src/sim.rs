@@ -142,6 +142,11 @@ pub struct Simulation {
     /// Whether the wings' dynamic inflow still has to be started on its periodic motion at
     /// the first step's body state ([`Simulation::step`]).
     settle_inflow: bool,
+    /// Whether the body's angular velocity is advanced by the midpoint rule
+    /// ([`crate::host::midpoint_torque_world`]): free flight under a second-order load
+    /// sampling, unless the model asks for rapier's own update (`sim.rotation_at_step_start`,
+    /// logs written before it).
+    midpoint_rotation: bool,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -196,6 +201,10 @@ impl Simulation {
                 .enabled_translations(t[0], t[1], t[2])
                 .enabled_rotations(r[0], r[1], r[2]),
         };
+        let midpoint_rotation = matches!(mode, Mode::Free)
+            && vehicle.load_sampling().is_second_order()
+            && !vehicle.sim.rotation_at_step_start;
+        builder = builder.gyroscopic_forces_enabled(!midpoint_rotation);
         let body = world.insert_body(builder);
         if vehicle.sim.ground {
             world.insert_collider(
@@ -220,6 +229,7 @@ impl Simulation {
             wind: None,
             wing_winds_m_s: Vec::new(),
             settle_inflow: true,
+            midpoint_rotation,
         };
         sim.settle_inflow = sim.wings.pair_inflows().is_some();
         // Zero the velocities on locked axes (rapier leaves them as given).
@@ -471,7 +481,17 @@ impl Simulation {
             .vehicle
             .body_drag_world_n(&(drag_velocity_m_s - air_m_s));
         rb.add_force(to_glam(&(q * out.total.force_n + drag_n)), false);
-        rb.add_torque(to_glam(&(q * out.total.moment_nm)), false);
+        let moment_world = q * out.total.moment_nm;
+        let torque_world = match self.midpoint_rotation {
+            true => crate::host::midpoint_torque_world(
+                &moment_world,
+                &q,
+                self.wings.sampled_state(),
+                &self.vehicle.inertia_kg_m2,
+            ),
+            false => moment_world,
+        };
+        rb.add_torque(to_glam(&torque_world), false);
         self.world.step();
         if self.wings.load_sampling().is_second_order() {
             self.trapezoid_pose(&out.state);

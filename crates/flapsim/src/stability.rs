@@ -710,7 +710,10 @@ mod tests {
             one_sided_gap(&p, &base, &m, &eps)
         };
         let (smooth, row) = gap(0.0);
-        assert!((smooth - 2.0 * b * eps[0]).abs() < 1e-12 && row == 0, "{smooth} {row}");
+        assert!(
+            (smooth - 2.0 * b * eps[0]).abs() < 1e-12 && row == 0,
+            "{smooth} {row}"
+        );
         assert!(smooth < SMOOTH_GAP);
         let (jumped, row) = gap(1e-3);
         assert!((jumped - (1e-3 / eps[0] + 2.0 * b * eps[0])).abs() < 1e-12 && row == 0);

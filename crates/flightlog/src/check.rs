@@ -10,7 +10,8 @@
 //! does), picks samples with the same [`crate::Decimator`], and compares every logged
 //! `/vehicle/state` sample: position, velocity, attitude quaternion and body rates, as f64
 //! bits (the log's `load_sampling` metadata, or, for a log written before issue 37, the
-//! step-start sampling of that time, sets where the re-run takes the loads; protobuf
+//! step-start sampling of that time, sets where the re-run takes the loads, and its
+//! `body_rotation` metadata, or its absence, how it advances the body's rates; protobuf
 //! doubles are the bits themselves, but for the sign of a zero, which proto3
 //! does not keep; the JSON numbers of logs written before
 //! issue #16 are read back with a correctly rounded parser, so they survive the round trip
@@ -32,7 +33,10 @@ use crate::error::{Error, Result};
 use crate::json::Json;
 use crate::options::SimSettings;
 use crate::read::read_log;
-use crate::schema::{ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, TOPIC_STATE, TOPIC_WIND};
+use crate::schema::{
+    ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT,
+    TOPIC_STATE, TOPIC_WIND,
+};
 
 /// The verdict of [`check_log`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -160,6 +164,9 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
     let mut spec = flapsim::VehicleSpec::from_toml(toml, origin).map_err(embedded)?;
     spec.aero.added_mass = logged_added_mass_form(md, spec.aero.added_mass)?;
     spec.sim.load_sampling = Some(logged_load_sampling(md, spec.actuation.is_some())?);
+    // A run logged before the midpoint rotation advanced the body's rates as rapier does.
+    spec.sim.rotation_at_step_start =
+        md.get(BODY_ROTATION_KEY).map(String::as_str) != Some(BODY_ROTATION_MIDPOINT);
     let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let rate = match md.get("log_rate_hz").map(String::as_str) {

@@ -339,3 +339,11 @@ pub fn schema_data(name: &str) -> Option<Vec<u8>> {
 pub const ACTUATED_STEP_MEAN_KEY: &str = "actuated_step_mean";
 /// See [`ACTUATED_STEP_MEAN_KEY`].
 pub const ACTUATED_STEP_MEAN_SPLIT: &str = "split_at_reversals";
+
+/// The metadata key that says how the logged run advanced the body's angular velocity, and
+/// its value since a second-order sampling's runs take the midpoint rule (flapsim's
+/// `host::midpoint_torque_world`, 2026-12-06). A second-order log without it re-runs with
+/// rapier's own update (`SimSpec::rotation_at_step_start`).
+pub const BODY_ROTATION_KEY: &str = "body_rotation";
+/// See [`BODY_ROTATION_KEY`].
+pub const BODY_ROTATION_MIDPOINT: &str = "midpoint";

@@ -122,6 +122,12 @@ pub struct SimSpec {
     /// step-start for actuated ones (`Vehicle::load_sampling`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub load_sampling: Option<wingset::LoadSampling>,
+    /// rapier's own angular-velocity update (the world inertia and the gyroscopic term at the
+    /// step's start) under a second-order load sampling, as before 2026-12-06: a log written
+    /// before the midpoint rotation (no `body_rotation` metadata) re-runs with it. Not a
+    /// model-file field. See [`crate::host::midpoint_torque_world`].
+    #[serde(skip)]
+    pub rotation_at_step_start: bool,
     /// rapier solver iterations (substeps) per step.
     pub solver_iterations: usize,
     /// Add a ground plane at z = 0 and a contact sphere on the body (take-off and landing).
@@ -141,6 +147,7 @@ impl Default for SimSpec {
             steps_per_wingbeat: 100,
             accurate_steps_per_wingbeat: None,
             load_sampling: None,
+            rotation_at_step_start: false,
             solver_iterations: 1,
             ground: false,
             wing_mass_kg: 0.0,

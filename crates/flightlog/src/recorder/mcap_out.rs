@@ -18,8 +18,9 @@ use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, MESSAGE_ENCODING, OPTIONAL_CHANNELS,
-    SCHEMA_ENCODING, WingLayout, channel_id,
+    self, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY,
+    BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, WingLayout,
+    channel_id,
 };
 use crate::writer::{Flushed, Writer};
 
@@ -137,6 +138,10 @@ fn run_metadata(
         (
             ACTUATED_STEP_MEAN_KEY.to_owned(),
             ACTUATED_STEP_MEAN_SPLIT.to_owned(),
+        ),
+        (
+            BODY_ROTATION_KEY.to_owned(),
+            BODY_ROTATION_MIDPOINT.to_owned(),
         ),
         ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
     ])
