@@ -216,8 +216,10 @@ fn a_midpoint_run_replays_bit_for_bit() {
 
 /// `replay --resimulate` of a log flown by the same model restarts every segment from the
 /// logged state with the wing set's logged step memory (the midpoint sampling's history),
-/// so the simulated body retraces the logged one to round-off: positions exactly, attitudes
-/// and rates to the round-off of comparing them (1e-28 deg, 1e-30 rad/s) (the segments after the first start mid-flight, where a restart
+/// so the simulated body retraces the logged one to round-off: positions to 4e-35 m (exactly
+/// until the body's rates were advanced by the midpoint rule, whose torque goes through the
+/// attitude rapier holds, which a restart sets afresh), attitudes and rates to the round-off of
+/// comparing them (1e-28 deg, 1e-29 rad/s) (the segments after the first start mid-flight, where a restart
 /// without that memory is off by about 2e-10 m after four wingbeats). The comparison MCAP
 /// holds both bodies as frames, their poses and the residuals, and the summary.
 #[test]
@@ -242,7 +244,7 @@ fn resimulating_a_log_of_the_same_model_retraces_it() {
     assert!(segments.len() >= 2, "{v}");
     for seg in segments {
         assert!(seg["samples"].as_u64().unwrap() >= 5, "{seg}");
-        assert_eq!(seg["position_rms_m"].as_f64(), Some(0.0), "{seg}");
+        assert!(seg["position_rms_m"].as_f64().unwrap() < 1e-30, "{seg}");
         assert!(seg["attitude_rms_deg"].as_f64().unwrap() < 1e-12, "{seg}");
         assert!(seg["rate_rms_rad_s"].as_f64().unwrap() < 1e-12, "{seg}");
     }

@@ -148,7 +148,13 @@ pub fn midpoint_torque_world(
     let tau_b = q_mid.inverse() * moment_world;
     let alpha_world = q_mid * (i_inv * (tau_b - w.cross(&(inertia_kg_m2 * w))));
     let r = start.to_rotation_matrix();
-    r * (inertia_kg_m2 * (r.inverse() * alpha_world))
+    let torque = r * (inertia_kg_m2 * (r.inverse() * alpha_world));
+    // A body spinning past any bound overflows w x I w: hand rapier the loads' moment, so
+    // that the run's own check names the bound it broke at the next step.
+    match torque.iter().all(|x| x.is_finite()) {
+        true => torque,
+        false => *moment_world,
+    }
 }
 
 /// The body origin relative to rapier's centre of mass, world frame, or `None` where they

@@ -545,6 +545,36 @@ impl Simulation {
             || !finite(&s.velocity_m_s)
             || !finite(&s.angular_velocity_body_rad_s)
         {
+            // The last step's loads may have driven the body past a bound in one step, and the
+            // integrator overflowed on the way: name the bound they broke.
+            if let Some(out) = &self.out {
+                let dt = self.wings.dt_s();
+                let p = &out.state;
+                let v = (p.velocity_m_s
+                    + dt * (p.world_from_body * out.total.force_n) / self.vehicle.mass_kg)
+                    .norm();
+                let w = self
+                    .vehicle
+                    .inertia_kg_m2
+                    .try_inverse()
+                    .map_or(f64::INFINITY, |i| {
+                        (p.angular_velocity_body_rad_s + dt * (i * out.total.moment_nm)).norm()
+                    });
+                let (max_v, max_w) = (
+                    self.vehicle.sim.max_speed_m_s,
+                    self.vehicle.sim.max_angular_speed_rad_s,
+                );
+                if !(w <= max_w) {
+                    return fail(format!(
+                        "the last step's loads drove the angular speed to {w:.3e} rad/s, beyond sim.max_angular_speed_rad_s = {max_w}, and the body state is no longer finite"
+                    ));
+                }
+                if !(v <= max_v) {
+                    return fail(format!(
+                        "the last step's loads drove the speed to {v:.3e} m/s, beyond sim.max_speed_m_s = {max_v}, and the body state is no longer finite"
+                    ));
+                }
+            }
             return fail("the body state is not finite".into());
         }
         let speed = s.velocity_m_s.norm();

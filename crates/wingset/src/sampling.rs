@@ -52,8 +52,12 @@
 //! steps its attitude error is 1/1000 of the step-start sampling's. What stays first order: a
 //! host's own position and attitude (x_{k+1} = x_k + dt v_{k+1} reads the velocity at the
 //! step's end: a bias of dt/2 (v(t) - v(0)) that does not grow; flapsim's `Simulation` moves
-//! rapier's pose to the trapezoidal rule, other hosts keep it), and a wind field a host
-//! evaluates at the body's position at t_k. Under `Midpoint`, odd step counts put a
+//! rapier's pose to the trapezoidal rule, other hosts keep it), a host's update of the body's
+//! rates in a turn about more than one axis where it applies the torque through the inertia
+//! and the gyroscopic term at the step's start (rapier's: measured first order on a rolling
+//! and yawing fly; flapsim's `Simulation` and `RapierWings` hand it the midpoint rule's torque,
+//! `flapsim::host::midpoint_torque_world`; MuJoCo and other hosts keep their own), and a
+//! wind field a host evaluates at the body's position at t_k. Under `Midpoint`, odd step counts put a
 //! reversal on a step's midpoint, where the translational term's one sample aliases (the fly
 //! at 25: a pitch error of 3.9 deg after 0.3 s open loop, against 0.08 at 26); under
 //! `StepMean` the fly at 25 ends 0.07 deg off.
