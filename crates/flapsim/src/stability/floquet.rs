@@ -42,7 +42,8 @@ pub struct FloquetAnalysis {
     /// The multipliers, exponents and eigenvectors, sorted by real exponent, largest first.
     pub modes: Vec<FloquetMode>,
     /// One warning per column of the monodromy whose one-sided differences disagree (the
-    /// one-wingbeat map has a jump or a kink at the orbit: they part by more than 0.1 of a perturbation, `SMOOTH_GAP`); empty when it is smooth.
+    /// one-wingbeat map has a jump or a kink at the orbit: they part by more than 0.1 of a
+    /// perturbation, `SMOOTH_GAP`); empty when it is smooth.
     pub nonsmooth: Vec<String>,
 }
 
