@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 use wingforce::inflow::InflowState;
 
-use super::{complex_eigenvector, normalized, rows};
+use super::eigen::{complex_eigenvector, normalized, rows};
 use crate::error::Result;
 use crate::model::Vehicle;
 use crate::sim::{Mode as SimMode, Simulation, State};
