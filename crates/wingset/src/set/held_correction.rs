@@ -19,15 +19,17 @@
 //! step is its sampled loads at the kinematics in force plus C tabled once per step of the
 //! wingbeat at the kinematics the set was built with: one evaluation where the step mean
 //! takes 14, and an error O(dt^2 dk) against the step mean at the new kinematics, still
-//! second order in the step (measured: docs/speed.md row 31 and `flapsim/tests/second_order.rs`).
+//! second order in the step (measured: docs/speed.md row 29 and
+//! `flapsim/tests/second_order.rs`).
 //!
 //! The rule is a function of the controls and the step alone, so a run restarted from a
 //! logged step with its build controls (flapwing-identify's segments of a hover) takes the
 //! loads it took: a wing takes the held correction when its kinematics are those its
 //! controls give (not set by hand), differ from the build's, share their frequency and the
-//! step falls on the wingbeat's grid of whole steps; else the step mean in full. Logs written
-//! before it (no `step_mean_controls` metadata) re-run with the step mean in full
-//! ([`super::WingSet::set_held_correction`]).
+//! step falls on the wingbeat's grid of whole steps; else the step mean in full. A run whose
+//! controls stay the build's never takes it, so `replay --check`, which re-runs `simulate`
+//! logs (no controller), replays logs written before it bit for bit;
+//! [`super::WingSet::set_held_correction`] turns it off for a set.
 
 use std::sync::OnceLock;
 
