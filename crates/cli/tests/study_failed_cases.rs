@@ -12,28 +12,12 @@ mod common;
 
 use common::flapwing_in;
 
+#[path = "../../flapstudy/tests/support/pinned.rs"]
+mod pinned;
+use pinned::pinned;
+
 const ROBOBEE_STUDY: &str = include_str!("../../../examples/studies/robobee_hinge_drive.toml");
 const ROBOBEE_MODEL: &str = include_str!("../../../models/robobee.toml");
-
-/// `model` with the sampling and step count these failure-handling cases were written
-/// against (the step-start sampling at 100 steps per wingbeat, the RoboBee's default before
-/// its step mean): which designs settle within a few drive periods depends on them.
-fn pinned(model: &str) -> String {
-    let pinned: String = model
-        .lines()
-        .map(|l| {
-            if l.starts_with("steps_per_wingbeat = ") {
-                "steps_per_wingbeat = 100\n".to_owned()
-            } else if l.starts_with("load_sampling = ") {
-                "load_sampling = \"step_start\"\n".to_owned()
-            } else {
-                format!("{l}\n")
-            }
-        })
-        .collect();
-    assert!(pinned.contains("\nload_sampling = \"step_start\"\n"));
-    pinned
-}
 
 /// A temporary directory with the shipped RoboBee study, and the same study on a copy of the
 /// model (pinned) that gives the wings `settle` drive periods (`few.toml`, study name `few`).

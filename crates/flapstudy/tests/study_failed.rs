@@ -13,6 +13,11 @@ use flapstudy::sweep::{
 };
 use flapstudy::{CaseOutcome, Study, StudyError, merge_csv};
 
+mod support {
+    pub mod pinned;
+}
+use support::pinned::pinned;
+
 const STUDY: &str = r#"
 base_model = "robobee"
 design = "full_factorial"
@@ -24,26 +29,6 @@ levels = [3.0e-6, 4.6e-6, 7.5e-6]
 path = "actuation.drive.freq_hz"
 levels = [120.0, 150.0, 170.0]
 "#;
-
-/// `model` with the sampling and step count these failure-handling cases were written
-/// against (the step-start sampling at 100 steps per wingbeat, the RoboBee's default before
-/// its step mean): which designs settle within a few drive periods depends on them.
-fn pinned(model: &str) -> String {
-    let pinned: String = model
-        .lines()
-        .map(|l| {
-            if l.starts_with("steps_per_wingbeat = ") {
-                "steps_per_wingbeat = 100\n".to_owned()
-            } else if l.starts_with("load_sampling = ") {
-                "load_sampling = \"step_start\"\n".to_owned()
-            } else {
-                format!("{l}\n")
-            }
-        })
-        .collect();
-    assert!(pinned.contains("\nload_sampling = \"step_start\"\n"));
-    pinned
-}
 
 /// The study on the built-in RoboBee (pinned) with `settle` drive periods to settle in.
 fn robobee_study(settle: usize) -> Study {

@@ -160,24 +160,21 @@ fn an_actuated_step_mean_log_of_before_the_reversal_split_matches() {
             })
             .collect();
         assert!(toml.contains(&format!("\nload_sampling = \"{sampling}\"\n")));
-        let vehicle = flapsim::Vehicle::from_toml(&toml, common::ORIGIN).unwrap();
-        let duration = 3.0 / vehicle.freq_hz();
-        let settings = flightlog::SimSettings::new(flapsim::Mode::Free, duration, None, [0.0; 3]);
-        let info = flightlog::RunInfo::new(
+        let duration = 3.0
+            / flapsim::Vehicle::from_toml(&toml, common::ORIGIN)
+                .unwrap()
+                .freq_hz();
+        let opts = mcap_opts(path, None);
+        common::record_model(
+            &opts,
             "simulate",
-            "flapwing simulate",
+            duration,
+            flapsim::Mode::Free,
             &toml,
             common::ORIGIN,
-            settings.to_json(),
-        );
-        let mut rec = flightlog::Recorder::create(&mcap_opts(path, None), &info, &vehicle).unwrap();
-        let mut sim = flapsim::Simulation::new(vehicle, flapsim::Mode::Free);
-        sim.run_while(duration, |out| {
-            rec.record(out).unwrap();
-            true
-        })
-        .unwrap();
-        rec.finish().unwrap().samples
+        )
+        .stats
+        .samples
     };
     let new = dir.path().join("step_mean.mcap");
     let samples = write(&new, "step_mean");
@@ -228,22 +225,19 @@ fn a_log_of_before_the_midpoint_rotation_matches() {
         spec.sim.rotation_at_step_start = old;
         let vehicle = spec.build(common::ORIGIN).unwrap();
         let duration = 10.0 / vehicle.freq_hz();
-        let settings = flightlog::SimSettings::new(flapsim::Mode::Free, duration, None, [0.0; 3]);
-        let info = flightlog::RunInfo::new(
+        let opts = mcap_opts(path, None);
+        let mode = flapsim::Mode::Free;
+        common::record_vehicle(
+            &opts,
             "simulate",
-            "flapwing simulate",
+            duration,
+            mode,
             toml,
             common::ORIGIN,
-            settings.to_json(),
-        );
-        let mut rec = flightlog::Recorder::create(&mcap_opts(path, None), &info, &vehicle).unwrap();
-        let mut sim = flapsim::Simulation::new(vehicle, flapsim::Mode::Free);
-        sim.run_while(duration, |out| {
-            rec.record(out).unwrap();
-            true
-        })
-        .unwrap();
-        rec.finish().unwrap().samples
+            vehicle,
+        )
+        .stats
+        .samples
     };
     let new = dir.path().join("new.mcap");
     let samples = write(&new, false);

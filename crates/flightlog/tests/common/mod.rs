@@ -53,6 +53,20 @@ pub fn record_model(
     origin: &str,
 ) -> Run {
     let vehicle = Vehicle::from_toml(toml, origin).unwrap();
+    record_vehicle(opts, command, duration_s, mode, toml, origin, vehicle)
+}
+
+/// Records a run of `vehicle`, built from the model `toml` (named `origin`) with settings a
+/// model file cannot state (a log of an older scheme, say); the log embeds `toml`.
+pub fn record_vehicle(
+    opts: &LogOptions,
+    command: &str,
+    duration_s: f64,
+    mode: Mode,
+    toml: &str,
+    origin: &str,
+    vehicle: Vehicle,
+) -> Run {
     let settings = SimSettings::new(mode, duration_s, opts.log_rate_hz, [0.0; 3]);
     let info = RunInfo::new(
         command,

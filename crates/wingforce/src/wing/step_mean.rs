@@ -121,11 +121,7 @@ impl Wing {
         dt_s: f64,
         rule: StepRule,
     ) -> StepKinematicLoads {
-        let k = &self.kinematics;
-        let side = self.mount.side;
-        let start = WingFrame::new(&k.angles(phase_start), side);
-        let end = WingFrame::new(&k.angles(phase_end), side);
-        let mut mean = self.kinematic_loads(0.5 * (phase_start + phase_end));
+        let (start, end, mut mean) = self.step_ends(phase_start, phase_end);
         let (cuts, n_cuts) = self.reversal_cuts(phase_start, phase_end);
         let span = phase_end - phase_start;
         let mut sums = [TermForce::default(); 4];
@@ -203,11 +199,7 @@ impl Wing {
         phase_end: f64,
         dt_s: f64,
     ) -> StepKinematicLoads {
-        let k = &self.kinematics;
-        let side = self.mount.side;
-        let start = WingFrame::new(&k.angles(phase_start), side);
-        let end = WingFrame::new(&k.angles(phase_end), side);
-        let mut mean = self.kinematic_loads(0.5 * (phase_start + phase_end));
+        let (start, end, mut mean) = self.step_ends(phase_start, phase_end);
         let remainder = |f: &WingFrame| {
             self.added_mass_moment_parts(f)
                 .map_or_else(Vector3::zeros, |(_, r)| r)
@@ -235,6 +227,21 @@ impl Wing {
         }
         self.exact_added_mass(&mut mean, &start, &end, dt_s, remainder_s);
         StepKinematicLoads { mean, start, end }
+    }
+
+    /// The wing's frames at a step's start and end, and its kinematic loads at the step's
+    /// midpoint (what every representation of the step starts from).
+    fn step_ends(
+        &self,
+        phase_start: f64,
+        phase_end: f64,
+    ) -> (WingFrame, WingFrame, KinematicLoads) {
+        let (k, side) = (&self.kinematics, self.mount.side);
+        (
+            WingFrame::new(&k.angles(phase_start), side),
+            WingFrame::new(&k.angles(phase_end), side),
+            self.kinematic_loads(0.5 * (phase_start + phase_end)),
+        )
     }
 
     /// The ends of the pieces of the step from `phase_start` to `phase_end` between stroke
