@@ -245,16 +245,17 @@ def test_trimmed_wings_carry_the_weight_at_the_flight_condition(built, model, fr
     # cycle-averaged wing loads balance the weight; the fly has no body drag) and reports the
     # attitude and velocity to hold. Held there, with zero control offsets, the wings' force
     # over each wingbeat, turned into the world, is the weight straight up and their moment
-    # about the CoM zero. The FMU steps 200 element steps a wingbeat, the phases the trim
-    # averages over, so the two are the same sums: within 1e-9 of the weight, and of the
-    # weight times the body length (2.5 mm) for the moment (measured 2e-12; at the model's
-    # own 100 steps the stepped wingbeat differs from the 200-phase average by 1.4e-5 at
-    # hover and 5.6e-4 at 1 m/s, the discretisation, which this choice of step removes).
+    # about the CoM zero. The FMU steps 200 element steps a wingbeat (not the model's 20), and
+    # the trim balances the cycle mean of the host's own steps where they divide the wingbeat
+    # (flapsim::trim::at_host_step), so the two are the same sums: within 1e-9 of the weight,
+    # and of the weight times the body length (2.5 mm) for the moment (measured 2e-12; a trim
+    # of other steps differs from the stepped wingbeat by the discretisation: 1.4e-5 of the
+    # weight at hover and 5.6e-4 at 1 m/s between 100 and 200 steps a wingbeat).
     # The bumblebee at 3 m/s has a body drag (drag_area_m2), which its trim balances and the
     # FMU's force applies (docs/plugin.md, "Body drag"): the output is the weight straight up
     # there too (issue #40: it was pushed forward by 12% of its weight before).
     ref = reference(built, 1, 1, model=model)
-    per = 200  # element steps a wingbeat: the phases trim averages over
+    per = 200  # element steps a wingbeat: the steps the trim balances
     dt_s = 1.0 / (freq_hz * per)  # the model's wingbeat frequency (models/*.toml)
     ref = {**ref, "dt_s": dt_s}
     params = {"trim": True, "trim_forward_speed_m_s": speed_m_s, "trim_climb_rate_m_s": climb_m_s,

@@ -60,6 +60,8 @@ pub unsafe extern "C" fn flapwing_wings_trim(
         let vehicle = w.set.vehicle().ok_or_else(|| {
             Failure::invalid(format!("{F}: the handle has no vehicle model to trim"))
         })?;
+        // The trim balances the loads of the handle's own steps where they divide the wingbeat.
+        let vehicle = &flapsim::trim::at_host_step(vehicle, w.set.dt_s());
         let t = trim_at(vehicle, vehicle.trim_lift, &condition).map_err(|e| Failure::sim(F, e))?;
         let point = trim_point(vehicle, &t).map_err(|e| Failure::sim(F, e))?;
         let trimmed = trimmed_vehicle(vehicle, &t).map_err(|e| Failure::sim(F, e))?;

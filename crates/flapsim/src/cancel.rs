@@ -52,6 +52,23 @@ pub fn install(token: Arc<AtomicBool>) {
     TOKEN.with(|t| *t.borrow_mut() = Some(token));
 }
 
+/// The token installed on this thread (by [`with_cancel`] or [`install`]), for work this
+/// thread fans out over rayon's pool: each task runs under it with [`carry`], so that the
+/// analyses' parallel loops (the trim's and the averaged model's Jacobian columns) stop as
+/// their caller would.
+pub fn current() -> Option<Arc<AtomicBool>> {
+    TOKEN.with(|t| t.borrow().clone())
+}
+
+/// Runs `work` with `token` ([`current`] of the thread that fanned it out) installed, and
+/// as it was without one.
+pub fn carry<T>(token: &Option<Arc<AtomicBool>>, work: impl FnOnce() -> T) -> T {
+    match token {
+        Some(token) => with_cancel(token.clone(), work),
+        None => work(),
+    }
+}
+
 /// `Err` ([`INTERRUPTED`]) once the token of the enclosing [`with_cancel`] is set; `Ok`
 /// without one.
 pub fn check() -> Result<()> {

@@ -20,6 +20,8 @@
 
 /// The wake that answers (issue #38; in this binary to keep the suite's link count down).
 mod responsive_wake;
+/// The hover's setup under the step mean (in this binary for the same reason).
+mod trim_setup;
 
 use flapsim::wings::FromVehicle;
 use flapsim::{Controls, Mode, Simulation, State, Vehicle};

@@ -8,6 +8,7 @@
 //! their periodic motion at every evaluation ([`crate::actuated::periodic`]).
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::actuated::{Actuator, Stroke};
@@ -18,8 +19,22 @@ use crate::model::{Controls, Vehicle};
 
 pub mod spec;
 
-/// Phases averaged per evaluation.
+/// Phases averaged per evaluation under the step-start sampling (a rectangle rule over the
+/// wingbeat; see [`trim_samples`]).
 pub const TRIM_SAMPLES: usize = 200;
+
+/// The steps of the wingbeat whose loads a trim of `vehicle` balances: under a second-order
+/// load sampling (`[sim] load_sampling`, `midpoint` or `step_mean`), the vehicle's own
+/// `steps_per_wingbeat`, so that the trim balances exactly the loads its simulation steps
+/// with at the trim state (each step's loads are already a quadrature over the step, so
+/// their mean is the wingbeat's to the quadrature's accuracy); under the step-start
+/// sampling, [`TRIM_SAMPLES`] samples (one per step would balance a rectangle rule's error).
+pub fn trim_samples(vehicle: &Vehicle) -> usize {
+    match vehicle.load_sampling().step_rule() {
+        Some(_) => vehicle.sim.steps_per_wingbeat,
+        None => TRIM_SAMPLES,
+    }
+}
 
 pub use spec::{LiftVariable, TrimSpec};
 
@@ -111,7 +126,7 @@ fn residual(
             velocity_body_m_s: q.inverse() * vel_w,
             angular_velocity_body_rad_s: Vector3::zeros(),
         },
-        TRIM_SAMPLES,
+        trim_samples(&v),
     )?;
     let f = q * m.total.force_n + v.body_drag_world_n(&vel_w);
     let w = v.weight_n();
@@ -121,6 +136,21 @@ fn residual(
         f.z / w - 1.0,
         m.total.moment_nm.y / (w * r_wing),
     ))
+}
+
+/// `vehicle` as a host stepping it every `dt_s` steps it: where `dt_s` divides the wingbeat
+/// (to 1e-9), its `steps_per_wingbeat` is the host's, so that a trim of it balances the
+/// loads that host's steps apply ([`trim_samples`]: a C, FMI or MuJoCo host whose step is
+/// not the model's); otherwise unchanged (the steps then fall on other phases every
+/// wingbeat and no stepped wingbeat is the one to balance).
+pub fn at_host_step(vehicle: &Vehicle, dt_s: f64) -> Vehicle {
+    let mut v = vehicle.clone();
+    let per_wingbeat = 1.0 / (vehicle.freq_hz() * dt_s);
+    let n = per_wingbeat.round();
+    if n >= 1.0 && (per_wingbeat - n).abs() <= 1e-9 * n {
+        v.sim.steps_per_wingbeat = n as usize;
+    }
+    v
 }
 
 /// Finds the hover trim of `vehicle` on the lift variable its model file names (`[trim]`),
@@ -228,16 +258,26 @@ fn search(
         if r.amax() < 1e-10 {
             return Ok(finish(vehicle, lift, condition, x, r, it));
         }
-        let mut jac = Matrix3::zeros();
-        for j in 0..3 {
-            let mut xp = x;
-            let mut xm = x;
-            xp[j] += h[j];
-            xm[j] -= h[j];
-            let rp = residual(&xp).map_err(|e| fail(format!("during the search: {e}")))?;
-            let rm = residual(&xm).map_err(|e| fail(format!("during the search: {e}")))?;
-            jac.set_column(j, &((rp - rm) / (2.0 * h[j])));
-        }
+        // The six residuals of the central differences in parallel (rayon, in order, the first
+        // error in order reported: the same Jacobian bit for bit as one by one).
+        let token = crate::cancel::current();
+        let columns = (0..3)
+            .into_par_iter()
+            .map(|j| {
+                crate::cancel::carry(&token, || {
+                    let mut xp = x;
+                    let mut xm = x;
+                    xp[j] += h[j];
+                    xm[j] -= h[j];
+                    let rp = residual(&xp).map_err(|e| fail(format!("during the search: {e}")))?;
+                    let rm = residual(&xm).map_err(|e| fail(format!("during the search: {e}")))?;
+                    Ok((rp - rm) / (2.0 * h[j]))
+                })
+            })
+            .collect::<Vec<Result<_>>>()
+            .into_iter()
+            .collect::<Result<Vec<_>>>()?;
+        let jac = Matrix3::from_columns(&columns);
         let Some(mut step) = jac.lu().solve(&(-r)) else {
             return Err(fail(
                 "the trim Jacobian is singular (the controls do not affect the balance)".into(),
