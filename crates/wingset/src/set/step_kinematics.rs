@@ -90,19 +90,28 @@ impl WingSet {
                 let rule = self.sampling.step_rule().unwrap_or(StepRule::Midpoint);
                 let half = 0.5 * self.phase_per_step;
                 let (p0, p1) = (phase - half, phase + half);
+                let map = self.control_map.as_deref().map(|m| m.wings());
+                let from_controls =
+                    |i: usize, w: &Wing| map.is_some_and(|m| m[i].kinematics() == w.kinematics());
+                // The correction's table is built when a wing first takes it: a set whose
+                // controls stay the build's never pays for it.
                 let held = match (&self.held, self.steps_per_wingbeat) {
                     (Some(h), Some(per))
-                        if self.periodic && held_correction::serves(self.sampling) =>
+                        if self.periodic
+                            && held_correction::serves(self.sampling)
+                            && self
+                                .wings
+                                .iter()
+                                .enumerate()
+                                .any(|(i, w)| h.applies(i, w, from_controls(i, w))) =>
                     {
                         h.at(p0, per, self.dt_s).map(|c| (h, c))
                     }
                     _ => None,
                 };
-                let map = self.control_map.as_deref().map(|m| m.wings());
                 for (i, (w, r_c)) in self.wings.iter().zip(&self.centroid_r_m).enumerate() {
-                    let from_controls = map.is_some_and(|m| m[i].kinematics() == w.kinematics());
                     let k = match held {
-                        Some((h, c)) if h.applies(i, w, from_controls) => {
+                        Some((h, c)) if h.applies(i, w, from_controls(i, w)) => {
                             held_correction::held_step(w, p0, p1, self.dt_s, &c[i])
                         }
                         _ => w.loads_over_step(p0, p1, self.dt_s, rule),
