@@ -102,6 +102,24 @@ fn every_builtin_vehicle_has_rows_with_sources_and_consistent_verdicts() {
         shown["model"] = other["model"].clone();
         assert_eq!(other["verdict"] == "pass", passes(&shown), "{r}");
     }
+    // A dragonfly row that misses names the pairs' share in its own quantity: the pairs
+    // together under the dynamic wake are the row's dynamic-wake value (the horizontal row's
+    // cause once gave the vertical split).
+    for r in rows
+        .iter()
+        .filter(|r| r["vehicle"] == "dragonfly" && r["verdict"] == "MISS")
+    {
+        let Some(cause) = r["cause"].as_str() else {
+            continue;
+        };
+        if let Some(dynamic) = r["other_wake"]["model"].as_f64() {
+            assert!(
+                cause.contains(&format!("together {dynamic:.3} (")),
+                "{}: {cause}",
+                r["quantity"]
+            );
+        }
+    }
     let (mut passed, mut missed) = (0, 0);
     for r in rows {
         let source = r["source"].as_str().unwrap();

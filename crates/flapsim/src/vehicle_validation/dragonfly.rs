@@ -140,19 +140,31 @@ impl DragonflyFlight {
         })
     }
 
-    /// The fore and the hind pair's mean vertical force over the weight at the flight, each
-    /// flying alone (in its own wake only) from `v`: beside [`FlightForces::vertical`], what
-    /// the pairs' interference does.
-    pub fn vertical_alone(&self, v: &Vehicle) -> Result<[f64; 2]> {
-        let mut out = [0.0; 2];
-        for (pair, o) in out.iter_mut().enumerate() {
+    /// The fore and the hind pair's mean forces at the flight, each flying alone (in its own
+    /// wake only) from `v`, over `v`'s weight: beside [`Self::forces`], what the pairs'
+    /// interference does.
+    pub fn alone(&self, v: &Vehicle) -> Result<[FlightForces; 2]> {
+        let pair = |pair: usize| -> Result<FlightForces> {
             let mut one = v.clone();
             one.wings = one.wings[2 * pair..2 * pair + 2].to_vec();
             one.base_kinematics = one.base_kinematics[2 * pair..2 * pair + 2].to_vec();
             one.pair_control_gains = vec![one.pair_control_gains[pair]];
-            *o = self.forces(&one)?.vertical * one.weight_n() / v.weight_n();
-        }
-        Ok(out)
+            let f = self.forces(&one)?;
+            let scale = one.weight_n() / v.weight_n();
+            Ok(FlightForces {
+                horizontal: f.horizontal * scale,
+                vertical: f.vertical * scale,
+                body_drag_horizontal: f.body_drag_horizontal * scale,
+            })
+        };
+        Ok([pair(0)?, pair(1)?])
+    }
+
+    /// The fore and the hind pair's mean vertical force over the weight, each alone
+    /// ([`Self::alone`]).
+    pub fn vertical_alone(&self, v: &Vehicle) -> Result<[f64; 2]> {
+        let [fore, hind] = self.alone(v)?;
+        Ok([fore.vertical, hind.vertical])
     }
 }
 
@@ -208,22 +220,36 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
             let other = other_forces.get_or_init(|| forces_of(other()));
             let interference = interference.get_or_init(|| {
                 own.with_inflow_model(wingforce::InflowModel::Dynamic)
-                    .and_then(|d| {
-                        let together = flight.forces(&d)?.vertical;
-                        let [fore, hind] = flight.vertical_alone(&d)?;
-                        Ok(format!(
-                            "under the dynamic wake the fore pair alone carries {fore:.3} and the hind pair alone {hind:.3} of the weight, together {together:.3} ({:+.1}% for the pairs' wakes on each other)",
-                            100.0 * (together / (fore + hind) - 1.0)
-                        ))
-                    })
-                    .unwrap_or_else(|e| e.to_string())
+                    .and_then(|d| Ok((flight.forces(&d)?, flight.alone(&d)?)))
+                    .map_err(|e| e.to_string())
             });
+            // Each pair alone and together, in the row's own quantity.
+            let interference = match interference {
+                Ok((together, [fore, hind])) => {
+                    let (together, fore, hind) = (pick(together), pick(fore), pick(hind));
+                    format!(
+                        "under the dynamic wake the fore pair alone gives {fore:.3} and the hind pair alone {hind:.3}, together {together:.3} ({:+.1}% for the pairs' wakes on each other)",
+                        100.0 * (together / (fore + hind) - 1.0)
+                    )
+                }
+                Err(e) => e.clone(),
+            };
+            // The paper's own calculation is of the vertical force (its load factor).
+            let paper = match quantity {
+                "L/W" => format!(
+                    "the paper's own local-circulation calculation gives a load factor of {} with the measured spanwise twist and the wake's unsteady, non-uniform induced flow, neither modelled here",
+                    flight.paper_load_factor
+                ),
+                _ => format!(
+                    "the paper's own local-circulation calculation is of the vertical force only (a load factor of {}), so no published horizontal force to compare",
+                    flight.paper_load_factor
+                ),
+            };
             format!(
-                "{quantity} {value:.3} {}; without Lee et al.'s f_AR f_Ro {}; {}; {interference}; the paper's own local-circulation calculation gives a load factor of {} with the measured spanwise twist and the wake's unsteady, non-uniform induced flow, neither modelled here",
+                "{quantity} {value:.3} {}; without Lee et al.'s f_AR f_Ro {}; {}; {interference}; {paper}",
                 under(v.inflow_model()),
                 shown(plain),
                 shown(other),
-                flight.paper_load_factor
             )
         };
         b.push(
