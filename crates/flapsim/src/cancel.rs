@@ -69,6 +69,21 @@ pub fn carry<T>(token: &Option<Arc<AtomicBool>>, work: impl FnOnce() -> T) -> T 
     }
 }
 
+/// `f(0)`, ..., `f(n - 1)` on rayon's pool, each under this thread's token ([`carry`]),
+/// collected in order: the same values bit for bit as one by one, and the first error in
+/// order (not the first to happen) is the one returned. For the analyses' finite-difference
+/// columns (the trim's Jacobian, the averaged model's A and B), independent evaluations.
+pub fn par_in_order<T: Send>(n: usize, f: impl Fn(usize) -> Result<T> + Sync) -> Result<Vec<T>> {
+    use rayon::prelude::*;
+    let token = current();
+    (0..n)
+        .into_par_iter()
+        .map(|j| carry(&token, || f(j)))
+        .collect::<Vec<Result<T>>>()
+        .into_iter()
+        .collect()
+}
+
 /// `Err` ([`INTERRUPTED`]) once the token of the enclosing [`with_cancel`] is set; `Ok`
 /// without one.
 pub fn check() -> Result<()> {

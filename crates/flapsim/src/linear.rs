@@ -14,7 +14,6 @@
 
 use nalgebra::{DMatrix, DVector, UnitQuaternion, Vector3};
 
-use rayon::prelude::*;
 use std::sync::OnceLock;
 
 use crate::averaged::{FrozenState, StepTable, mean_loads, mean_loads_tabled};
@@ -150,39 +149,23 @@ impl AveragedModel {
             1e-3,
             1e-3,
         ];
-        // The columns are independent evaluations of the averaged loads: computed in parallel
-        // (rayon, collected in order and the first error in order reported, so the matrices are the same bit for bit as one by one).
-        let token = crate::cancel::current();
-        let a_cols = (0..N_STATES)
-            .into_par_iter()
-            .map(|j| {
-                crate::cancel::carry(&token, || {
-                    let mut xp = x0.clone();
-                    let mut xm = x0.clone();
-                    xp[j] += hx[j];
-                    xm[j] -= hx[j];
-                    Ok((self.rhs(&xp, &[0.0; 4])? - self.rhs(&xm, &[0.0; 4])?) / (2.0 * hx[j]))
-                })
-            })
-            .collect::<Vec<Result<_>>>()
-            .into_iter()
-            .collect::<Result<Vec<_>>>()?;
+        // Each column is an independent pair of averaged loads: in parallel, bit for bit.
+        let a_cols = crate::cancel::par_in_order(N_STATES, |j| {
+            let mut xp = x0.clone();
+            let mut xm = x0.clone();
+            xp[j] += hx[j];
+            xm[j] -= hx[j];
+            Ok((self.rhs(&xp, &[0.0; 4])? - self.rhs(&xm, &[0.0; 4])?) / (2.0 * hx[j]))
+        })?;
         let scales = v.control_scales();
-        let b_cols = (0..N_CONTROLS)
-            .into_par_iter()
-            .map(|j| {
-                crate::cancel::carry(&token, || {
-                    let h = 1e-5 * scales[j];
-                    let mut up = [0.0; 4];
-                    let mut um = [0.0; 4];
-                    up[j] = h;
-                    um[j] = -h;
-                    Ok((self.rhs(x0, &up)? - self.rhs(x0, &um)?) / (2.0 * h))
-                })
-            })
-            .collect::<Vec<Result<_>>>()
-            .into_iter()
-            .collect::<Result<Vec<_>>>()?;
+        let b_cols = crate::cancel::par_in_order(N_CONTROLS, |j| {
+            let h = 1e-5 * scales[j];
+            let mut up = [0.0; 4];
+            let mut um = [0.0; 4];
+            up[j] = h;
+            um[j] = -h;
+            Ok((self.rhs(x0, &up)? - self.rhs(x0, &um)?) / (2.0 * h))
+        })?;
         let a = DMatrix::from_columns(&a_cols);
         let b = DMatrix::from_columns(&b_cols);
         Ok((a, b))

@@ -8,7 +8,6 @@
 //! their periodic motion at every evaluation ([`crate::actuated::periodic`]).
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::actuated::{Actuator, Stroke};
@@ -258,25 +257,16 @@ fn search(
         if r.amax() < 1e-10 {
             return Ok(finish(vehicle, lift, condition, x, r, it));
         }
-        // The six residuals of the central differences in parallel (rayon, in order, the first
-        // error in order reported: the same Jacobian bit for bit as one by one).
-        let token = crate::cancel::current();
-        let columns = (0..3)
-            .into_par_iter()
-            .map(|j| {
-                crate::cancel::carry(&token, || {
-                    let mut xp = x;
-                    let mut xm = x;
-                    xp[j] += h[j];
-                    xm[j] -= h[j];
-                    let rp = residual(&xp).map_err(|e| fail(format!("during the search: {e}")))?;
-                    let rm = residual(&xm).map_err(|e| fail(format!("during the search: {e}")))?;
-                    Ok((rp - rm) / (2.0 * h[j]))
-                })
-            })
-            .collect::<Vec<Result<_>>>()
-            .into_iter()
-            .collect::<Result<Vec<_>>>()?;
+        // The six residuals of the central differences in parallel, bit for bit.
+        let columns = crate::cancel::par_in_order(3, |j| {
+            let mut xp = x;
+            let mut xm = x;
+            xp[j] += h[j];
+            xm[j] -= h[j];
+            let rp = residual(&xp).map_err(|e| fail(format!("during the search: {e}")))?;
+            let rm = residual(&xm).map_err(|e| fail(format!("during the search: {e}")))?;
+            Ok((rp - rm) / (2.0 * h[j]))
+        })?;
         let jac = Matrix3::from_columns(&columns);
         let Some(mut step) = jac.lu().solve(&(-r)) else {
             return Err(fail(
