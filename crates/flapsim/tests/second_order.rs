@@ -27,6 +27,11 @@ use flapsim::wings::FromVehicle;
 use flapsim::{Controls, Mode, Simulation, State, Vehicle};
 use wingset::WingSet;
 
+/// A built-in vehicle as its model file has it (for this binary's modules too).
+fn builtin(name: &str) -> Vehicle {
+    Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap()
+}
+
 /// The vehicle with `steps` per wingbeat and the loads taken at `sampling`.
 fn vehicle(toml: &str, steps: usize, sampling: &str) -> Vehicle {
     let mut spec = flapsim::VehicleSpec::from_toml(toml, "model").unwrap();

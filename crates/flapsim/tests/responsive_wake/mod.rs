@@ -11,7 +11,7 @@
 //! linear, quasi-steady statement, and the model adds only the wingbeat's ripple of the
 //! induced flow (the pair loads its disc in pulses) and the disc's dependence on the trim.
 
-use flapsim::Vehicle;
+use super::builtin;
 use flapsim::stability::analyze;
 use wingforce::InflowModel;
 
@@ -22,10 +22,6 @@ fn derivative(report: &flapsim::stability::StabilityReport, name: &str) -> f64 {
         .find(|d| d.name == name)
         .map(|d| d.value)
         .unwrap_or_else(|| panic!("no {name}"))
-}
-
-fn builtin(name: &str) -> Vehicle {
-    Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap()
 }
 
 #[test]

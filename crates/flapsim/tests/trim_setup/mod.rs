@@ -10,13 +10,10 @@
 //! amplitude 0.0015 deg off). And the analyses' finite-difference columns, computed in parallel,
 //! are the same numbers bit for bit on one thread.
 
+use super::builtin;
 use flapsim::linear::{AveragedModel, N_STATES};
-use flapsim::{Mode, Simulation, Vehicle};
+use flapsim::{Mode, Simulation};
 use nalgebra::{DVector, Vector3};
-
-fn builtin(name: &str) -> Vehicle {
-    Vehicle::from_toml(flapsim::builtin_model(name).unwrap(), name).unwrap()
-}
 
 #[test]
 fn a_step_mean_trim_balances_the_steps_the_simulation_takes() {
