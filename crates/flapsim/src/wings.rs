@@ -51,7 +51,11 @@ impl FromVehicle for WingSet {
             Some(a) => Some(
                 a.drives
                     .iter()
-                    .map(|d| DynamicWing::new(a.dynamics.clone(), *d))
+                    .map(|d| {
+                        let mut w = DynamicWing::new(a.dynamics.clone(), *d)?;
+                        w.set_strikes_in_their_step(vehicle.sim.strikes_in_their_step);
+                        Ok(w)
+                    })
                     .collect::<wingset::Result<Vec<_>>>()?,
             ),
             None => None,

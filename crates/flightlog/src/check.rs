@@ -34,7 +34,7 @@ use crate::json::Json;
 use crate::options::SimSettings;
 use crate::read::read_log;
 use crate::schema::{
-    ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT,
+    ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT, STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED,
     TOPIC_STATE, TOPIC_WIND,
 };
 
@@ -167,6 +167,9 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
     // A run logged before the midpoint rotation advanced the body's rates as rapier does.
     spec.sim.rotation_at_step_start =
         md.get(BODY_ROTATION_KEY).map(String::as_str) != Some(BODY_ROTATION_MIDPOINT);
+    // A run logged before the strikes were shared between steps reported each in its step.
+    spec.sim.strikes_in_their_step =
+        md.get(STRIKE_IMPULSE_KEY).map(String::as_str) != Some(STRIKE_IMPULSE_SHARED);
     let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let rate = match md.get("log_rate_hz").map(String::as_str) {

@@ -347,3 +347,11 @@ pub const ACTUATED_STEP_MEAN_SPLIT: &str = "split_at_reversals";
 pub const BODY_ROTATION_KEY: &str = "body_rotation";
 /// See [`BODY_ROTATION_KEY`].
 pub const BODY_ROTATION_MIDPOINT: &str = "midpoint";
+
+/// The metadata key that says where the logged run's actuated wings reported a hinge stop's
+/// strike, and its value since a strike's impulse is shared between the step it falls in and
+/// the next (wingset's `actuated::dynamics`, `strike.rs`, 2026-12-06). A log without it
+/// re-runs with the whole impulse in its step (`SimSpec::strikes_in_their_step`).
+pub const STRIKE_IMPULSE_KEY: &str = "strike_impulse";
+/// See [`STRIKE_IMPULSE_KEY`].
+pub const STRIKE_IMPULSE_SHARED: &str = "shared_with_next_step";

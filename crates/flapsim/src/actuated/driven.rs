@@ -51,6 +51,7 @@ impl DrivenPair {
         let wing = |drive: Drive| -> Result<DynamicWing> {
             let mut w = DynamicWing::new(act.dynamics.clone(), drive)?;
             w.set_load_sampling(sampling);
+            w.set_strikes_in_their_step(vehicle.sim.strikes_in_their_step);
             Ok(w)
         };
         Ok(Self {

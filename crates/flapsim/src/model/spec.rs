@@ -128,6 +128,12 @@ pub struct SimSpec {
     /// model-file field. See [`crate::host::midpoint_torque_world`].
     #[serde(skip)]
     pub rotation_at_step_start: bool,
+    /// An actuated wing's stop strike reported whole in the body step it falls in, as before
+    /// 2026-12-06: a log written before the strikes were shared between steps (no
+    /// `strike_impulse` metadata) re-runs with it. Not a model-file field. See wingset's
+    /// `actuated::dynamics` (`strike.rs`).
+    #[serde(skip)]
+    pub strikes_in_their_step: bool,
     /// rapier solver iterations (substeps) per step.
     pub solver_iterations: usize,
     /// Add a ground plane at z = 0 and a contact sphere on the body (take-off and landing).
@@ -148,6 +154,7 @@ impl Default for SimSpec {
             accurate_steps_per_wingbeat: None,
             load_sampling: None,
             rotation_at_step_start: false,
+            strikes_in_their_step: false,
             solver_iterations: 1,
             ground: false,
             wing_mass_kg: 0.0,

@@ -18,7 +18,8 @@ use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY,
+    self, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, STRIKE_IMPULSE_KEY,
+    STRIKE_IMPULSE_SHARED,
     BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, WingLayout,
     channel_id,
 };
@@ -142,6 +143,10 @@ fn run_metadata(
         (
             BODY_ROTATION_KEY.to_owned(),
             BODY_ROTATION_MIDPOINT.to_owned(),
+        ),
+        (
+            STRIKE_IMPULSE_KEY.to_owned(),
+            STRIKE_IMPULSE_SHARED.to_owned(),
         ),
         ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
     ])

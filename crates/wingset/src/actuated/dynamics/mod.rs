@@ -104,6 +104,7 @@ mod equations;
 mod model;
 mod reversal;
 mod step;
+mod strike;
 mod wing;
 
 pub(super) use equations::Held;

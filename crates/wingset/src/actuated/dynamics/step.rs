@@ -27,10 +27,10 @@ type Loads = (StepStart, Held, Option<(WingForces, WingFrame)>);
 
 /// The state, time and stroke phase at a step's start (what its report describes).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct StepStart {
-    state: WingState,
-    t_s: f64,
-    phase: StrokePhase,
+pub(super) struct StepStart {
+    pub(super) state: WingState,
+    pub(super) t_s: f64,
+    pub(super) phase: StrokePhase,
 }
 
 impl DynamicWing {
@@ -55,7 +55,7 @@ impl DynamicWing {
 
     /// [`Self::aero_held`] at a given state, time and stroke phase.
     #[inline(always)]
-    fn aero_at(
+    pub(super) fn aero_at(
         &self,
         wing: &Wing,
         body: &BodyMotion,
@@ -110,6 +110,7 @@ impl DynamicWing {
         // last loads the integrator took (the step's end when it ended resting on a stop),
         // each computed once.
         let mut start_loads = None;
+        let mut moved: Vec<(WingStep, f64)> = Vec::new();
         let last_loads: Cell<Option<Loads>> = Cell::new(None);
         let mut next_reference = None;
         // Stroke reversals the step was split at (the step mean without stops): time and the
@@ -337,15 +338,24 @@ impl DynamicWing {
                 mean.add_scaled(&self.report(wing, &held, aero, a, &at), w);
             }
             for (at, jump) in strikes {
-                // The impulse's share of the step's mean: the inertial reaction's part linear
-                // in the accelerations at the strike (two reports differing only in them),
-                // and the stop's angular impulse on the wing as hinge moment.
-                let held = self.aero_at(wing, body, &at).0;
-                let per_s = [jump[0] / dt_s, jump[1] / dt_s];
-                mean.add_scaled(&self.report(wing, &held, None, per_s, &at), 1.0);
-                mean.add_scaled(&self.report(wing, &held, None, [0.0; 2], &at), -1.0);
-                let m = self.mass_matrix(at.state.theta_rad, &held.added);
-                mean.hinge_moment_nm += m[1][0] * per_s[0] + m[1][1] * per_s[1];
+                if self.strikes_in_their_step {
+                    // As before 2026-12-06 (`super::strike`), operation for operation.
+                    let held = self.aero_at(wing, body, &at).0;
+                    let per_s = [jump[0] / dt_s, jump[1] / dt_s];
+                    mean.add_scaled(&self.report(wing, &held, None, per_s, &at), 1.0);
+                    mean.add_scaled(&self.report(wing, &held, None, [0.0; 2], &at), -1.0);
+                    let m = self.mass_matrix(at.state.theta_rad, &held.added);
+                    mean.hinge_moment_nm += m[1][0] * per_s[0] + m[1][1] * per_s[1];
+                    continue;
+                }
+                // The impulse (its fluid part is in the added mass's change of impulse
+                // over the step, below): this step reports its hat share, the next the rest.
+                let (inertial, loads) = self.strike_loads(wing, body, &at, jump, dt_s);
+                mean.add_scaled(&inertial, 1.0);
+                let rest = 1.0 - Self::strike_share(start.t_s, at.t_s, dt_s);
+                if rest > 0.0 {
+                    moved.push((loads, rest));
+                }
             }
             out = Some(mean);
             if next_reference.is_some() {
@@ -353,6 +363,9 @@ impl DynamicWing {
             }
         }
         let mut out = out.expect("at least one sub-step");
+        // The strikes' shares for the next step (`super::strike`), taken out after the added
+        // mass's change of impulse (which holds the fluid's part), and those carried in.
+        let carried = self.carried_strike.take();
         if let Some(start) = frame_start {
             // The impulse-form added mass is -dP/dt of the fluid's impulse. Held over the
             // step, its value at the step's start would hand the body an impulse that differs
@@ -372,6 +385,13 @@ impl DynamicWing {
                 out.forces.total.c_d += t.c_d - out.forces.terms[i].c_d;
                 out.forces.terms[i] = t;
             }
+        }
+        for (loads, rest) in moved {
+            out.add_scaled(&loads, -rest);
+            self.carry_strike(&loads, rest);
+        }
+        if let Some(c) = carried {
+            out.add_scaled(&c, 1.0);
         }
         Ok(out)
     }
@@ -476,7 +496,7 @@ impl DynamicWing {
     }
 
     /// The loads at the step's start `at`, with the accelerations `acc`.
-    fn report(
+    pub(super) fn report(
         &self,
         wing: &Wing,
         held: &Held,

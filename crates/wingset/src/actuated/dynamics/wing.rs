@@ -145,6 +145,12 @@ pub struct DynamicWing {
     /// aerodynamic loads are taken afresh at every Runge-Kutta stage and the step reports
     /// its mean loads; with `StepStart` (no stops) they are held and reported at its start.
     pub(super) sampling: LoadSampling,
+    /// The share of the last step's strikes' impulses the next step reports
+    /// ([`super::strike`]).
+    pub(super) carried_strike: Option<WingStep>,
+    /// Whether a strike's impulse is reported whole in its step, as before 2026-12-06
+    /// ([`DynamicWing::set_strikes_in_their_step`]).
+    pub(super) strikes_in_their_step: bool,
 }
 
 impl DynamicWing {
@@ -184,6 +190,8 @@ impl DynamicWing {
             // Step-start until a wing set that samples at the midpoint says otherwise (the
             // actuated vehicles' default, `flapsim::Vehicle::load_sampling`).
             sampling: LoadSampling::StepStart,
+            carried_strike: None,
+            strikes_in_their_step: false,
         };
         w.set_drive(drive)?;
         Ok(w)
