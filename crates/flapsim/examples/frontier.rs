@@ -6,7 +6,8 @@
 //! - the main job, `hover`'s default run (trimmed, LQR-controlled, 1 s from a 5 deg pitch
 //!   disturbance): the relative error of its largest excursion and of its recovery time;
 //! - the hover trim: the largest relative error of its stroke amplitude, mean stroke and
-//!   pitch;
+//!   pitch (an actuated vehicle: of its drive amplitude, of its drive bias relative to that,
+//!   and of its pitch in rad);
 //! - forward flight (prescribed wings): the wing set stepped through one wingbeat with the
 //!   body held at the hover trim's attitude (the model's initial one without a trim) and
 //!   moving forward at an advance ratio of 0.5 (half the wings' mean tip speed 2 Phi f R;
@@ -65,6 +66,8 @@ struct Measured {
     /// The run's step, s (the resolution of its recovery time).
     dt_s: f64,
     trim: Option<[f64; 3]>,
+    /// Whether `trim` is a drive's (amplitude and bias, V; pitch, rad).
+    trim_actuated: bool,
     floquet: Option<Vec<(f64, f64)>>,
     /// The forward-flight force error over the weight (prescribed wings).
     forward: Option<f64>,
@@ -138,7 +141,15 @@ fn measure(name: &str, steps: usize, sampling: LoadSampling) -> Measured {
     match trim {
         Ok(trim) => {
             let c = &trim.controls;
-            m.trim = Some([c.amplitude_rad, c.mean_stroke_rad, trim.pitch_rad]);
+            m.trim = Some(match &v.actuation {
+                // An actuated vehicle trims its drive: its amplitude and bias, V.
+                Some(a) => {
+                    let d = &a.base_drives[0];
+                    [d.amplitude_v + c.amplitude_v, d.bias_v + c.bias_v, trim.pitch_rad]
+                }
+                None => [c.amplitude_rad, c.mean_stroke_rad, trim.pitch_rad],
+            });
+            m.trim_actuated = v.actuation.is_some();
             let start = Instant::now();
             let run = HoverController::design(&v, &trim, &LqrWeights::default(), 0)
                 .map_err(|e| e.to_string())
@@ -229,9 +240,15 @@ fn errors(m: &Measured, reference: &Measured) -> [f64; 7] {
         };
     }
     if let (Some(t), Some(t0)) = (m.trim, reference.trim) {
-        // The mean stroke and pitch relative to the amplitude (they may be near zero).
+        // The mean stroke and pitch relative to the amplitude (they may be near zero); an
+        // actuated vehicle's drive bias relative to its drive amplitude, its pitch in rad (a
+        // relative error of a 1 rad angle: volts and radians do not divide).
+        let scale = match reference.trim_actuated {
+            true => [t0[0].abs(), t0[0].abs(), 1.0],
+            false => [t0[0].abs(); 3],
+        };
         e[3] = (0..3)
-            .map(|i| (t[i] - t0[i]).abs() / t0[0].abs())
+            .map(|i| (t[i] - t0[i]).abs() / scale[i])
             .fold(0.0, f64::max);
     }
     if let (Some(s), Some(s0)) = (&m.open_loop, &reference.open_loop) {
