@@ -18,10 +18,9 @@ use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, STRIKE_IMPULSE_KEY,
-    STRIKE_IMPULSE_SHARED,
-    BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, WingLayout,
-    channel_id,
+    self, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY,
+    BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING,
+    STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, WingLayout, channel_id,
 };
 use crate::writer::{Flushed, Writer};
 

@@ -78,8 +78,10 @@
 //!   thinned where no rate has moved by 0.1% of the step's largest, each node's
 //!   accelerations shifted by one constant so that their mean is the step's smooth change
 //!   of rate (the inertial and added-mass impulses stay exact). An inelastic strike's
-//!   impulse is not shared out: its reaction is taken where the wing struck (shared, it
-//!   would act along axes that turn with the stroke over the step). The angles and actuator
+//!   impulse is not shared out over the step's nodes: its reaction is taken where the wing
+//!   struck (shared, it would act along axes that turn with the stroke over the step). It is
+//!   shared between the step it falls in and the next by its place in the step, so that the
+//!   body moves as the impulse moves it (`strike.rs`). The angles and actuator
 //!   it reports are the mid-step mean motion's.
 //!
 //! Under the step mean (`LoadSampling::StepMean`) a sub-step without stops that crosses a
