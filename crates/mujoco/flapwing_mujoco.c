@@ -120,6 +120,8 @@ typedef struct Instance {
   uint64_t steps;               /* wing steps since creation */
   int failing;                  /* the last step failed (warned once per run of failures) */
   FlapwingWrench wrench;        /* applied in the current step, body frame */
+  double inertia_body[9];       /* free joint: the body's inertia about its centre of mass,
+                                 * body frame (row-major), for the gyroscopic correction */
   /* Controls driven by actuators named `<instance name>:<field>` (ctrl in SI). */
   int nactuated;
   int actuator_id[NCONTROL];
@@ -442,6 +444,14 @@ static void step_wings(const mjModel *m, mjData *d, int instance, Instance *in) 
   }
   FlapwingWrench w;
   FlapwingStatus st = flapwing_wings_step(in->wings, &s, &w);
+  if (st == FLAPWING_OK && in->free_dof >= 0) {
+    /* MuJoCo's Euler takes the free body's gyroscopic term (its bias force) at the step's
+     * start; the wings' correction makes the rates' update the midpoint rule of Euler's
+     * equations, second order as the loads are (crates/mujoco/README.md, "Stepping"). */
+    double g[3];
+    st = flapwing_wings_gyroscopic_correction(in->wings, in->inertia_body, &g);
+    for (int i = 0; i < 3; i++) w.moment_body_nm[i] += g[i];
+  }
   in->steps++;
   const char *why = NULL;
   int info = m->body_dofadr[in->body_id];
@@ -518,6 +528,19 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
   in->body_id = body_id;
   int j = m->body_jntadr[body_id];
   in->free_dof = m->body_jntnum[body_id] == 1 && m->jnt_type[j] == mjJNT_FREE ? m->jnt_dofadr[j] : -1;
+  if (in->free_dof >= 0) {
+    /* R diag(body_inertia) R^T, R the principal axes' orientation in the body frame. */
+    mjtNum r[9];
+    mju_quat2Mat(r, m->body_iquat + 4 * body_id);
+    const mjtNum *diag = m->body_inertia + 3 * body_id;
+    for (int a = 0; a < 3; a++) {
+      for (int c = 0; c < 3; c++) {
+        double sum = 0.0;
+        for (int k = 0; k < 3; k++) sum += r[3 * a + k] * diag[k] * r[3 * c + k];
+        in->inertia_body[3 * a + c] = sum;
+      }
+    }
+  }
   if (read_config(m, instance, &in->config, msg, sizeof(msg)) != 0 ||
       map_actuators(m, instance, in, msg, sizeof(msg)) != 0 ||
       !(in->wings = create_wings(&in->config, &in->base, msg, sizeof(msg)))) {

@@ -37,10 +37,14 @@ def rotate(q, v):
     return r @ v
 
 
-def fly(wingbeats=20, model="drosophila"):
-    """Open-loop flight from the model's initial state; returns the final state."""
+def fly(wingbeats=20, model="drosophila", gyroscopic_correction=True, **controls):
+    """Open-loop flight from the model's initial state (with control offsets `controls`, e.g.
+    diff_amplitude_rad); returns the final state. `gyroscopic_correction=False` leaves the
+    loop's rates first order in a flight that turns about more than one axis."""
     vehicle = flapwing.Vehicle(model)
     wings = flapwing.WingSet(vehicle)
+    if controls:
+        wings.set_controls(**controls)
     sim = flapwing.Simulation(vehicle)  # for the body's mass, inertia and initial state
     mass_kg = vehicle.mass_kg
     inertia = np.asarray(vehicle.inertia_kg_m2)
@@ -52,7 +56,11 @@ def fly(wingbeats=20, model="drosophila"):
     for _ in range(wingbeats * sim.steps_per_wingbeat):
         out = wings.step(p, q, v, w)
         f_world = rotate(q, out["force_body_n"])
+        # This loop takes the gyroscopic term w x I w at the step's start: the wings' correction
+        # makes its update of w the midpoint rule, second order as the loads are.
         m_body = out["moment_body_nm"]
+        if gyroscopic_correction:
+            m_body = m_body + wings.gyroscopic_correction_nm(inertia)
         # Your simulator's step: Newton and Euler, semi-implicit.
         v = v + dt * (f_world / mass_kg + g)
         w = w + dt * np.linalg.solve(inertia, m_body - np.cross(w, inertia @ w))

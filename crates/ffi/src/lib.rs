@@ -31,6 +31,7 @@ mod args;
 mod error;
 mod flight;
 mod inflow;
+mod rotation;
 mod types;
 
 use std::ffi::{CStr, c_char};
@@ -45,6 +46,7 @@ pub use flight::{FlapwingTrim, flapwing_wings_body_drag, flapwing_wings_trim};
 pub use inflow::{
     FlapwingInflow, flapwing_wings_inflow, flapwing_wings_inflow_pairs, flapwing_wings_set_inflow,
 };
+pub use rotation::flapwing_wings_gyroscopic_correction;
 pub use types::*;
 
 /// A C string argument as UTF-8.

@@ -86,6 +86,19 @@ impl WingSet {
     fn restart_motion(&mut self) {
         self.set.restart_motion();
     }
+    /// After a step: the body-frame moment, N m, to add to it when your integrator takes the
+    /// body's gyroscopic term w x I w at the step's start in the body frame (a semi-implicit
+    /// Euler loop such as examples/python/wings_in_your_loop.py; MuJoCo's free joint): the
+    /// start's term less the one at the rates the wings took their loads at, so that the
+    /// rates' update is the midpoint rule of Euler's equations, second order as the loads
+    /// are. Zeros before the first step, after `restart_motion` and for "step_start".
+    /// `inertia_body_kg_m2`: 3 x 3, about the centre of mass, body frame.
+    fn gyroscopic_correction_nm(&self, inertia_body_kg_m2: [[f64; 3]; 3]) -> PyResult<[f64; 3]> {
+        let flat: Vec<f64> = inertia_body_kg_m2.iter().flatten().copied().collect();
+        finite("inertia_body_kg_m2", &flat)?;
+        let i = nalgebra::Matrix3::from_row_slice(&flat);
+        Ok(self.set.gyroscopic_correction_nm(&i).into())
+    }
     /// Each wing pair's dynamic inflow states `(w0, w_x, w_y)`, m/s: the mean induced
     /// velocity through the pair's disc and the extra downwash at its front and left edges
     /// (`[aero] inflow = "dynamic"`; an empty list otherwise).

@@ -56,7 +56,9 @@
 //! rates in a turn about more than one axis where it applies the torque through the inertia
 //! and the gyroscopic term at the step's start (rapier's: measured first order on a rolling
 //! and yawing fly; flapsim's `Simulation` and `RapierWings` hand it the midpoint rule's torque,
-//! `flapsim::host::midpoint_torque_world`; MuJoCo and other hosts keep their own), and a
+//! `flapsim::host::midpoint_torque_world`; a host that takes the gyroscopic term at the step's
+//! start in the body frame, MuJoCo's plugin among them, adds
+//! `WingSet::gyroscopic_correction_nm`), and a
 //! wind field a host evaluates at the body's position at t_k. Under `Midpoint`, odd step counts put a
 //! reversal on a step's midpoint, where the translational term's one sample aliases (the fly
 //! at 25: a pitch error of 3.9 deg after 0.3 s open loop, against 0.08 at 26); under
