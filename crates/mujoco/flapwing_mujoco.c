@@ -285,6 +285,21 @@ static FlapwingWings *create_wings(const Config *c, FlapwingControls *base, char
   return w;
 }
 
+/* The instance's wings (create_wings), told, on a body with a free joint, that MuJoCo's Euler
+ * takes the body's gyroscopic term (its bias force) at the step's start: each step's moment
+ * then carries the correction that makes the rates' update the midpoint rule of Euler's
+ * equations, second order as the loads are (crates/mujoco/README.md, "Stepping"). */
+static FlapwingWings *instance_wings(Instance *in, char *msg, size_t nmsg) {
+  FlapwingWings *w = create_wings(&in->config, &in->base, msg, nmsg);
+  if (w && in->free_dof >= 0 &&
+      flapwing_wings_set_gyroscopic_host(w, in->inertia_body) != FLAPWING_OK) {
+    snprintf(msg, nmsg, "the body's inertia: %s", flapwing_last_error());
+    flapwing_wings_free(w);
+    return NULL;
+  }
+  return w;
+}
+
 /*---------------------------------- the body ---------------------------------------------*/
 
 /* A body on one free joint (the fly of fly.xml): its state and wrench straight from and into
@@ -444,14 +459,6 @@ static void step_wings(const mjModel *m, mjData *d, int instance, Instance *in) 
   }
   FlapwingWrench w;
   FlapwingStatus st = flapwing_wings_step(in->wings, &s, &w);
-  if (st == FLAPWING_OK && in->free_dof >= 0) {
-    /* MuJoCo's Euler takes the free body's gyroscopic term (its bias force) at the step's
-     * start; the wings' correction makes the rates' update the midpoint rule of Euler's
-     * equations, second order as the loads are (crates/mujoco/README.md, "Stepping"). */
-    double g[3];
-    st = flapwing_wings_gyroscopic_correction(in->wings, in->inertia_body, &g);
-    for (int i = 0; i < 3; i++) w.moment_body_nm[i] += g[i];
-  }
   in->steps++;
   const char *why = NULL;
   int info = m->body_dofadr[in->body_id];
@@ -543,7 +550,7 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
   }
   if (read_config(m, instance, &in->config, msg, sizeof(msg)) != 0 ||
       map_actuators(m, instance, in, msg, sizeof(msg)) != 0 ||
-      !(in->wings = create_wings(&in->config, &in->base, msg, sizeof(msg)))) {
+      !(in->wings = instance_wings(in, msg, sizeof(msg)))) {
     free_config(&in->config);
     free(in);
     return init_failed("%s instance %d (body `%s`): %s", PLUGIN_NAME, instance,
@@ -576,7 +583,7 @@ static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_da
   char msg[MESSAGE_CHARS];
   flapwing_wings_free(in->wings);
   in->steps = 0;
-  in->wings = create_wings(&in->config, &in->base, msg, sizeof(msg));
+  in->wings = instance_wings(in, msg, sizeof(msg));
   in->sent = in->base;
   in->control_failing = 0;
   if (!in->wings) {

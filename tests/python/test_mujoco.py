@@ -206,7 +206,7 @@ def fly_roll(steps_per_wingbeat, wingbeats=10):
 
 def test_a_rolling_fly_in_mujoco_converges_at_second_order(native):
     """MuJoCo's Euler takes the free body's gyroscopic term w x I w (its bias force) at the
-    step's start; the plugin adds the wings' `flapwing_wings_gyroscopic_correction`, so that
+    step's start; the plugin adds the wings' correction (`flapwing_wings_set_gyroscopic_host`), so that
     its update of the rates is the midpoint rule of Euler's equations and a fly turning about
     more than one principal axis stays second order (a one-step method of order p divides its
     error by 2^p per halved step; Hairer, Norsett & Wanner I, II.4). Measured against the

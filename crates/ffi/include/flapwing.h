@@ -571,26 +571,25 @@ enum FlapwingStatus flapwing_wings_set_inflow(struct FlapwingWings *wings,
                                               struct FlapwingInflow state);
 
 /**
- * After a step: the body-frame moment, N m, to add to the step's wrench when the host takes
- * the body's gyroscopic term w x I w at the step's start in the body frame, as MuJoCo does
- * for a free joint (its bias force) and a plain semi-implicit Euler loop does:
- * w_k x I w_k - w_m x I w_m, with w_k the rates the step was given and w_m those the wings
- * took their loads at (a second-order `[sim] load_sampling` predicts them at the step's
- * midpoint). The host's update of the body rates is then the midpoint rule of Euler's
- * equations, second order as the loads are; without it a body turning about more than one
- * principal axis is first order. Zeros before the first step, after
- * `flapwing_wings_restart_motion` and under the step-start sampling.
- *
- * `inertia_body_kg_m2`: the body's inertia about its centre of mass, body frame, row-major
- * 3 x 3 (finite); the host's own, so that the term cancels the host's exactly.
+ * Says that the host takes the body's gyroscopic term w x I w at the step's start in the body
+ * frame, as MuJoCo does for a free joint (its bias force) and a plain semi-implicit Euler loop
+ * does, with `inertia_body_kg_m2` its inertia of the body about the centre of mass, body
+ * frame, row-major 3 x 3 (finite); NULL: it does not (the default). From the next step on,
+ * the moment `flapwing_wings_step` returns then includes w_k x I w_k - w_m x I w_m, with w_k
+ * the rates the step was given and w_m those the wings took their loads at (a second-order
+ * `[sim] load_sampling` predicts them at the step's midpoint): the host's update of the
+ * rates becomes the midpoint rule of Euler's equations, second order as the loads are;
+ * without it a body turning about more than one principal axis is first order. The term is
+ * zero under the step-start sampling, at the first step and after
+ * `flapwing_wings_restart_motion`; `flapwing_wings_term`, `_inertia` and `_wing` do not
+ * include it.
  *
  * # Safety
  * `wings` is NULL or a live handle; `inertia_body_kg_m2` is NULL or valid for a read of 9
- * doubles; `out_moment_body_nm` is NULL or valid for a write of 3 doubles.
+ * doubles.
  */
-enum FlapwingStatus flapwing_wings_gyroscopic_correction(const struct FlapwingWings *wings,
-                                                         const double *inertia_body_kg_m2,
-                                                         double (*out_moment_body_nm)[3]);
+enum FlapwingStatus flapwing_wings_set_gyroscopic_host(struct FlapwingWings *wings,
+                                                       const double *inertia_body_kg_m2);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -46,7 +46,7 @@ pub use flight::{FlapwingTrim, flapwing_wings_body_drag, flapwing_wings_trim};
 pub use inflow::{
     FlapwingInflow, flapwing_wings_inflow, flapwing_wings_inflow_pairs, flapwing_wings_set_inflow,
 };
-pub use rotation::flapwing_wings_gyroscopic_correction;
+pub use rotation::flapwing_wings_set_gyroscopic_host;
 pub use types::*;
 
 /// A C string argument as UTF-8.
@@ -357,14 +357,22 @@ pub unsafe extern "C" fn flapwing_wings_step(
             let state = b
                 .to_state()
                 .map_err(|m| Failure::invalid(format!("{F}: {m}")))?;
-            w.set
+            let mut total = w
+                .set
                 .step(&state)
                 .map(|o| FlapwingWrench::from(&o.total))
                 .map_err(|e| match e.is_load_overflow() {
                     // The host's state or wind, not a run of ours: a bad argument.
                     true => Failure::invalid(format!("{F}: wing set: {}", e.reason())),
                     false => Failure::sim(F, e),
-                })
+                })?;
+            if let Some(i) = &w.gyroscopic_host {
+                let g = w.set.gyroscopic_correction_nm(i);
+                for (m, g) in total.moment_body_nm.iter_mut().zip(g.iter()) {
+                    *m += g;
+                }
+            }
+            Ok(total)
         });
         // SAFETY: non-null (checked) and valid for a write (this function's contract).
         unsafe { total_out.write(r.as_ref().copied().unwrap_or_default()) };

@@ -25,6 +25,10 @@ pub const FLAPWING_QUATERNION_NORM_TOLERANCE: f64 = 1e-6;
 pub struct FlapwingWings {
     pub(crate) set: WingSet,
     pub(crate) body: FlapwingBodyProperties,
+    /// The host's inertia of the body when the host takes the gyroscopic term at the step's
+    /// start (`flapwing_wings_set_gyroscopic_host`): each step's total then carries the
+    /// correction.
+    pub(crate) gyroscopic_host: Option<nalgebra::Matrix3<f64>>,
 }
 
 /// The body's state at t_k, from the host.
@@ -292,6 +296,7 @@ impl FlapwingWings {
         Ok(Self {
             body: body_properties(&vehicle),
             set,
+            gyroscopic_host: None,
         })
     }
 

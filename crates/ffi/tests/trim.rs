@@ -14,6 +14,9 @@
 /// A pair's dynamic inflow through the C ABI (in this binary to keep the link count down).
 mod inflow_abi;
 
+/// A host that takes the gyroscopic term at the step's start (in this binary likewise).
+mod gyroscopic_abi;
+
 use std::ptr;
 
 use flapsim::Vehicle;

@@ -271,6 +271,9 @@ class WingSet:
         predicted from the last two states `step` was given)."""
     def restart_motion(self) -> None:
         """Forget earlier states: call after moving the body by hand."""
+    def gyroscopic_correction_nm(self, inertia_body_kg_m2: npt.ArrayLike) -> list[float]:
+        """After a step: the body-frame moment to add when your integrator takes w x I w at
+        the step's start (makes its rates' update the midpoint rule); zeros for step_start."""
     @property
     def inflow_states(self) -> list[tuple[float, float, float]]:
         """Each pair's dynamic inflow (w0, w_x, w_y), m/s; empty unless the wake answers."""
