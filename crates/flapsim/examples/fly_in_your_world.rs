@@ -104,6 +104,8 @@ fn fly() -> flapsim::Result<bool> {
         }
         host.apply(&mut world.bodies)?;
         world.step();
+        // The step-mean sampling's pose (second order), as flapsim's own Simulation takes it.
+        host.after_step(&mut world.bodies, &world.params)?;
         max_height_m = max_height_m.max(state.position_m.z);
         if t_s > RAMP_S + 0.05 && t_s < RAMP_S + HOLD_S {
             max_hold_error_m = max_hold_error_m

@@ -94,6 +94,9 @@ fn fly() -> flapsim::Result<bool> {
             f.host.apply(&mut world.bodies)?;
         }
         world.step();
+        for f in &mut fliers {
+            f.host.after_step(&mut world.bodies, &world.params)?;
+        }
     }
     let mut ok = true;
     for f in &fliers {

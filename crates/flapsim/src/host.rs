@@ -4,7 +4,9 @@
 //! [`RigidBodySet`]. Before each step of the user's `PhysicsPipeline` (with the wing set's
 //! time step as `IntegrationParameters::dt`), [`RapierWings::apply`] reads the body's state,
 //! steps the wings, and sets the body's user force and torque to the wings' loads (rapier keeps
-//! user forces until reset). The world may hold anything else: ground, obstacles, other
+//! user forces until reset); after it, [`RapierWings::after_step`] moves the pose to the
+//! trapezoidal rule under a second-order load sampling, so that the body follows flapsim's own
+//! `Simulation` to round-off (`flapsim/tests/rapier_host.rs`). The world may hold anything else: ground, obstacles, other
 //! vehicles with their own wing sets.
 //!
 //! Frames: the wing set's body frame is the rapier body's local frame, its origin the
@@ -89,6 +91,13 @@ fn principal_axes(i: &nalgebra::Matrix3<f64>) -> (Vector3<f64>, nalgebra::UnitQu
     )
 }
 
+/// True when two inertia tensors agree to 1e-9 of the larger one's largest entry (the
+/// tolerance of [`reproduces`]).
+fn same_tensor(a: &nalgebra::Matrix3<f64>, b: &nalgebra::Matrix3<f64>) -> bool {
+    let scale = a.amax().max(b.amax());
+    (a - b).amax() <= 1e-9 * scale
+}
+
 /// True when mass properties' principal moments in their principal frame give back the
 /// inertia tensor `inertia` (to 1e-9 of its largest entry).
 fn reproduces(props: &MassProperties, inertia: &Matrix) -> bool {
@@ -157,6 +166,29 @@ pub fn midpoint_torque_world(
     }
 }
 
+/// Moves the pose rapier integrated over a step from `before` (the body's state at the
+/// step's start) to the trapezoidal rule's (second-order stepping, `wingset::sampling`).
+/// rapier's semi-implicit Euler moves the body by dt v_{k+1} (in `substeps` sub-steps of h:
+/// by h v at each one's end); with the wings' loads the step's means, v_{k+1} is second-order
+/// accurate, and the pose x_k + dt (v_k + v_{k+1})/2 then is too, where dt v_{k+1} leaves a
+/// bias of dt/2 (v(t) - v(0)) in position and attitude (first order, measured: the fly's hover
+/// excursion error fell only 3.9x from 100 to 400 steps per wingbeat without this, 0.09% at
+/// 100). With a constant load the pose leads the trapezoidal rule's by h/2 (v_{k+1} - v_k);
+/// likewise the attitude is turned back by h/2 (omega_{k+1} - omega_k), world frame.
+pub(crate) fn trapezoid_pose(rb: &mut RigidBody, before: &State, dt_s: f64, substeps: usize) {
+    let after = body_state(rb);
+    let half = 0.5 * dt_s / substeps.max(1) as f64;
+    let w0 = before.world_from_body * before.angular_velocity_body_rad_s;
+    let w1 = after.world_from_body * after.angular_velocity_body_rad_s;
+    let position_m = after.position_m - half * (after.velocity_m_s - before.velocity_m_s);
+    let world_from_body =
+        nalgebra::UnitQuaternion::from_scaled_axis(-half * (w1 - w0)) * after.world_from_body;
+    rb.set_position(
+        Pose::from_parts(to_glam(&position_m), quat_to_glam(&world_from_body)),
+        false,
+    );
+}
+
 /// The body origin relative to rapier's centre of mass, world frame, or `None` where they
 /// coincide (every body [`vehicle_body`] builds). Taken from the local centre of mass and the
 /// pose, not `RigidBody::center_of_mass`, which rapier updates only when it steps.
@@ -170,6 +202,9 @@ fn origin_from_com_world(rb: &RigidBody) -> Option<Vector3<f64>> {
 pub struct RapierWings {
     body: RigidBodyHandle,
     wings: WingSet,
+    /// The body's state the last [`RapierWings::apply`] read (the step's start), for
+    /// [`RapierWings::after_step`].
+    start: Option<State>,
 }
 
 impl RapierWings {
@@ -185,7 +220,11 @@ impl RapierWings {
                 body.into_raw_parts(),
                 rb.body_type()
             ))),
-            Some(_) => Ok(Self { body, wings }),
+            Some(_) => Ok(Self {
+                body,
+                wings,
+                start: None,
+            }),
         }
     }
 
@@ -214,7 +253,9 @@ impl RapierWings {
             )));
         };
         let state = body_state(rb);
+        self.start = None;
         self.wings.step(&state)?;
+        self.start = Some(state);
         let out = self.wings.output();
         let q = state.world_from_body;
         let force_world = q * out.total.force_n;
@@ -227,11 +268,25 @@ impl RapierWings {
         // rule ([`midpoint_torque_world`]), the body's own gyroscopic forces off.
         let torque_world = if self.wings.load_sampling().is_second_order() {
             rb.enable_gyroscopic_forces(false);
-            let inertia = matrix_from_glam(
+            let body = matrix_from_glam(
                 &rb.mass_properties()
                     .local_mprops
                     .reconstruct_inertia_matrix(),
             );
+            // The model's tensor where the body carries it (a `vehicle_body`: rapier keeps it
+            // as principal moments in a frame that gives it back to 1e-9, `reproduces`), or
+            // before rapier has computed the body's mass properties (its first pipeline step
+            // comes after this call: they read zero), as flapsim's `Simulation` takes it;
+            // else the body's own.
+            let inertia = match crate::wings::FromVehicle::vehicle(&self.wings) {
+                Some(v)
+                    if body == nalgebra::Matrix3::zeros()
+                        || same_tensor(&v.inertia_kg_m2, &body) =>
+                {
+                    v.inertia_kg_m2
+                }
+                _ => body,
+            };
             midpoint_torque_world(&moment_world, &q, self.wings.sampled_state(), &inertia)
         } else {
             moment_world
@@ -241,5 +296,32 @@ impl RapierWings {
         rb.add_force(to_glam(&force_world), false);
         rb.add_torque(to_glam(&torque_world), false);
         Ok(self.wings.output())
+    }
+
+    /// Call after the pipeline step that followed [`RapierWings::apply`]: under a second-order
+    /// load sampling it moves the pose rapier integrated to the trapezoidal rule's, as flapsim's
+    /// own `Simulation` does ([`trapezoid_pose`]); without it the pose stays first order (it
+    /// lags by dt/2 (v - v_0)). `params`: the pipeline's integration parameters (its solver
+    /// iterations are rapier's sub-steps). Nothing under the step-start sampling, or when no
+    /// `apply` came before.
+    pub fn after_step(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        params: &IntegrationParameters,
+    ) -> Result<()> {
+        let Some(before) = self.start.take() else {
+            return Ok(());
+        };
+        if !self.wings.load_sampling().is_second_order() {
+            return Ok(());
+        }
+        let Some(rb) = bodies.get_mut(self.body) else {
+            return Err(Error::Input(format!(
+                "rapier host: body handle {:?} is no longer in the rigid-body set (removed?)",
+                self.body.into_raw_parts()
+            )));
+        };
+        trapezoid_pose(rb, &before, self.wings.dt_s(), params.num_solver_iterations);
+        Ok(())
     }
 }

@@ -500,34 +500,11 @@ impl Simulation {
     }
 
     /// Moves the pose rapier integrated from the step's start `before` to the trapezoidal
-    /// rule's (second-order stepping, wingset::sampling). rapier's semi-implicit Euler
-    /// moves the body by dt v_{k+1} (in sub-steps of h: by h v at each one's end); with the wings' loads the step's means, v_{k+1} is
-    /// second-order accurate, and the pose x_k + dt (v_k + v_{k+1})/2 then is too, where
-    /// dt v_{k+1} leaves a bias of dt/2 (v(t) - v(0)) in position and attitude (first order,
-    /// measured: the fly's hover excursion error fell only 3.9x from 100 to 400 steps per
-    /// wingbeat without this, 0.09% at 100). Likewise the attitude is turned back by
-    /// dt/2 (omega_{k+1} - omega_k), world frame.
+    /// rule's ([`crate::host::trapezoid_pose`]).
     fn trapezoid_pose(&mut self, before: &State) {
+        let substeps = self.world.integration_parameters.num_solver_iterations;
         let rb = &mut self.world.bodies[self.body];
-        let after = crate::host::body_state(rb);
-        // rapier takes `solver_iterations` sub-steps of h = dt / n, each moving the body by
-        // h v at the sub-step's end: with a constant load the pose leads the trapezoidal
-        // rule's by h/2 (v_{k+1} - v_k).
-        let substeps = self
-            .world
-            .integration_parameters
-            .num_solver_iterations
-            .max(1);
-        let half = 0.5 * self.wings.dt_s() / substeps as f64;
-        let w0 = before.world_from_body * before.angular_velocity_body_rad_s;
-        let w1 = after.world_from_body * after.angular_velocity_body_rad_s;
-        let position_m = after.position_m - half * (after.velocity_m_s - before.velocity_m_s);
-        let world_from_body =
-            UnitQuaternion::from_scaled_axis(-half * (w1 - w0)) * after.world_from_body;
-        rb.set_position(
-            Pose::from_parts(to_glam(&position_m), quat_to_glam(&world_from_body)),
-            false,
-        );
+        crate::host::trapezoid_pose(rb, before, self.wings.dt_s(), substeps);
     }
 
     /// The body state at a step's start against the run's bounds (finite, sim.max_speed_m_s,
