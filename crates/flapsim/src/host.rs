@@ -300,10 +300,10 @@ impl RapierWings {
 
     /// Call after the pipeline step that followed [`RapierWings::apply`]: under a second-order
     /// load sampling it moves the pose rapier integrated to the trapezoidal rule's, as flapsim's
-    /// own `Simulation` does (`trapezoid_pose` in this module); without it the pose stays first order (it
-    /// lags by dt/2 (v - v_0)). `params`: the pipeline's integration parameters (its solver
-    /// iterations are rapier's sub-steps). Nothing under the step-start sampling, or when no
-    /// `apply` came before.
+    /// own `Simulation` does (`trapezoid_pose` in this module); without it the pose stays
+    /// first order (it lags by dt/2 (v - v_0)). `params`: the pipeline's integration
+    /// parameters (its solver iterations are rapier's sub-steps). Nothing under the
+    /// step-start sampling, or when no `apply` came before.
     pub fn after_step(
         &mut self,
         bodies: &mut RigidBodySet,
