@@ -6,8 +6,8 @@
 //! steps the wings, and sets the body's user force and torque to the wings' loads (rapier keeps
 //! user forces until reset); after it, [`RapierWings::after_step`] moves the pose to the
 //! trapezoidal rule under a second-order load sampling, so that the body follows flapsim's own
-//! `Simulation` to round-off (`flapsim/tests/rapier_host.rs`). The world may hold anything else: ground, obstacles, other
-//! vehicles with their own wing sets.
+//! `Simulation` to round-off (`flapsim/tests/rapier_host.rs`). The world may hold anything
+//! else: ground, obstacles, other vehicles with their own wing sets.
 //!
 //! Frames: the wing set's body frame is the rapier body's local frame, its origin the
 //! vehicle's centre of mass. A body whose rapier centre of mass is elsewhere (colliders with
