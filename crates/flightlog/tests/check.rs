@@ -211,20 +211,26 @@ fn an_actuated_step_mean_log_of_before_the_reversal_split_matches() {
     ));
 }
 
-/// A fly log since the midpoint rotation (flapsim's `host::midpoint_torque_world`) re-runs bit
-/// for bit, and one written before it still does: a second-order log without the
-/// `body_rotation` metadata re-runs with rapier's own update of the body's rates. The old log
-/// is made as it was: a run with that update, without the key. The fly's run is symmetric,
-/// but the two updates still differ in its last bits, so the relabelled new log mismatches.
-#[test]
-fn a_log_of_before_the_midpoint_rotation_matches() {
+/// A log written since a stepping change, keyed by metadata `key` = `value`, re-runs bit for
+/// bit, and one written before it still does: the old log is made as it was, a run of `toml`
+/// over `wingbeats` with the old stepping (`old` sets it on the spec), without the key. The
+/// two steppings differ on the run, so the new log relabelled as old (the key removed)
+/// mismatches.
+fn a_log_from_before_matches(
+    toml: &str,
+    wingbeats: f64,
+    old: fn(&mut flapsim::VehicleSpec),
+    key: &str,
+    value: &str,
+) {
     let dir = tempfile::tempdir().unwrap();
-    let write = |path: &std::path::Path, old: bool| {
-        let toml = flapsim::DROSOPHILA_TOML;
+    let write = |path: &std::path::Path, before: bool| {
         let mut spec = flapsim::VehicleSpec::from_toml(toml, common::ORIGIN).unwrap();
-        spec.sim.rotation_at_step_start = old;
+        if before {
+            old(&mut spec);
+        }
         let vehicle = spec.build(common::ORIGIN).unwrap();
-        let duration = 10.0 / vehicle.freq_hz();
+        let duration = wingbeats / vehicle.freq_hz();
         let opts = mcap_opts(path, None);
         let mode = flapsim::Mode::Free;
         common::record_vehicle(
@@ -247,17 +253,17 @@ fn a_log_of_before_the_midpoint_rotation_matches() {
     }
     let before = dir.path().join("before.mcap");
     write(&before, true);
-    let old = dir.path().join("old.mcap");
-    copy_with_metadata(&before, &old, |md| {
-        assert_eq!(md.remove("body_rotation").as_deref(), Some("midpoint"));
+    let old_log = dir.path().join("old.mcap");
+    copy_with_metadata(&before, &old_log, |md| {
+        assert_eq!(md.remove(key).as_deref(), Some(value));
     });
     assert!(matches!(
-        check_log(&old).unwrap(),
+        check_log(&old_log).unwrap(),
         CheckOutcome::Match { .. }
     ));
     let relabelled = dir.path().join("relabelled.mcap");
     copy_with_metadata(&new, &relabelled, |md| {
-        md.remove("body_rotation");
+        md.remove(key);
     });
     assert!(matches!(
         check_log(&relabelled).unwrap(),
@@ -265,59 +271,32 @@ fn a_log_of_before_the_midpoint_rotation_matches() {
     ));
 }
 
+/// A fly log since the midpoint rotation (flapsim's `host::midpoint_torque_world`): a
+/// second-order log without the `body_rotation` metadata re-runs with rapier's own update of
+/// the body's rates. The fly's run is symmetric, but the two updates still differ in its last
+/// bits.
+#[test]
+fn a_log_of_before_the_midpoint_rotation_matches() {
+    a_log_from_before_matches(
+        flapsim::DROSOPHILA_TOML,
+        10.0,
+        |spec| spec.sim.rotation_at_step_start = true,
+        "body_rotation",
+        "midpoint",
+    );
+}
+
 /// A hummingbird log since its stops' strikes were shared between steps (wingset's
-/// `actuated::dynamics`, `strike.rs`) re-runs bit for bit, and one written before still does:
-/// a log without the `strike_impulse` metadata re-runs with each strike's impulse whole in its
-/// step. The old log is made as it was: a run so, without the key. The two differ (the body
-/// moves by the impulse's share a step later), so the relabelled new log mismatches.
+/// `actuated::dynamics`, `strike.rs`): a log without the `strike_impulse` metadata re-runs
+/// with each strike's impulse whole in its step. The two differ (the body moves by the
+/// impulse's share a step later).
 #[test]
 fn a_log_of_before_the_strikes_were_shared_matches() {
-    let dir = tempfile::tempdir().unwrap();
-    let write = |path: &std::path::Path, old: bool| {
-        let toml = flapsim::HUMMINGBIRD_TOML;
-        let mut spec = flapsim::VehicleSpec::from_toml(toml, common::ORIGIN).unwrap();
-        spec.sim.strikes_in_their_step = old;
-        let vehicle = spec.build(common::ORIGIN).unwrap();
-        let duration = 3.0 / vehicle.freq_hz();
-        let opts = mcap_opts(path, None);
-        let mode = flapsim::Mode::Free;
-        common::record_vehicle(
-            &opts,
-            "simulate",
-            duration,
-            mode,
-            toml,
-            common::ORIGIN,
-            vehicle,
-        )
-        .stats
-        .samples
-    };
-    let new = dir.path().join("new.mcap");
-    let samples = write(&new, false);
-    match check_log(&new).unwrap() {
-        CheckOutcome::Match { samples: n, note } => assert_eq!((n, note), (samples, None)),
-        other => panic!("{other:?}"),
-    }
-    let before = dir.path().join("before.mcap");
-    write(&before, true);
-    let old = dir.path().join("old.mcap");
-    copy_with_metadata(&before, &old, |md| {
-        assert_eq!(
-            md.remove("strike_impulse").as_deref(),
-            Some("shared_with_next_step")
-        );
-    });
-    assert!(matches!(
-        check_log(&old).unwrap(),
-        CheckOutcome::Match { .. }
-    ));
-    let relabelled = dir.path().join("relabelled.mcap");
-    copy_with_metadata(&new, &relabelled, |md| {
-        md.remove("strike_impulse");
-    });
-    assert!(matches!(
-        check_log(&relabelled).unwrap(),
-        CheckOutcome::Mismatch { .. }
-    ));
+    a_log_from_before_matches(
+        flapsim::HUMMINGBIRD_TOML,
+        3.0,
+        |spec| spec.sim.strikes_in_their_step = true,
+        "strike_impulse",
+        "shared_with_next_step",
+    );
 }
