@@ -378,7 +378,7 @@ ROBOTS = {
                   ("force_per_volt_n_v =", "force_per_volt_n_v = 8.25e-4"),
                   ("inertia_diag_kg_m2 =", "inertia_diag_kg_m2 = [1.42e-9, 1.608e-9, 0.45e-9]")],
         "true": {"hinge_stiffness_nm_rad": 9.0e-6, "force_per_volt_n_v": 8.25e-4, "inertia_yy_kg_m2": 1.608e-9},
-        "freq_hz": 150.0, "steps": 100, "duration_s": "0.15",
+        "freq_hz": 150.0, "duration_s": "0.15",
     },
     "hummingbird": {
         "edit": [],
@@ -388,7 +388,7 @@ ROBOTS = {
                   ("inertia_diag_kg_m2 =", f"inertia_diag_kg_m2 = [4238.1285e-9, {3970.1646e-9 * 1.2:e}, 2440.9505e-9]")],
         "true": {"stroke_stiffness_nm_rad": 0.013384289 * 1.2, "torque_constant_nm_a": 1.75e-3 * 1.1,
                  "inertia_yy_kg_m2": 3970.1646e-9 * 1.2},
-        "freq_hz": 34.0, "steps": 200, "duration_s": "0.2",
+        "freq_hz": 34.0, "duration_s": "0.2",
     },
 }
 
@@ -410,12 +410,13 @@ def test_an_actuated_robot_is_identified_from_its_bag(run_flapwing, tmp_path, ro
         t = replace(t, start, line)
     truth = tmp_path / "truth.toml"
     truth.write_text(t)
+    steps_per_wingbeat = int(re.search(r"^steps_per_wingbeat = (\d+)", t, re.M).group(1))
     log = tmp_path / "robot.mcap"
     run_flapwing("hover", "--model", truth, "--mcap", log, "--duration-s", r["duration_s"])
     mocap = rows(run_flapwing, log, "/sensors/mocap", tmp_path)
     drive = {}
     for c in rows(run_flapwing, log, "/vehicle/controls", tmp_path):
-        w = int(c["step"]) // r["steps"]
+        w = int(c["step"]) // steps_per_wingbeat
         drive.setdefault(w, (round(w * 1e9 / r["freq_hz"]), [c["drive.bias_v"], c["drive.amplitude_v"],
                                                             c["drive.diff_amplitude_v"],
                                                             c["drive.diff_second_harmonic"]]))

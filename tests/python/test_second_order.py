@@ -64,7 +64,7 @@ def test_the_sampling_is_named_and_restart_forgets_the_last_state(tmp_path):
     assert flapwing.Vehicle(path).load_sampling == "midpoint"
     assert flapwing.Vehicle("drosophila").load_sampling == "step_mean"
     assert flapwing.Vehicle("robobee").load_sampling == "step_mean"
-    assert flapwing.Vehicle("hummingbird").load_sampling == "step_start"
+    assert flapwing.Vehicle("hummingbird").load_sampling == "step_mean"
     a, b = flapwing.WingSet(path), flapwing.WingSet(path)
     assert a.load_sampling == "midpoint"
     rest = dict(position_m=[0, 0, 0], world_from_body_wxyz=[1, 0, 0, 0], velocity_m_s=[0, 0, 0],
@@ -94,7 +94,9 @@ def test_a_step_coarser_than_the_stated_bound_is_flagged(tmp_path):
     coarse = flapwing.Vehicle(model(tmp_path, 16, "step_mean"))
     assert "16 steps per wingbeat, coarser than the 20" in coarse.coarse_step_warning
     assert flapwing.Vehicle("robobee").accurate_steps_per_wingbeat == 40
-    assert flapwing.Vehicle("hummingbird").accurate_steps_per_wingbeat is None
+    bird = flapwing.Vehicle("hummingbird")
+    assert bird.accurate_steps_per_wingbeat == 400 == bird.steps_per_wingbeat
+    assert bird.coarse_step_warning is None
 
 
 # A flight that turns about more than one principal axis (1 deg left-right amplitude

@@ -4,7 +4,7 @@
 //!
 //! The physics: the body feels the wing's loads integrated over time. The hummingbird's wing
 //! swings freely between stops at +-45 deg and strikes one every half stroke, its pitch rate
-//! collapsing within about 7 us, against a body step of 147 us (200 steps per wingbeat).
+//! collapsing within about 7 us, against a body step of 74 us (the file's 400 steps per wingbeat).
 //! Loads nonlinear in the rates (the rotational term's pitch-only part goes as
 //! theta_dot |theta_dot|, the inertial reaction as omega x omega) sampled once per step
 //! carry an error of the order of their jump times the fraction of the step the strike
@@ -19,10 +19,10 @@
 //! passed (the touch taken on both sides of the rates' jump, the release), and the
 //! impulse's reaction taken where the wing struck (shared over the step as a constant, it
 //! acted along axes that turn with the stroke, and M_u swung between -1.5e-5 and +1.2e-5
-//! N s over step sizes), M_u by central differences at 400 steps per wingbeat is the same at
-//! 6e-4 m/s (the averaged model's difference step) and at 0.02 m/s (measured 0.02%; bound
-//! 1%), and at 400 and 800 steps per wingbeat (1.4%; bound 5%); at the file's 200 steps per
-//! wingbeat it is 4.5% off (bound 10%).
+//! N s over step sizes), M_u by central differences at the file's 400 steps per wingbeat is
+//! the same at 6e-4 m/s (the averaged model's difference step) and at 0.02 m/s (measured
+//! 0.015% under the file's step mean, 0.02% under step-start; bound 1%), and at 400 and 800
+//! steps per wingbeat (1.4%; bound 5%); at 200 steps per wingbeat it is 4.5% off (bound 10%).
 //!
 //! Where the strike's impulse lands in time matters for the body's motion, not for its cycle
 //! means: a host's semi-implicit Euler step moves the body by dt times the velocity the step's
@@ -33,7 +33,7 @@
 //! +0.560 1/s, not the map's +0.596) and, where a strike of the periodic orbit sat on a step
 //! boundary (at 3200 steps per wingbeat), jumped (+0.878 1/s). Shared between its step and
 //! the next as the hat function of tau (1 - tau/dt, tau/dt), the body moves by
-//! (2 dt - tau) J / m, exactly: the map is continuous, and its exponents at 200 and 3200 steps
+//! (2 dt - tau) J / m, exactly: the map is continuous, and its exponents at 400 and 3200 steps
 //! per wingbeat agree (wingset's `actuated::dynamics`, `strike.rs`).
 
 use flapsim::Vehicle;
@@ -42,12 +42,18 @@ use flapsim::stability::{FloquetAnalysis, floquet_analysis};
 use flapsim::trim::{trim, trimmed_vehicle};
 use nalgebra::{UnitQuaternion, Vector3};
 
+/// The file's step count.
+const FILE_STEPS: usize = 400;
+
 fn hummingbird(steps_per_wingbeat: usize) -> Vehicle {
     let text = flapsim::HUMMINGBIRD_TOML.replace(
-        "steps_per_wingbeat = 200",
-        &format!("steps_per_wingbeat = {steps_per_wingbeat}"),
+        &format!("steps_per_wingbeat = {FILE_STEPS} "),
+        &format!("steps_per_wingbeat = {steps_per_wingbeat} "),
     );
-    assert_eq!(steps_per_wingbeat == 200, text == flapsim::HUMMINGBIRD_TOML);
+    assert_eq!(
+        steps_per_wingbeat == FILE_STEPS,
+        text == flapsim::HUMMINGBIRD_TOML
+    );
     Vehicle::from_toml(&text, "hummingbird").unwrap()
 }
 
@@ -68,13 +74,13 @@ fn m_u(v: &Vehicle, du_m_s: f64) -> f64 {
 
 #[test]
 fn the_hummingbird_pitch_moment_is_smooth_in_forward_speed_and_converged_in_the_step() {
-    let (file, fine, finer) = (hummingbird(200), hummingbird(400), hummingbird(800));
-    let small = m_u(&fine, 6e-4);
-    let large = m_u(&fine, 0.02);
+    let (coarse, file, finer) = (hummingbird(200), hummingbird(FILE_STEPS), hummingbird(800));
+    let small = m_u(&file, 6e-4);
+    let large = m_u(&file, 0.02);
     let converged = m_u(&finer, 6e-4);
-    let at_file = m_u(&file, 6e-4);
+    let at_coarse = m_u(&coarse, 6e-4);
     eprintln!(
-        "M_u [N s]: {small:e} (400 steps per wingbeat, du 6e-4 m/s), {large:e} (400, 0.02), {converged:e} (800, 6e-4), {at_file:e} (200, the file's, 6e-4)"
+        "M_u [N s]: {small:e} (the file's 400 steps per wingbeat, du 6e-4 m/s), {large:e} (400, 0.02), {converged:e} (800, 6e-4), {at_coarse:e} (200, 6e-4)"
     );
     let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol * a.abs().max(b.abs());
     assert!(
@@ -85,12 +91,12 @@ fn the_hummingbird_pitch_moment_is_smooth_in_forward_speed_and_converged_in_the_
         close(small, converged, 0.05),
         "M_u depends on the body step: {small:e} at 400 steps per wingbeat, {converged:e} at 800"
     );
-    // The file's 200 steps per wingbeat: its discretisation error, measured 4.5% (before the
-    // step's mean loads, M_u was +5.1e-7, -5.9e-5 and -9.7e-5 N s at 400, 800 and 200 steps
-    // per wingbeat).
+    // Half the file's steps: its discretisation error, measured 4.5% under step-start
+    // sampling and 4.5% under the step mean (before the stops took the step's mean loads, M_u
+    // was +5.1e-7, -5.9e-5 and -9.7e-5 N s at 400, 800 and 200 steps per wingbeat).
     assert!(
-        close(at_file, converged, 0.10),
-        "M_u at the file's step {at_file:e} against {converged:e} at 800 steps per wingbeat"
+        close(at_coarse, converged, 0.10),
+        "M_u at 200 steps per wingbeat {at_coarse:e} against {converged:e} at 800"
     );
 }
 
@@ -103,14 +109,22 @@ fn floquet(steps_per_wingbeat: usize) -> FloquetAnalysis {
 
 /// The module's last paragraph: with each strike's impulse shared between its step and the
 /// next, the one-wingbeat map is smooth at 3200 steps per wingbeat (it had a jump of 1.84
-/// perturbations there) and its unstable pair's exponent is the file's 200 steps' within 1%
-/// (measured 0.12%: +0.5950 and +0.5957 1/s; with the impulse whole in its step +0.5601 and
-/// +0.8783, which fails both checks).
+/// perturbations there) and its unstable pair's exponent is the file's 400 steps' within 1%
+/// (measured 0.16%: +0.5948 and +0.5957 1/s under the file's step mean; with the impulse
+/// whole in its step +0.5593 at 400 and a jump at 3200, which fails; under step-start 0.12%,
+/// and +0.5601 and +0.8783 with the impulse whole).
 #[test]
 fn the_one_wingbeat_map_follows_the_strikes_in_time() {
-    let (file, fine) = (floquet(200), floquet(3200));
+    let (file, fine) = (floquet(FILE_STEPS), floquet(3200));
+    eprintln!(
+        "unstable pair: {} 1/s at {FILE_STEPS}, {} 1/s at 3200 steps per wingbeat",
+        file.modes[0].exponent.0, fine.modes[0].exponent.0
+    );
     assert!(fine.nonsmooth.is_empty(), "{:?}", fine.nonsmooth);
     assert!(file.nonsmooth.is_empty(), "{:?}", file.nonsmooth);
     let (a, b) = (file.modes[0].exponent.0, fine.modes[0].exponent.0);
-    assert!((a - b).abs() < 0.01 * b.abs(), "200: {a}, 3200: {b}");
+    assert!(
+        (a - b).abs() < 0.01 * b.abs(),
+        "{FILE_STEPS}: {a}, 3200: {b}"
+    );
 }

@@ -40,6 +40,12 @@
 //! deterministic, so no noise is differenced. Each evaluation runs every segment, in
 //! parallel (rayon).
 //!
+//! **Scanned starts.** A parameter whose cost has several minima (a stop's restitution,
+//! which changes the strikes a wing makes: [`crate::Param::scan_values`]) is first flown at
+//! each value of a scan over its range, the others at their start, and the solver starts
+//! from the scanned value of lowest cost when that is below the model's (the report gives
+//! it as `scanned_start`).
+//!
 //! **Statistics** at the solution, with m residuals and n parameters: sigma^2 = SSR / (m -
 //! n), covariance sigma^2 (J^T J)^-1 (through an SVD of J with normalized columns), standard
 //! errors its diagonal's roots, 95 % confidence intervals fitted +- t(0.975, m - n) SE with
@@ -57,6 +63,7 @@
 use std::cell::{Cell, RefCell};
 
 use levenberg_marquardt::LevenbergMarquardt;
+use rayon::prelude::*;
 
 use crate::data::FlightData;
 use crate::error::Result;
@@ -105,7 +112,7 @@ pub fn identify(
     x0.resize(setup.unknowns(), 0.0);
     let n_all = x0.len();
     let all: Vec<usize> = (0..n_all).collect();
-    let (problem, lm_termination, cost_before) = solve(&setup, x0, opts, observer);
+    let (problem, lm_termination, cost_before, scanned) = solve(&setup, x0, opts, observer);
     let interrupted = problem.stopped.get();
     let x = problem.x.clone();
     let (r, diverged_segments) = setup.residuals(&x);
@@ -122,7 +129,7 @@ pub fn identify(
     let t = t_quantile(0.975, dof as f64);
     let sigma2 = cost_after / dof as f64;
     let fitted = setup.values(&x);
-    let (params, condition_number) = match &j {
+    let (mut params, condition_number) = match &j {
         Some(j) => statistics(&setup, j, &starts, &fitted, sigma2, t),
         None => (
             setup
@@ -139,11 +146,15 @@ pub fn identify(
                     relative_ci: f64::NAN,
                     identifiable: false,
                     reason: Some("the fit was interrupted before its statistics".into()),
+                    scanned_start: None,
                 })
                 .collect(),
             f64::NAN,
         ),
     };
+    for (p, s) in params.iter_mut().zip(scanned) {
+        p.scanned_start = s;
+    }
     let termination = if interrupted {
         "interrupted (Ctrl-C)".to_owned()
     } else {
@@ -186,8 +197,9 @@ pub fn identify(
 }
 
 /// Levenberg-Marquardt over the unknowns of `setup` from `x0` (the parameters, then any
-/// start-state corrections): the problem at the solution, the solver's termination (`None`
-/// when there was nothing to fit) and the cost at `x0`. Parameters the measurements do not
+/// start-state corrections), or from the scanned starts ([`scan_starts`]): the problem at
+/// the solution, the solver's termination (`None` when there was nothing to fit or Ctrl-C
+/// stopped the scan), the cost at `x0` and the scanned starts. Parameters the measurements do not
 /// depend on at the start are held there (the solver would wander along their flat
 /// direction); when every parameter is held, nothing is fitted.
 fn solve<'s, 'a, 'o>(
@@ -199,6 +211,7 @@ fn solve<'s, 'a, 'o>(
     Problem<'s, 'a, 'o>,
     Option<levenberg_marquardt::TerminationReason>,
     f64,
+    Vec<Option<f64>>,
 ) {
     let n = setup.params.len();
     let n_all = x0.len();
@@ -219,11 +232,19 @@ fn solve<'s, 'a, 'o>(
         stopped: Cell::new(false),
     };
     let jacobian = problem.jacobian_cost(n_all);
-    problem.max_simulations = max_evals * (1 + jacobian) + jacobian + 2;
+    let scans: usize = setup
+        .params
+        .iter()
+        .filter_map(|p| p.scan_values())
+        .map(|v| v.len())
+        .sum();
+    problem.max_simulations = max_evals * (1 + jacobian) + jacobian + 2 + scans as u64;
     let (r0, _) = setup.residuals(&x0);
     problem.tell(1, None);
     let cost_before: f64 = r0.iter().map(|v| v * v).sum();
-    if n > 0 {
+    let scanned = scan_starts(&mut problem, cost_before);
+    let x0 = problem.x.clone();
+    if n > 0 && !problem.stopped.get() {
         let j0 = problem.jacobian_at(&x0, &all);
         let norms: Vec<f64> = (0..n).map(|i| j0.column(i).norm()).collect();
         let max_norm = norms.iter().cloned().fold(0.0, f64::max);
@@ -234,8 +255,8 @@ fn solve<'s, 'a, 'o>(
             .collect();
     }
     let nothing = problem.free.is_empty() || (n > 0 && problem.free.iter().all(|&i| i >= n));
-    if nothing {
-        return (problem, None, cost_before);
+    if nothing || problem.stopped.get() {
+        return (problem, None, cost_before, scanned);
     }
     let (p, report) = LevenbergMarquardt::new()
         .with_patience(opts.patience)
@@ -244,5 +265,47 @@ fn solve<'s, 'a, 'o>(
         // which MINPACK's column-norm scaling would allow.
         .with_scale_diag(false)
         .minimize(problem);
-    (p, Some(report.termination), cost_before)
+    (p, Some(report.termination), cost_before, scanned)
+}
+
+/// Moves the start of each parameter with [`crate::Param::scan_values`] to the scanned value
+/// of lowest cost, when that is below the cost at the start (`cost`), one parameter after
+/// the other with the others at their start: each parameter's start it moved to (`None`
+/// where it kept the model's). The trial values are flown in parallel; Ctrl-C stops it.
+fn scan_starts(problem: &mut Problem<'_, '_, '_>, mut cost: f64) -> Vec<Option<f64>> {
+    let setup = problem.setup;
+    let mut moved = vec![None; setup.params.len()];
+    for (i, p) in setup.params.iter().enumerate() {
+        let Some(values) = p.scan_values() else {
+            continue;
+        };
+        let costs: Vec<(f64, f64)> = values
+            .par_iter()
+            .map(|&v| {
+                let mut x = problem.x.clone();
+                x[i] = v / setup.scales[i];
+                let (r, diverged) = setup.residuals(&x);
+                let c = if diverged == usize::MAX {
+                    f64::INFINITY
+                } else {
+                    r.iter().map(|v| v * v).sum()
+                };
+                (v, c)
+            })
+            .collect();
+        for &(_, c) in &costs {
+            problem.tell(1, Some(c));
+        }
+        if problem.stopped.get() {
+            break;
+        }
+        if let Some(&(v, c)) = costs.iter().min_by(|a, b| a.1.total_cmp(&b.1))
+            && c < cost
+        {
+            problem.x[i] = v / setup.scales[i];
+            moved[i] = Some(v);
+            cost = c;
+        }
+    }
+    moved
 }

@@ -149,6 +149,7 @@ pub(super) fn statistics(
             relative_ci: half / fitted[i].abs().max(scale),
             identifiable: reason.is_none(),
             reason,
+            scanned_start: None,
         });
     }
     (out, condition)
@@ -217,6 +218,12 @@ impl std::fmt::Display for FitReport {
                 p.ci95[1],
                 if p.identifiable { "yes" } else { "NO" }
             )?;
+            if let Some(s) = p.scanned_start {
+                writeln!(
+                    f,
+                    "    started from {s:.6e}: the lowest cost of a scan of its range (its cost has several minima)"
+                )?;
+            }
             if let Some(r) = &p.reason {
                 writeln!(f, "    not identifiable: {r}")?;
             }

@@ -170,7 +170,7 @@ pub fn resimulate(
     let mut x = vec![0.0; setup.unknowns()];
     let mut interrupted = false;
     if setup.fit_states {
-        let (problem, _, _) = super::solve(&setup, x, &fit_opts, observer);
+        let (problem, _, _, _) = super::solve(&setup, x, &fit_opts, observer);
         interrupted = problem.stopped.get();
         x = problem.x.clone();
     }

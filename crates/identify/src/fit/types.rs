@@ -147,6 +147,9 @@ pub struct ParamResult {
     pub identifiable: bool,
     /// Why not, when not.
     pub reason: Option<String>,
+    /// The value the solver started from instead of `start`, when a scan of the parameter's
+    /// range found a lower cost there (see [`crate::Param::scan_values`]).
+    pub scanned_start: Option<f64>,
 }
 
 /// The outcome of a fit.
