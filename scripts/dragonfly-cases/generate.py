@@ -85,6 +85,48 @@ EXPERIMENTS = {
 }
 
 
+# Azuma & Watanabe 1988, Table 3, all three stations (0.25R, 0.5R, 0.75R): theta_0..theta_4 then
+# phi_1..phi_4, deg, read from the same scan (table3.png, commit b7816df). The files use the
+# 0.75R column (EXPERIMENTS, checked equal below); the other columns are the wing's spanwise
+# twist, which flapwing's rigid wings do not model. `--stations DIR` writes each experiment with
+# the whole wing feathering as at 0.25R and at 0.5R, to measure which way the twist pushes the
+# forces (docs/models.md, "The published dragonfly flights").
+STATIONS = (0.25, 0.5, 0.75)
+TABLE3 = {
+    "fore": {
+        1: ([91, 95, 100], [24, 36, 54], [5, 5, 2], [3, 7, 7], [2, 4, 1],
+            [95, 87, 89], [-124, -86, -88], [-33, 12, 52], [77, 27, -7]),
+        2: ([86, 90, 88], [25, 36, 54], [4, 4, 4], [4, 4, 4], [1, 0, 5],
+            [77, 89, 93], [144, 137, 135], [-77, -65, -68], [17, -165, 113]),
+        3: ([77, 82, 81], [14, 29, 46], [3, 1, 6], [1, 3, 3], [3, 1, 4],
+            [104, 88, 91], [-92, 160, 154], [148, 65, 45], [-68, -3, 106]),
+        4: ([72, 79, 83], [17, 30, 48], [3, 5, 6], [3, 4, 4], [2, 3, 4],
+            [94, 99, 99], [-90, 82, 98], [6, 112, 142], [62, -101, -117]),
+    },
+    "hind": {
+        1: ([103, 105, 107], [19, 27, 38], [5, 9, 6], [2, 1, 2], [2, 1, 1],
+            [-163, -169, -178], [-144, -131, -112], [-107, 148, -37], [-15, -104, -216]),
+        2: ([85, 84, 81], [9, 23, 30], [3, 4, 6], [0, 2, 2], [0, 2, 2],
+            [146, 154, 154], [-140, -100, -69], [10, -98, -52], [-96, 197, 83]),
+        3: ([83, 82, 79], [10, 22, 24], [3, 9, 11], [0, 4, 2], [4, 2, 2],
+            [147, 163, -164], [-67, -71, -81], [-106, -86, -66], [-154, -159, 169]),
+        4: ([73, 74, 76], [23, 30, 41], [4, 3, 3], [3, 2, 3], [1, 3, 3],
+            [164, 167, 174], [-158, -91, -88], [109, -25, -10], [58, 50, 53]),
+    },
+}
+
+
+def station_series(wing, k, station):
+    """Table 3's feathering series of `wing` in experiment `k` at `station` (a fraction of R)."""
+    c = TABLE3[wing][k]
+    i = STATIONS.index(station)
+    return (c[0][i], [(c[1 + n][i], c[5 + n][i]) for n in range(4)])
+
+
+for _k, _e in EXPERIMENTS.items():
+    assert station_series("fore", _k, 0.75) == _e["tf"] and station_series("hind", _k, 0.75) == _e["th"]
+
+
 def fmt_series(mean, terms, var="w t"):
     s = f"{mean:g}"
     for n, (a, p) in enumerate(terms, 1):
@@ -95,8 +137,10 @@ def fmt_series(mean, terms, var="w t"):
     return s
 
 
-def write_1988(k):
-    e = EXPERIMENTS[k]
+def write_1988(k, station=0.75, path=None):
+    """Experiment `k`'s model file at `path` (its models/ file by default), the whole wing
+    feathering as Table 3's column at `station` (the files': 0.75R)."""
+    e = dict(EXPERIMENTS[k], tf=station_series("fore", k, station), th=station_series("hind", k, station))
     fore, _ = wing_tables(e["f"], 0.0, e["pf"], *e["tf"], 8.0, 0.0)
     hind, shifted = wing_tables(e["f"], 0.0, e["ph"], *e["th"], -2.0, float(e["dh"]))
     shifted = [(a, ((p + 180) % 360) - 180) for a, p in shifted]
@@ -186,7 +230,11 @@ steps_per_wingbeat = 100
 attitude_deg = [0.0, {e["Theta"]:.1f}, 0.0]
 velocity_m_s = [{s * math.cos(g):.4f}, 0.0, {s * math.sin(g):.4f}]
 '''
-    open(f"models/dragonfly_azuma1988_exp{k}.toml", "w").write(text)
+    if station != 0.75:
+        text = text.replace("(feathering at 0.75R)", f"(feathering at {station}R: a variant, not the model)")
+        text = text.replace(f'name = "dragonfly_azuma1988_exp{k}"',
+                            f'name = "dragonfly_azuma1988_exp{k}_feathering_{station}R"')
+    open(path or f"models/dragonfly_azuma1988_exp{k}.toml", "w").write(text)
 
 
 A85 = """Azuma et al. 1985 ("Flight mechanics of a dragonfly", J Exp Biol
@@ -291,6 +339,17 @@ velocity_m_s = [{s * math.cos(g):.4f}, 0.0, {s * math.sin(g):.4f}]
 '''
     open("models/dragonfly_azuma1985.toml", "w").write(text)
 
+
+if __name__ == "__main__" and "--stations" in sys.argv:
+    # The inner stations' variants (0.75R is the model file itself), read by `flapwing validate`
+    # and `cargo run --example dragonfly_stations`: regenerate with
+    #   python3 scripts/dragonfly-cases/generate.py --stations crates/flapsim/src/vehicle_validation/dragonfly_stations
+    out = sys.argv[sys.argv.index("--stations") + 1]
+    inner = [s for s in STATIONS if s != 0.75]
+    for k in EXPERIMENTS:
+        for station in inner:
+            write_1988(k, station, f"{out}/exp{k}_{round(station * 100)}R.toml")
+    print(f"wrote {len(EXPERIMENTS) * len(inner)} station variants to {out}")
 
 if __name__ == "__main__" and "--write" in sys.argv:
     write_1985()

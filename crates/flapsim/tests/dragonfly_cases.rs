@@ -26,7 +26,10 @@
 //! "dynamic"`: each pair's induced flow, and the share of the other pair's that crosses its
 //! disc, `wingforce::inflow::interference`; Azuma's local circulation method, which gives
 //! the paper's n, has a non-uniform unsteady version of both). Rigid wings without the
-//! measured spanwise twist (Table 3's 0.25R/0.5R/0.75R columns differ) either way.
+//! measured spanwise twist (Table 3's 0.25R/0.5R/0.75R columns differ) either way: which way
+//! it pushes is measured with the whole wing feathering as at 0.5R and 0.25R (up in
+//! experiments 2-4, down in 1; docs/models.md, `--example dragonfly_stations`, and the
+//! causes `validate` prints).
 //!
 //! Results (measured here, asserted as measured: nothing in the model files was tuned):
 //!

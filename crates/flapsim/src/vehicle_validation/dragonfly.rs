@@ -20,7 +20,7 @@ use std::cell::OnceCell;
 use nalgebra::Vector3;
 
 use crate::averaged::{FrozenState, mean_loads};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::Vehicle;
 
 use super::rows::{Check, RowBuilder, other_wake};
@@ -44,6 +44,21 @@ pub struct DragonflyFlight {
     /// The paper's own calculated vertical force over the weight (1988: Table 2's load
     /// factor n; 1985: the mean of its digitised force curves, the file's header).
     pub paper_load_factor: f64,
+    /// The flight with the whole wing feathering as at 0.25R and at 0.5R (1988: Table 3
+    /// gives the feathering at 0.25R, 0.5R and 0.75R; the model file takes 0.75R), as
+    /// `scripts/dragonfly-cases/generate.py --stations` writes them; `None` for 1985 (no
+    /// spanwise stations read).
+    pub inner_stations: Option<[&'static str; 2]>,
+}
+
+/// A 1988 experiment's station variants ([`DragonflyFlight::inner_stations`]).
+macro_rules! stations {
+    ($k:literal) => {
+        Some([
+            include_str!(concat!("dragonfly_stations/exp", $k, "_25R.toml")),
+            include_str!(concat!("dragonfly_stations/exp", $k, "_50R.toml")),
+        ])
+    };
 }
 
 /// Azuma et al. 1985's climb and Azuma & Watanabe 1988's four experiments (numbers from
@@ -58,6 +73,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 0.0,
         stroke_deg: [86.0, 94.0],
         paper_load_factor: 1.002,
+        inner_stations: None,
     },
     DragonflyFlight {
         name: "Azuma & Watanabe 1988, experiment 1",
@@ -67,6 +83,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 20.0,
         stroke_deg: [72.0, 52.0],
         paper_load_factor: 1.1,
+        inner_stations: stations!("1"),
     },
     DragonflyFlight {
         name: "Azuma & Watanabe 1988, experiment 2",
@@ -76,6 +93,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 12.0,
         stroke_deg: [50.0, 52.0],
         paper_load_factor: 0.97,
+        inner_stations: stations!("2"),
     },
     DragonflyFlight {
         name: "Azuma & Watanabe 1988, experiment 3",
@@ -85,6 +103,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 4.0,
         stroke_deg: [50.0, 52.0],
         paper_load_factor: 1.25,
+        inner_stations: stations!("3"),
     },
     DragonflyFlight {
         name: "Azuma & Watanabe 1988, experiment 4",
@@ -94,6 +113,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 2.0,
         stroke_deg: [76.0, 68.0],
         paper_load_factor: 1.05,
+        inner_stations: stations!("4"),
     },
 ];
 
@@ -113,6 +133,16 @@ impl DragonflyFlight {
     /// The flight's model, as its file holds it.
     pub fn vehicle(&self) -> Result<Vehicle> {
         Vehicle::from_toml(self.toml, self.name)
+    }
+
+    /// The flight with the whole wing feathering as at 0.25R and at 0.5R
+    /// ([`Self::inner_stations`]), under `wake`.
+    pub fn at_inner_stations(&self, wake: wingforce::InflowModel) -> Result<Option<[Vehicle; 2]>> {
+        let Some([r25, r50]) = self.inner_stations else {
+            return Ok(None);
+        };
+        let at = |text: &str| Vehicle::from_toml(text, self.name)?.with_inflow_model(wake);
+        Ok(Some([at(r25)?, at(r50)?]))
     }
 
     /// The flight velocity, world frame (x forward, z up), m/s.
@@ -198,6 +228,7 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
         let plain_forces = OnceCell::new();
         let other_forces = OnceCell::new();
         let interference = OnceCell::new();
+        let twist = OnceCell::new();
         let cause = |quantity: &str, value: f64, pick: fn(&FlightForces) -> f64| {
             let forces_of = |w: Result<Vehicle>| {
                 w.and_then(|w| Ok((flight.forces(&w)?, w.inflow_model())))
@@ -234,10 +265,31 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
                 }
                 Err(e) => e.clone(),
             };
+            // The wing's twist, measured: the whole wing feathering as at the inner stations.
+            let twist = twist.get_or_init(|| {
+                flight
+                    .at_inner_stations(v.inflow_model())
+                    .and_then(|s| {
+                        s.map(|[a, b]| Ok::<_, Error>((flight.forces(&a)?, flight.forces(&b)?)))
+                            .transpose()
+                    })
+                    .map_err(|e| e.to_string())
+            });
+            let twist = match twist {
+                Ok(Some((r25, r50))) => format!(
+                    " (that flow is not modelled here); the file feathers the whole wing as Table 3's 0.75R column, but the wing twists (its first feathering harmonic is smaller inboard): feathering as at 0.5R the wings give {:.3}, as at 0.25R {:.3} {}, so the twist moves it {} (the translational force acts about the second moment of area's radius, 0.57R and 0.53R for the fore and hind wings by Ellington 1984's r2 = 0.929 r1^0.732, between 0.5R and 0.75R)",
+                    pick(r50),
+                    pick(r25),
+                    under(v.inflow_model()),
+                    if pick(r50) > value { "up" } else { "down" }
+                ),
+                Ok(None) => ", neither modelled here".into(),
+                Err(e) => format!(", neither modelled here (the wing's twist: {e})"),
+            };
             // The paper's own calculation is of the vertical force (its load factor).
             let paper = match quantity {
                 "L/W" => format!(
-                    "the paper's own local-circulation calculation gives a load factor of {} with the measured spanwise twist and the wake's unsteady, non-uniform induced flow, neither modelled here",
+                    "the paper's own local-circulation calculation gives a load factor of {} with the measured spanwise twist and the wake's unsteady, non-uniform induced flow{twist}",
                     flight.paper_load_factor
                 ),
                 _ => format!(
