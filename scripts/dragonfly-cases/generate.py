@@ -27,20 +27,43 @@ def table(name, values, fmt, per_line=10):
     return "\n".join(lines)
 
 
-def wing_tables(f, flap_mean, flap_amp, pitch_mean, pitch_terms, cone, lead_deg):
-    """Tables in the wing's own wingbeat (its flapping's top at t = 0)."""
+def wing_tables(f, flap_mean, flap_amp, pitch_mean, pitch_terms, cone, lead_deg, twist=None):
+    """Tables in the wing's own wingbeat (its flapping's top at t = 0). `twist`: the
+    feathering series at further stations, [(r_frac, mean, terms)], written as the table's
+    `[...kinematics.twist]` (`twist_block`) with the pitch at 0.75R its reference."""
     w = 2 * math.pi * f
-    shifted = [(a, p - n * lead_deg) for n, (a, p) in enumerate(pitch_terms, 1)]
     ts = [k / (N * f) for k in range(N + 1)]
+
+    def pitch_of(mean, terms):
+        shifted = [(a, p - n * lead_deg) for n, (a, p) in enumerate(terms, 1)]
+        return [series(mean, [(a, ((p + 180) % 360) - 180) for a, p in shifted], t, w) for t in ts], shifted
+
     stroke = [-flap_mean - flap_amp * math.cos(w * t) for t in ts]
-    pitch = [series(pitch_mean, [(a, ((p + 180) % 360) - 180) for a, p in shifted], t, w) for t in ts]
-    return "\n".join([
+    pitch, shifted = pitch_of(pitch_mean, pitch_terms)
+    text = "\n".join([
         'family = "tabulated"',
         table("t_s", ts, "%.9f"),
         table("stroke_deg", stroke, "%.4f"),
         table("pitch_deg", pitch, "%.4f"),
         table("deviation_deg", [cone] * (N + 1), "%.1f"),
-    ]), shifted
+    ])
+    if twist:
+        rows = [pitch_of(mean, terms)[0] for _, mean, terms in twist]
+        text += "\n" + twist_block([r for r, _, _ in twist], rows)
+    return text, shifted
+
+
+def twist_block(stations, rows):
+    """The `twist` keys of a table (its section header is the caller's)."""
+    lines = ["TWIST_HEADER", "reference_r_frac = 0.75",
+             "stations_r_frac = [" + ", ".join(f"{r:g}" for r in stations) + "]", "pitch_deg = ["]
+    for row in rows:
+        lines.append("    [")
+        for i in range(0, len(row), 10):
+            lines.append("        " + ", ".join("%.4f" % v for v in row[i:i + 10]) + ",")
+        lines.append("    ],")
+    lines.append("]")
+    return "\n".join(lines)
 
 
 if __name__ == "__main__" and "--check" in sys.argv:
@@ -56,7 +79,7 @@ if __name__ == "__main__" and "--check" in sys.argv:
 
 
 A88 = """Azuma & Watanabe 1988 (J Exp Biol 137:221), Table 2 (flight) and Table 3
-# (feathering, 0.75R columns), read from the scans of the two tables in the public repository
+# (feathering: 0.75R the pitch, 0.25R and 0.5R the twist), read from the scans of the two tables in the public repository
 # github.com/jpecquet/dragonfly-flight-control (data/case_studies/azuma1988/table2.png and
 # table3.png, commit b7816df) and cross-checked against its digitised case data
 # (data/case_studies/azuma1988/case.json, cases/azuma1988_exp*/case.yaml, commit cf19b0a)"""
@@ -87,10 +110,10 @@ EXPERIMENTS = {
 
 # Azuma & Watanabe 1988, Table 3, all three stations (0.25R, 0.5R, 0.75R): theta_0..theta_4 then
 # phi_1..phi_4, deg, read from the same scan (table3.png, commit b7816df). The files use the
-# 0.75R column (EXPERIMENTS, checked equal below); the other columns are the wing's spanwise
-# twist, which flapwing's rigid wings do not model. `--stations DIR` writes each experiment with
-# the whole wing feathering as at 0.25R and at 0.5R, to measure which way the twist pushes the
-# forces (docs/models.md, "The published dragonfly flights").
+# 0.75R column as the pitch (EXPERIMENTS, checked equal below) and the other columns as the
+# wing's spanwise twist (`[kinematics.twist]`). `--stations DIR` writes each experiment as a
+# rigid wing feathering as at each station, to measure what the twist does (docs/models.md,
+# "The published dragonfly flights").
 STATIONS = (0.25, 0.5, 0.75)
 TABLE3 = {
     "fore": {
@@ -137,12 +160,21 @@ def fmt_series(mean, terms, var="w t"):
     return s
 
 
-def write_1988(k, station=0.75, path=None):
-    """Experiment `k`'s model file at `path` (its models/ file by default), the whole wing
-    feathering as Table 3's column at `station` (the files': 0.75R)."""
+def write_1988(k, station=0.75, path=None, rigid=False):
+    """Experiment `k`'s model file at `path` (its models/ file by default): the pitch
+    Table 3's column at `station` (the files': 0.75R), with the twist of the other stations
+    unless `rigid` (a variant: the whole wing feathering as at `station`)."""
     e = dict(EXPERIMENTS[k], tf=station_series("fore", k, station), th=station_series("hind", k, station))
-    fore, _ = wing_tables(e["f"], 0.0, e["pf"], *e["tf"], 8.0, 0.0)
-    hind, shifted = wing_tables(e["f"], 0.0, e["ph"], *e["th"], -2.0, float(e["dh"]))
+    # The model (0.75R) carries the twist: Table 3's inner stations; a station variant is a
+    # rigid wing feathering as at its station.
+    inner = [s for s in STATIONS if s != 0.75]
+    twist = (lambda wing: None) if rigid else (lambda wing: [(s, *station_series(wing, k, s)) for s in inner])
+    header = ("# Table 3's feathering at 0.25R and 0.5R (the pitch above is 0.75R's): the wing's spanwise\n"
+              "# twist, sampled as the pitch ({} time).\n[{}kinematics.twist]")
+    fore, _ = wing_tables(e["f"], 0.0, e["pf"], *e["tf"], 8.0, 0.0, twist("fore"))
+    fore = fore.replace("TWIST_HEADER", header.format("the forewing's", ""))
+    hind, shifted = wing_tables(e["f"], 0.0, e["ph"], *e["th"], -2.0, float(e["dh"]), twist("hind"))
+    hind = hind.replace("TWIST_HEADER", header.format("the hindwing's own", "pairs."))
     shifted = [(a, ((p + 180) % 360) - 180) for a, p in shifted]
     g, s = math.radians(e["Gamma"]), e["V"]
     note = TABLE_NOTES.get(k)
@@ -230,10 +262,11 @@ steps_per_wingbeat = 100
 attitude_deg = [0.0, {e["Theta"]:.1f}, 0.0]
 velocity_m_s = [{s * math.cos(g):.4f}, 0.0, {s * math.sin(g):.4f}]
 '''
-    if station != 0.75:
-        text = text.replace("(feathering at 0.75R)", f"(feathering at {station}R: a variant, not the model)")
+    if rigid:
+        text = text.replace("(feathering at 0.75R)",
+                            f"(feathering at {station}R over the whole span: a rigid variant, not the model)")
         text = text.replace(f'name = "dragonfly_azuma1988_exp{k}"',
-                            f'name = "dragonfly_azuma1988_exp{k}_feathering_{station}R"')
+                            f'name = "dragonfly_azuma1988_exp{k}_rigid_{station}R"')
     open(path or f"models/dragonfly_azuma1988_exp{k}.toml", "w").write(text)
 
 
@@ -341,15 +374,15 @@ velocity_m_s = [{s * math.cos(g):.4f}, 0.0, {s * math.sin(g):.4f}]
 
 
 if __name__ == "__main__" and "--stations" in sys.argv:
-    # The inner stations' variants (0.75R is the model file itself), read by `flapwing validate`
-    # and `cargo run --example dragonfly_stations`: regenerate with
+    # Rigid-wing variants, the whole wing feathering as at each station (the model files carry
+    # the twist), read by `flapwing validate` and `cargo run --example dragonfly_stations`:
+    # regenerate with
     #   python3 scripts/dragonfly-cases/generate.py --stations crates/flapsim/src/vehicle_validation/dragonfly_stations
     out = sys.argv[sys.argv.index("--stations") + 1]
-    inner = [s for s in STATIONS if s != 0.75]
     for k in EXPERIMENTS:
-        for station in inner:
-            write_1988(k, station, f"{out}/exp{k}_{round(station * 100)}R.toml")
-    print(f"wrote {len(EXPERIMENTS) * len(inner)} station variants to {out}")
+        for station in STATIONS:
+            write_1988(k, station, f"{out}/exp{k}_{round(station * 100)}R.toml", rigid=True)
+    print(f"wrote {len(EXPERIMENTS) * len(STATIONS)} station variants to {out}")
 
 if __name__ == "__main__" and "--write" in sys.argv:
     write_1985()

@@ -25,13 +25,13 @@ def test_generator_reproduces_the_committed_models(tmp_path):
 
 
 def test_generator_reproduces_the_committed_station_variants(tmp_path):
-    # The 1988 flights with the whole wing feathering as at Table 3's 0.25R and 0.5R, which
+    # The 1988 flights with rigid wings feathering as at each of Table 3's stations, which
     # `flapwing validate`'s causes read (crates/flapsim/src/vehicle_validation/dragonfly.rs).
     committed_dir = ROOT / "crates" / "flapsim" / "src" / "vehicle_validation" / "dragonfly_stations"
     subprocess.run([sys.executable, str(SCRIPT), "--stations", str(tmp_path)], cwd=tmp_path,
                    check=True, capture_output=True, text=True)
     written = sorted(p.name for p in tmp_path.glob("*.toml"))
     committed = sorted(p.name for p in committed_dir.glob("*.toml"))
-    assert written == committed and len(written) == 8, (written, committed)
+    assert written == committed and len(written) == 12, (written, committed)
     for name in written:
         assert (tmp_path / name).read_text() == (committed_dir / name).read_text(), name

@@ -117,3 +117,35 @@ fn an_unknown_or_contradictory_inflow_model_is_named() {
         "{both}"
     );
 }
+
+/// A spanwise twist (`[kinematics.twist]`, a measured table's feathering along the span) on
+/// an actuated vehicle, whose pitch is an output of its hinge dynamics, would go unused: the
+/// file is refused, naming the field. The same twist on a prescribed vehicle loads.
+#[test]
+fn a_twist_on_an_actuated_vehicle_is_refused() {
+    let n = 16;
+    let list = |f: &dyn Fn(f64) -> f64| {
+        (0..=n)
+            .map(|i| format!("{:.6}", f(2.0 * std::f64::consts::PI * i as f64 / n as f64)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let t = list(&|w| w / (2.0 * std::f64::consts::PI) / 120.0);
+    let stroke = list(&|w| -45.0 * w.cos());
+    let pitch = list(&|w| 90.0 - 45.0 * w.sin());
+    let inner = list(&|w| 90.0 - 30.0 * w.sin());
+    let table = format!(
+        "[kinematics]\nfamily = \"tabulated\"\nt_s = [{t}]\nstroke_deg = [{stroke}]\npitch_deg = [{pitch}]\n\n[kinematics.twist]\nreference_r_frac = 0.75\nstations_r_frac = [0.25]\npitch_deg = [[{inner}]]\n"
+    );
+    let replace = |model: &str| {
+        let start = model.find("\n[kinematics]\n").unwrap() + 1;
+        let end = start + model[start..].find("\n\n").unwrap();
+        format!("{}{table}{}", &model[..start], &model[end..])
+    };
+    let e = err(&replace(flapsim::ROBOBEE_TOML));
+    assert!(
+        e.contains("bad.toml") && e.contains("kinematics.twist") && e.contains("actuated"),
+        "{e}"
+    );
+    Vehicle::from_toml(&replace(flapsim::ROBOBEE_KINEMATIC_TOML), "ok").unwrap();
+}

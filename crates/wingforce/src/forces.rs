@@ -41,6 +41,9 @@ pub struct KinematicLoads {
     pub frame: WingFrame,
     /// In the order of [`Term::ALL`], body frame; the translational entry is zero.
     pub terms: [TermForce; 4],
+    /// The wing's spanwise twist at this phase (a tabulated wing that has one), which the
+    /// translational term's strips meet the air with; `None`: a rigid wing.
+    pub twist: Option<crate::kinematics::TwistAt>,
 }
 
 /// The kinematic loads that represent one step ([`crate::Wing::kinematic_loads_over_step`]).

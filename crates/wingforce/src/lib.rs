@@ -43,7 +43,7 @@ pub use axes::AxisMoments;
 pub use coefficients::{RangeFlags, TranslationalModel, WakeCaptureModel, WakeCaptureParams};
 pub use error::{Error, Result, Validator};
 pub use inflow::{InducedInflow, InflowModel};
-pub use kinematics::{Kinematics, KinematicsSpec, StrokePhase, WingAngles};
+pub use kinematics::{Kinematics, KinematicsSpec, StrokePhase, TwistAt, TwistSpec, WingAngles};
 pub use model::{AeroSpec, FluidSpec, WingModelSpec, WingSpec};
 pub use planform::{Geometry, GeometryOverrides, PlanformSpec};
 pub use wing::step_mean::{MAX_PIECE_PHASE, StepRule};

@@ -7,7 +7,8 @@
 use wide::f64x2;
 
 use crate::cache::{Cache, StripK};
-use crate::coefficients;
+use crate::coefficients::{self, TranslationalModel};
+use crate::kinematics::TwistAt;
 
 /// Components of the pitch-axis velocity at radius r: u_le = a_le + r b_le, u_n = a_n + r b_n.
 #[derive(Debug, Clone, Copy)]
@@ -210,6 +211,54 @@ fn lee2016_lanes<T: Lanes, const L: usize>(
         rf_n: s[3].lane(l),
         xf_n: s[4].lane(l),
     })
+}
+
+/// The translational strip sums of a twisted wing (`crate::kinematics` `twist`): each strip
+/// at its own feathering offset d from the reference chord (r over `r_tip_m` into `twist`).
+/// Its chord is the reference's turned by d about the span towards n (e_le' = cos d e_le +
+/// sin d n, n' = -sin d e_le + cos d n), so its velocity components are turned into those
+/// axes, its lift and drag computed there by `model`, and the force turned back. The normal
+/// force's moment about the pitch axis keeps its form: e_le' x n' = e_le x n.
+pub(crate) fn twisted_sums(
+    c: &Cache,
+    u: &StripVelocity,
+    model: TranslationalModel,
+    r_tip_m: f64,
+    twist: &TwistAt,
+) -> StripSums {
+    let mut s = StripSums::default();
+    for k in &c.strips {
+        let u_le = u.a_le + k.r_m * u.b_le;
+        let u_n = u.a_n + k.r_m * u.b_n;
+        let (sd, cd) = twist.offset_rad(k.r_m / r_tip_m).sin_cos();
+        let (ul, un) = (cd * u_le + sd * u_n, -sd * u_le + cd * u_n);
+        let (fl, fn_) = match model {
+            TranslationalModel::Lee2016 => {
+                let v2 = (ul * ul + un * un).max(f64::MIN_POSITIVE);
+                let inv = 1.0 / v2.sqrt();
+                let lift = c.kl2 * un * ul * inv;
+                let drag = (c.cd0 + c.kd2 * un * un * inv * inv) * (v2 * inv);
+                (
+                    k.half_rho_area * (lift * un - drag * ul),
+                    k.half_rho_area * (-(lift * ul) - drag * un),
+                )
+            }
+            TranslationalModel::Dickinson1999 => {
+                let v2 = ul * ul + un * un;
+                if v2 <= 0.0 {
+                    continue;
+                }
+                strip_lift_drag_dickinson(ul, un, v2, k.half_rho_area)
+            }
+        };
+        let (f_le, f_n) = (cd * fl - sd * fn_, sd * fl + cd * fn_);
+        s.f_le += f_le;
+        s.f_n += f_n;
+        s.rf_le += k.r_m * f_le;
+        s.rf_n += k.r_m * f_n;
+        s.xf_n += k.x_cp_m * fn_;
+    }
+    s
 }
 
 /// Dickinson et al. (1999) translational strip sums (angle of attack from the velocity).

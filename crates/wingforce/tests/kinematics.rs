@@ -59,6 +59,7 @@ fn tabulated() -> wingforce::Kinematics {
         stroke_deg: stroke,
         pitch_deg: pitch,
         deviation_deg: None,
+        twist: None,
     }
     .build(&Validator::new("t"), "kinematics", 0.2)
     .unwrap()

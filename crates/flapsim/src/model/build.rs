@@ -4,7 +4,7 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use wingforce::model::{build_fluid, build_geometry, parse_toml};
-use wingforce::{Fluid, Kinematics, Mount, Side, Validator, Wing};
+use wingforce::{Fluid, Kinematics, KinematicsSpec, Mount, Side, Validator, Wing};
 
 use super::Vehicle;
 use super::spec::{HingeSpec, PairSpec, VehicleSpec};
@@ -48,6 +48,25 @@ impl VehicleSpec {
                     "no [[pairs]] on an actuated vehicle (its drives and wing dynamics are one left/right pair)",
                 )
                 .into());
+        }
+        // A twist is a measured table's feathering along the span; an actuated wing's pitch is
+        // an output of its hinge dynamics, which would leave the twist unused.
+        if self.actuation.is_some() {
+            for (field, k) in [
+                ("kinematics", Some(&self.kinematics)),
+                ("left_kinematics", self.left_kinematics.as_ref()),
+                ("right_kinematics", self.right_kinematics.as_ref()),
+            ] {
+                if let Some(KinematicsSpec::Tabulated { twist: Some(_), .. }) = k {
+                    return Err(v
+                        .invalid(
+                            &format!("{field}.twist"),
+                            "a spanwise twist",
+                            "no twist on an actuated vehicle (its pitch is an output of the hinge dynamics, not a measured table)",
+                        )
+                        .into());
+                }
+            }
         }
         let inflow = self.aero.inflow_model(&v)?;
         if inflow != wingforce::InflowModel::Off {

@@ -44,19 +44,21 @@ pub struct DragonflyFlight {
     /// The paper's own calculated vertical force over the weight (1988: Table 2's load
     /// factor n; 1985: the mean of its digitised force curves, the file's header).
     pub paper_load_factor: f64,
-    /// The flight with the whole wing feathering as at 0.25R and at 0.5R (1988: Table 3
-    /// gives the feathering at 0.25R, 0.5R and 0.75R; the model file takes 0.75R), as
+    /// The flight with rigid wings feathering as at 0.25R, 0.5R and 0.75R over the whole
+    /// span (1988: Table 3 gives the feathering at those stations; the model file takes
+    /// 0.75R as its pitch and the others as its twist), as
     /// `scripts/dragonfly-cases/generate.py --stations` writes them; `None` for 1985 (no
     /// spanwise stations read).
-    pub inner_stations: Option<[&'static str; 2]>,
+    pub rigid_stations: Option<[&'static str; 3]>,
 }
 
-/// A 1988 experiment's station variants ([`DragonflyFlight::inner_stations`]).
+/// A 1988 experiment's rigid station variants ([`DragonflyFlight::rigid_stations`]).
 macro_rules! stations {
     ($k:literal) => {
         Some([
             include_str!(concat!("dragonfly_stations/exp", $k, "_25R.toml")),
             include_str!(concat!("dragonfly_stations/exp", $k, "_50R.toml")),
+            include_str!(concat!("dragonfly_stations/exp", $k, "_75R.toml")),
         ])
     };
 }
@@ -73,7 +75,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 0.0,
         stroke_deg: [86.0, 94.0],
         paper_load_factor: 1.002,
-        inner_stations: None,
+        rigid_stations: None,
     },
     DragonflyFlight {
         name: "Azuma & Watanabe 1988, experiment 1",
@@ -83,7 +85,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 20.0,
         stroke_deg: [72.0, 52.0],
         paper_load_factor: 1.1,
-        inner_stations: stations!("1"),
+        rigid_stations: stations!("1"),
     },
     DragonflyFlight {
         name: "Azuma & Watanabe 1988, experiment 2",
@@ -93,7 +95,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 12.0,
         stroke_deg: [50.0, 52.0],
         paper_load_factor: 0.97,
-        inner_stations: stations!("2"),
+        rigid_stations: stations!("2"),
     },
     DragonflyFlight {
         name: "Azuma & Watanabe 1988, experiment 3",
@@ -103,7 +105,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 4.0,
         stroke_deg: [50.0, 52.0],
         paper_load_factor: 1.25,
-        inner_stations: stations!("3"),
+        rigid_stations: stations!("3"),
     },
     DragonflyFlight {
         name: "Azuma & Watanabe 1988, experiment 4",
@@ -113,7 +115,7 @@ pub const DRAGONFLY_FLIGHTS: [DragonflyFlight; 5] = [
         attitude_deg: 2.0,
         stroke_deg: [76.0, 68.0],
         paper_load_factor: 1.05,
-        inner_stations: stations!("4"),
+        rigid_stations: stations!("4"),
     },
 ];
 
@@ -135,14 +137,14 @@ impl DragonflyFlight {
         Vehicle::from_toml(self.toml, self.name)
     }
 
-    /// The flight with the whole wing feathering as at 0.25R and at 0.5R
-    /// ([`Self::inner_stations`]), under `wake`.
-    pub fn at_inner_stations(&self, wake: wingforce::InflowModel) -> Result<Option<[Vehicle; 2]>> {
-        let Some([r25, r50]) = self.inner_stations else {
+    /// The flight with rigid wings feathering as at 0.25R, 0.5R and 0.75R
+    /// ([`Self::rigid_stations`]), under `wake`.
+    pub fn at_rigid_stations(&self, wake: wingforce::InflowModel) -> Result<Option<[Vehicle; 3]>> {
+        let Some([r25, r50, r75]) = self.rigid_stations else {
             return Ok(None);
         };
         let at = |text: &str| Vehicle::from_toml(text, self.name)?.with_inflow_model(wake);
-        Ok(Some([at(r25)?, at(r50)?]))
+        Ok(Some([at(r25)?, at(r50)?, at(r75)?]))
     }
 
     /// The flight velocity, world frame (x forward, z up), m/s.
@@ -265,23 +267,30 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
                 }
                 Err(e) => e.clone(),
             };
-            // The wing's twist, measured: the whole wing feathering as at the inner stations.
+            // The wing's twist, measured: rigid wings feathering as at each station.
             let twist = twist.get_or_init(|| {
                 flight
-                    .at_inner_stations(v.inflow_model())
+                    .at_rigid_stations(v.inflow_model())
                     .and_then(|s| {
-                        s.map(|[a, b]| Ok::<_, Error>((flight.forces(&a)?, flight.forces(&b)?)))
-                            .transpose()
+                        s.map(|[a, b, c]| {
+                            Ok::<_, Error>((
+                                flight.forces(&a)?,
+                                flight.forces(&b)?,
+                                flight.forces(&c)?,
+                            ))
+                        })
+                        .transpose()
                     })
                     .map_err(|e| e.to_string())
             });
             let twist = match twist {
-                Ok(Some((r25, r50))) => format!(
-                    " (that flow is not modelled here); the file feathers the whole wing as Table 3's 0.75R column, but the wing twists (its first feathering harmonic is smaller inboard): feathering as at 0.5R the wings give {:.3}, as at 0.25R {:.3} {}, so the twist moves it {} (the translational force acts about the second moment of area's radius, 0.57R and 0.53R for the fore and hind wings by Ellington 1984's r2 = 0.929 r1^0.732, between 0.5R and 0.75R)",
+                Ok(Some((r25, r50, r75))) => format!(
+                    " (that flow is not modelled here); the file's wings twist as Table 3 measured (the feathering at 0.25R, 0.5R and 0.75R, linear between them and extended beyond, in the translational term): rigid wings feathering as at 0.75R give {:.3}, as at 0.5R {:.3}, as at 0.25R {:.3} {}, so the twist moves it by {:+.3}",
+                    pick(r75),
                     pick(r50),
                     pick(r25),
                     under(v.inflow_model()),
-                    if pick(r50) > value { "up" } else { "down" }
+                    value - pick(r75)
                 ),
                 Ok(None) => ", neither modelled here".into(),
                 Err(e) => format!(", neither modelled here (the wing's twist: {e})"),

@@ -12,12 +12,14 @@
 //!
 //! The files, each one family: `wingbeat` (the [`Kinematics`] a wing flaps with and what they
 //! give at any phase: [`WingAngles`], [`StrokePhase`]), `shape` (each family's [`Shape`]),
-//! `spec` (the [`KinematicsSpec`] of a model file, validated into kinematics) and
+//! `spec` (the [`KinematicsSpec`] of a model file, validated into kinematics), `twist` (a
+//! measured wing's spanwise twist) and
 //! `acceleration` (the half-peak rule for dtau_A and dtau_D of any stroke-rate profile).
 
 mod acceleration;
 mod shape;
 mod spec;
+mod twist;
 mod wingbeat;
 
 pub use crate::kinematics::acceleration::{
@@ -25,5 +27,6 @@ pub use crate::kinematics::acceleration::{
 };
 pub use crate::kinematics::shape::{Shape, TableShape};
 pub use crate::kinematics::spec::{FrequencySpec, KinematicsSpec};
+pub use crate::kinematics::twist::{MAX_TWIST_STATIONS, TableTwist, TwistAt, TwistSpec};
 pub use crate::kinematics::wingbeat::{Kinematics, StrokePhase, WingAngles};
 pub use crate::spline::PeriodicSpline;

@@ -4,6 +4,7 @@
 
 use std::f64::consts::PI;
 
+use crate::kinematics::twist::TableTwist;
 use crate::pitch_flip::FlipShape;
 use crate::spline::PeriodicSpline;
 
@@ -50,6 +51,8 @@ pub struct TableShape {
     pub(super) peak_rate_per_cycle: f64,
     /// (dtau_A, dtau_D) measured by the half-peak rule (amplitude and frequency do not change them).
     pub(super) accel_fractions: (f64, f64),
+    /// The wing's spanwise twist, when the table gives the feathering at several stations.
+    pub(super) twist: Option<TableTwist>,
 }
 
 /// Per-unit-phase stroke profile of the trapezoidal family in one half stroke:

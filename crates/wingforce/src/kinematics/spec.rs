@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Result, Validator};
 use crate::kinematics::acceleration::measure_acceleration_fractions;
 use crate::kinematics::shape::{Shape, TableShape};
+use crate::kinematics::twist::TwistSpec;
 use crate::kinematics::wingbeat::Kinematics;
 use crate::pitch_flip::FlipShape;
 use crate::spline::PeriodicSpline;
@@ -94,6 +95,11 @@ pub enum KinematicsSpec {
         /// Deviation angle at each time, deg (zeros if absent).
         #[serde(default)]
         deviation_deg: Option<Vec<f64>>,
+        /// The wing's spanwise twist: the feathering at further stations along the span, the
+        /// table's `pitch_deg` being the feathering at its reference station
+        /// (`crate::kinematics` `twist`); absent: a rigid wing.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        twist: Option<TwistSpec>,
     },
 }
 
@@ -239,6 +245,7 @@ impl KinematicsSpec {
                 stroke_deg,
                 pitch_deg,
                 deviation_deg,
+                twist,
             } => {
                 let n = t_s.len();
                 if n < 5 {
@@ -300,6 +307,10 @@ impl KinematicsSpec {
                 let rad = |l: &[f64]| l.iter().map(|d| d.to_radians()).collect::<Vec<_>>();
                 let stroke = PeriodicSpline::new(&phases, &rad(stroke_deg));
                 let pitch = PeriodicSpline::new(&phases, &rad(pitch_deg));
+                let twist = twist
+                    .as_ref()
+                    .map(|t| t.build(v, &f("twist"), &phases, &rad(pitch_deg)))
+                    .transpose()?;
                 let deviation = PeriodicSpline::new(&phases, &rad(dev));
                 let (lo, hi) = stroke_deg[..n - 1]
                     .iter()
@@ -343,6 +354,7 @@ impl KinematicsSpec {
                         reversals,
                         peak_rate_per_cycle,
                         accel_fractions,
+                        twist,
                     })),
                     freq_hz: 1.0 / period,
                     amplitude_rad: amplitude,

@@ -7,6 +7,7 @@ use std::f64::consts::PI;
 use serde::{Deserialize, Serialize};
 
 use crate::kinematics::shape::{Shape, trapezoid_pitch, trapezoid_sweep};
+use crate::kinematics::twist::TwistAt;
 use crate::pitch_flip::FlipShape;
 
 /// Wing angles and their time derivatives (rad, rad/s, rad/s^2).
@@ -173,6 +174,17 @@ impl Kinematics {
             theta_ddot: f * f * ddtheta_u,
             eta_ddot: f * f * ddeta_u,
         }
+    }
+
+    /// The wing's spanwise twist at wingbeat-clock `phase` (the wing's phase offset added),
+    /// `None` for a rigid wing (`crate::kinematics` `twist`).
+    pub fn twist_at(&self, phase: f64) -> Option<TwistAt> {
+        let Shape::Tabulated(t) = &self.shape else {
+            return None;
+        };
+        let twist = t.twist.as_ref()?;
+        let phase = self.own_phase(phase);
+        Some(twist.at(phase - phase.floor()))
     }
 
     /// Which half stroke wingbeat-clock `phase` lies in (the wing's phase offset added), and

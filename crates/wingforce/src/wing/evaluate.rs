@@ -12,7 +12,7 @@ use crate::frame::WingFrame;
 use crate::kinematics::{StrokePhase, WingAngles};
 use crate::mount::{BodyMotion, Side};
 use crate::strips::{
-    StripSums, StripVelocity, dickinson1999_sums, lee2016_sums, lee2016_sums_pair,
+    StripSums, StripVelocity, dickinson1999_sums, lee2016_sums, lee2016_sums_pair, twisted_sums,
 };
 use crate::terms::TermForce;
 use crate::wing::Wing;
@@ -81,7 +81,9 @@ impl Wing {
         let a = self.kinematics.angles(phase);
         let sp = self.kinematics.stroke_phase(phase);
         let frame = WingFrame::new(&a, self.mount.side);
-        self.kinematic_loads_in(&a, &sp, &frame)
+        let mut k = self.kinematic_loads_in(&a, &sp, &frame);
+        k.twist = self.kinematics.twist_at(phase);
+        k
     }
 
     /// [`Wing::kinematic_loads`] of a mirror-symmetric pair (left, right) with identical
@@ -97,14 +99,17 @@ impl Wing {
         let sp = left.kinematics.stroke_phase(phase);
         let fl = WingFrame::new(&a, Side::Left);
         let fr = fl.mirrored();
-        [
+        let twist = left.kinematics.twist_at(phase);
+        let (mut kl, mut kr) = (
             left.kinematic_loads_in(&a, &sp, &fl),
             right.kinematic_loads_in(&a, &sp, &fr),
-        ]
+        );
+        (kl.twist, kr.twist) = (twist, twist);
+        [kl, kr]
     }
 
     /// The rotational, added-mass and wake-capture terms for given angles, stroke phase and
-    /// frame.
+    /// frame, for a rigid wing (`twist` `None`: a dynamic wing's angles are its own).
     #[inline(always)]
     pub fn kinematic_loads_in(
         &self,
@@ -174,6 +179,7 @@ impl Wing {
             phase: *sp,
             frame: *frame,
             terms,
+            twist: None,
         }
     }
 
@@ -236,9 +242,10 @@ impl Wing {
     #[inline]
     pub fn evaluate_with(&self, k: &KinematicLoads, body: &BodyMotion) -> WingForces {
         let u = self.strip_velocity(&k.frame, body);
-        let sums = match self.options.translational {
-            TranslationalModel::Lee2016 => lee2016_sums(&self.cache, &u),
-            TranslationalModel::Dickinson1999 => dickinson1999_sums(&self.cache.strips, u),
+        let sums = match (&k.twist, self.options.translational) {
+            (Some(t), model) => twisted_sums(&self.cache, &u, model, self.geometry.r_tip_m, t),
+            (None, TranslationalModel::Lee2016) => lee2016_sums(&self.cache, &u),
+            (None, TranslationalModel::Dickinson1999) => dickinson1999_sums(&self.cache.strips, u),
         };
         self.finish(k, &sums)
     }
@@ -269,6 +276,8 @@ impl Wing {
         if left.options.translational == lee
             && right.options.translational == lee
             && left.cache.strips.len() == right.cache.strips.len()
+            && k[0].twist.is_none()
+            && k[1].twist.is_none()
         {
             let u = [
                 left.strip_velocity(&k[0].frame, body[0]),
