@@ -29,23 +29,29 @@ pub(crate) struct StripSums {
     pub(crate) xf_n: f64,
 }
 
+/// One strip's Lee et al. force in its chord's (e_le, n) components, from its velocity
+/// components there.
+#[inline(always)]
+fn lee2016_strip(c: &Cache, u_le: f64, u_n: f64, half_rho_area: f64) -> (f64, f64) {
+    let v2 = (u_le * u_le + u_n * u_n).max(f64::MIN_POSITIVE);
+    let inv = 1.0 / v2.sqrt();
+    let lift = c.kl2 * u_n * u_le * inv;
+    let drag = (c.cd0 + c.kd2 * u_n * u_n * inv * inv) * (v2 * inv);
+    (
+        half_rho_area * (lift * u_n - drag * u_le),
+        half_rho_area * (-(lift * u_le) - drag * u_n),
+    )
+}
+
 /// Lee et al. translational strip sums of one wing: the arithmetic of [`lee2016_lanes`] on
 /// plain numbers (the same operations in the same order, so the same bits), written out over
 /// pairs of strips, which the compiler schedules better than the generic form.
 #[inline(always)]
 pub(crate) fn lee2016_sums(c: &Cache, u: &StripVelocity) -> StripSums {
-    let (kl2, cd0, kd2) = (c.kl2, c.cd0, c.kd2);
     let strip = |s: &StripK| {
         let u_le = u.a_le + s.r_m * u.b_le;
         let u_n = u.a_n + s.r_m * u.b_n;
-        let v2 = (u_le * u_le + u_n * u_n).max(f64::MIN_POSITIVE);
-        let inv = 1.0 / v2.sqrt();
-        let lift = kl2 * u_n * u_le * inv;
-        let drag = (cd0 + kd2 * u_n * u_n * inv * inv) * (v2 * inv);
-        (
-            s.half_rho_area * (lift * u_n - drag * u_le),
-            s.half_rho_area * (-(lift * u_le) - drag * u_n),
-        )
+        lee2016_strip(c, u_le, u_n, s.half_rho_area)
     };
     let mut acc = [[0.0f64; 5]; 2];
     let mut add = |k: usize, s: &StripK| {
@@ -233,16 +239,7 @@ pub(crate) fn twisted_sums(
         let (sd, cd) = twist.offset_rad(k.r_m / r_tip_m).sin_cos();
         let (ul, un) = (cd * u_le + sd * u_n, -sd * u_le + cd * u_n);
         let (fl, fn_) = match model {
-            TranslationalModel::Lee2016 => {
-                let v2 = (ul * ul + un * un).max(f64::MIN_POSITIVE);
-                let inv = 1.0 / v2.sqrt();
-                let lift = c.kl2 * un * ul * inv;
-                let drag = (c.cd0 + c.kd2 * un * un * inv * inv) * (v2 * inv);
-                (
-                    k.half_rho_area * (lift * un - drag * ul),
-                    k.half_rho_area * (-(lift * ul) - drag * un),
-                )
-            }
+            TranslationalModel::Lee2016 => lee2016_strip(c, ul, un, k.half_rho_area),
             TranslationalModel::Dickinson1999 => {
                 let v2 = ul * ul + un * un;
                 if v2 <= 0.0 {
