@@ -116,9 +116,9 @@ CASES = [
     # --- Gymnasium: the built-in vehicles the tasks cannot fly say why ---
     C("gym-robobee", "gym.make('flapwing/Hover-v0', model='robobee')", "ValueError",
       "robobee", "101.9 V", "Gym tasks by vehicle", setup=GYM),
-    C("gym-recover-dragonfly", "gym.make('flapwing/Recover-v0', model='dragonfly')",
-      "ValueError", "dragonfly", "[sensors]", "Gym tasks by vehicle", setup=GYM),
-    C("vec-env-dragonfly", "VecHoverEnv(2, model='dragonfly')", "ValueError", "dragonfly",
+    C("gym-recover-robobee", "gym.make('flapwing/Recover-v0', model='robobee')",
+      "ValueError", "robobee", "101.9 V", "Gym tasks by vehicle", setup=GYM),
+    C("vec-env-robobee", "VecHoverEnv(2, model='robobee')", "ValueError", "robobee",
       "Gym tasks by vehicle", setup=ENV),
     # --- special files: refused before reading, naming the file ---
     C("vehicle-dev-zero", "Vehicle('/dev/zero')", "OSError", "/dev/zero", "character device"),

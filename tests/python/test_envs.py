@@ -175,12 +175,12 @@ def test_every_builtin_vehicle_runs_in_every_task_or_is_refused_as_the_table_say
     if not supported:
         # gym.make says why, naming the table, and the task really cannot fly it: the
         # RoboBee (rebuilt from its published parameters, issue #24) lifts 0.95 W at its
-        # drive's 100 V limit; the dragonfly (a forward-flight specimen) has no sensors.
+        # drive's 100 V limit.
         with pytest.raises(ValueError, match="Gym tasks by vehicle") as e:
             gym.make(env_id, model=model)
         assert flapwing.envs.UNSUPPORTED[model] in str(e.value)
         kind = "hover" if env_id == "flapwing/Hover-v0" else "recover"
-        why = {"robobee": "needs a drive peaking at 101.9 V", "dragonfly": r"no \[sensors\] table"}
+        why = {"robobee": "needs a drive peaking at 101.9 V"}
         with pytest.raises(flapwing.AnalysisError, match=why[model]):
             flapwing.HoverTask(model, kind)
         return

@@ -1,7 +1,6 @@
 //! The four-winged built-in dragonfly through the real binary: it flies (`--no-log`), its
-//! logs carry every wing (frames, channels, planforms and force arrows) and replay, and what
-//! supports one wing pair only (hover trim at forward-flight kinematics) says so with an
-//! error, never a panic.
+//! logs carry every wing (frames, channels, planforms and force arrows) and replay, and it
+//! hovers (trim and stability) from its forward-flight file.
 
 mod common;
 
@@ -173,11 +172,21 @@ fn a_log_of_four_wings_replays_with_every_wing() {
 }
 
 #[test]
-fn no_hover_trim_at_forward_flight_kinematics_is_an_error() {
-    let run = flapwing(&["trim", "--model", "dragonfly"]);
-    assert_eq!(run.code, 1, "{run:?}");
-    assert!(
-        run.stderr.contains("no hover trim") && !run.stderr.contains("panicked"),
-        "{run:?}"
-    );
+fn the_dragonfly_hovers_and_its_stability_runs() {
+    // The file holds the body level for forward flight; the hover trim is found from the
+    // pitch that levels the stroke planes (crates/flapsim/tests/hover_start.rs). Before
+    // 2026-12-06 these commands refused the dragonfly ("no hover trim").
+    let run = flapwing(&["trim", "--model", "dragonfly", "--json"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    let j = run.json();
+    for r in [
+        "residual_fx_over_weight",
+        "residual_fz_over_weight",
+        "residual_my_over_weight_length",
+    ] {
+        assert!(j[r].as_f64().unwrap().abs() < 1e-10, "{r}: {j}");
+    }
+    let run = flapwing(&["stability", "--model", "dragonfly"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    assert!(run.stdout.contains("Floquet exponents"), "{run:?}");
 }

@@ -5,12 +5,13 @@
 use flapsim::task::{Task, TaskSpec, preroll_s};
 use flapsim::{Vehicle, builtin_model};
 
-const BUILTIN_VEHICLES: [&str; 5] = [
+const BUILTIN_VEHICLES: [&str; 6] = [
     "drosophila",
     "bumblebee",
     "robobee_kinematic",
     "robobee",
     "hummingbird",
+    "dragonfly",
 ];
 
 fn text(name: &str) -> &'static str {

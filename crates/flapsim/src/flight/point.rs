@@ -3,7 +3,6 @@
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
-use wingforce::Wing;
 
 use crate::error::Result;
 use crate::flight::power::{Power, power_at};
@@ -26,12 +25,7 @@ pub struct TrimPoint {
     pub induced_downwash_m_s: f64,
 }
 
-/// The stroke plane's angle to the horizontal of `wing` on a body at `world_from_body`, rad
-/// (positive: its normal tilted forward, towards world x).
-pub fn stroke_plane_angle_rad(wing: &Wing, world_from_body: &nalgebra::UnitQuaternion<f64>) -> f64 {
-    let n = world_from_body * (wing.body_from_stroke() * Vector3::z());
-    n.x.atan2(n.z)
-}
+pub use crate::trim::stroke_plane_angle_rad;
 
 /// The stroke-plane angle, amplitude, power and downwash of `vehicle` trimmed at `t`.
 pub fn trim_point(vehicle: &Vehicle, t: &crate::trim::Trim) -> Result<TrimPoint> {

@@ -63,8 +63,6 @@ _OBS_BOUND = 1e6  # observations are physical values; the box is only their dtyp
 UNSUPPORTED = {
     "robobee": "it has no hover trim at its 120 Hz drive: the balance needs a drive peaking "
                "at 101.9 V and its piezo actuators allow 100 V",
-    "dragonfly": "it has no [sensors] table for the tasks' observations (and no hover trim: "
-                 "it is modelled in forward flight at 1.5 m/s)",
 }
 
 _TABLE = "the table \"Gym tasks by vehicle\" in docs/python.md"
