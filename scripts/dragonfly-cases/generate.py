@@ -373,6 +373,20 @@ velocity_m_s = [{s * math.cos(g):.4f}, 0.0, {s * math.sin(g):.4f}]
     open("models/dragonfly_azuma1985.toml", "w").write(text)
 
 
+if __name__ == "__main__" and "--check" in sys.argv:
+    # models/dragonfly.toml's wings twist as experiment 2's file's: Table 3's inner stations.
+    text = open("models/dragonfly.toml").read()
+    for wing, lead in (("fore", 0.0), ("hind", 61.0)):
+        e = EXPERIMENTS[2]
+        twist = [(s, *station_series(wing, 2, s)) for s in STATIONS if s != 0.75]
+        terms = e["tf"] if wing == "fore" else e["th"]
+        amp, cone = (e["pf"], 8.0) if wing == "fore" else (e["ph"], -2.0)
+        tables, _ = wing_tables(e["f"], 0.0, amp, *terms, cone, lead, twist)
+        body = tables.split("TWIST_HEADER\n", 1)[1]
+        assert body in text, (wing, body[:200])
+    print("models/dragonfly.toml's twist reproduced")
+
+
 if __name__ == "__main__" and "--stations" in sys.argv:
     # Rigid-wing variants, the whole wing feathering as at each station (the model files carry
     # the twist), read by `flapwing validate` and `cargo run --example dragonfly_stations`:

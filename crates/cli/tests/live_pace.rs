@@ -307,7 +307,11 @@ fn the_live_view_serves_every_wing_of_the_dragonfly() {
         "--model dragonfly --duration-s 0.01 --realtime 0.1",
     );
     let (mut ws, channels) = connect(&run.url);
-    assert_eq!(channels.len(), 19, "7 + 3 per wing: {channels:?}");
+    assert_eq!(
+        channels.len(),
+        21,
+        "7 + 3 per wing + its 2 sensors: {channels:?}"
+    );
     let watched = ["/tf/wing_pairs0_left", "/wing/pairs0_right/forces"];
     let mut subscriptions = Vec::new();
     for (k, topic) in watched.iter().enumerate() {

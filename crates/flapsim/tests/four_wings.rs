@@ -288,19 +288,21 @@ fn the_dragonfly_in_forward_flight_against_its_weight() {
         let f = m.terms[term as usize].force_n;
         eprintln!("  {term:?}: x {:.3} mN, z {:.3} mN", 1e3 * f.x, 1e3 * f.z);
     }
-    // Measured (docs/models.md): 5.958 mN up, 0.769 of the weight, and 0.630 mN of net drag,
-    // 0.081 of the weight, where steady flight says 1 and 0 (within the body drag's 0.005).
-    // The quasi-steady wings carry 77% of the weight at the published kinematics: the gap is
-    // the model's (no forewing-hindwing interaction, no unsteady lift beyond its four terms,
-    // rigid wings without the measured spanwise twist), not tuned away. Pinned to 0.01 of
-    // the weight so that a change in the model shows here.
+    // Measured (docs/models.md): 6.756 mN up, 0.872 of the weight, and 1.070 mN of net drag,
+    // 0.138 of the weight, where steady flight says 1 and 0 (within the body drag's 0.005).
+    // The quasi-steady wings, twisted as Table 3 measured, carry 87% of the weight at the
+    // published kinematics (rigid wings feathering as at 0.75R carried 0.769 and 0.081 of
+    // drag, before 2026-12-06): the gap is the model's (no forewing-hindwing interaction in
+    // still air, no unsteady lift beyond its four terms, the twist in the translational term
+    // only), not tuned away. Pinned to 0.01 of the weight so that a change in the model
+    // shows here.
     assert!(
-        (fz / w - 0.769).abs() <= 0.01,
+        (fz / w - 0.872).abs() <= 0.01,
         "vertical {fz} N against the weight {w} N"
     );
-    assert!((fx / w + 0.081).abs() <= 0.01, "horizontal {fx} N");
+    assert!((fx / w + 0.138).abs() <= 0.01, "horizontal {fx} N");
     // Published: steady flight, vertical = weight; the gap asserted, not hidden.
-    assert!((fz / w - 1.0).abs() > 0.2 && (fz / w - 1.0).abs() < 0.25);
+    assert!((fz / w - 1.0).abs() > 0.1 && (fz / w - 1.0).abs() < 0.15);
     for (i, pair) in [(0, "fore"), (2, "hind")] {
         let mut z = 0.0;
         let mut x = 0.0;
@@ -355,8 +357,9 @@ fn the_mean_force_does_not_depend_on_the_fore_hind_phase() {
     // dragonflies' flight as uniform when fore and hind wings counterstroke (antiphase) and
     // irregular when they stroke phase-shifted and, most of all, in parallel; Wang & Sun
     // 2005 (abstract) likewise find two vertical-force peaks a cycle at 180 deg that merge
-    // into one at 90, 60 and 0 deg. Here: the vertical force swings least at 180 deg (14.2 mN
-    // peak to peak), most in phase (27.0 mN), 18.9 and 23.6 mN at 90 and 270 deg.
+    // into one at 90, 60 and 0 deg. Here: the vertical force swings least at 180 deg (15.5 mN
+    // peak to peak), most in phase (29.6 mN), 20.3 and 25.6 mN at 90 and 270 deg (the rigid
+    // wings before 2026-12-06: 14.2, 27.0, 18.9 and 23.6 mN).
     assert!(swings[2] < swings[1] && swings[2] < swings[3], "{swings:?}");
     assert!(swings[0] > swings[1] && swings[0] > swings[3], "{swings:?}");
     // The mean, though, is flat: each wing's cycle mean is a mean over its whole period,
