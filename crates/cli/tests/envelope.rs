@@ -189,8 +189,8 @@ fn envelope_refuses_bad_grids_and_fails_when_nothing_trims() {
     assert!(r.stderr.contains("no point of the envelope trims"), "{r:?}");
 }
 
-/// `--inflow` puts another induced flow on the model for `trim` and `stability`, and both
-/// name it; a model that cannot take it, or an unknown name, is bad input (exit 2).
+/// `--inflow` puts another induced flow on the model for `trim`, `stability` and `envelope`,
+/// and each names it; a model that cannot take it, or an unknown name, is bad input (exit 2).
 #[test]
 fn inflow_option_selects_and_names_the_wake() {
     let dir = tempfile::tempdir().unwrap();
@@ -238,4 +238,30 @@ fn inflow_option_selects_and_names_the_wake() {
     let r = flapwing_in(dir.path(), &["trim", "--inflow", "swirl"]);
     assert_eq!(r.code, 2, "{r:?}");
     assert!(r.stderr.contains("off, frozen, dynamic"), "{r:?}");
+    // `envelope` takes it too, and names it. The hover power with the downwash exceeds the
+    // still air's by the induced power the wings pay to move the air (Ellington 1984, Phil
+    // Trans R Soc B 305:145, part V: profile plus induced power).
+    let hover_power = |inflow: &str| -> f64 {
+        let r = flapwing_in(
+            dir.path(),
+            &[
+                "envelope",
+                "--model",
+                "bumblebee",
+                "--speeds-m-s",
+                "0",
+                "--inflow",
+                inflow,
+            ],
+        );
+        assert_eq!(r.code, 0, "{r:?}");
+        assert!(
+            r.stdout.contains(&format!("induced flow: {inflow}")),
+            "{r:?}"
+        );
+        let row = r.stdout.lines().nth(3).unwrap();
+        row.split_whitespace().nth(5).unwrap().parse().unwrap()
+    };
+    let (off, frozen) = (hover_power("off"), hover_power("frozen"));
+    assert!(frozen > off, "frozen {frozen} W, still air {off} W");
 }

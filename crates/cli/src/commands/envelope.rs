@@ -14,9 +14,14 @@ use crate::vehicle::{build_vehicle, read_vehicle};
 /// Arguments of `flapwing envelope`.
 #[derive(Debug, clap::Args)]
 pub struct EnvelopeArgs {
-    /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic; actuated: robobee, hummingbird).
+    /// Vehicle model: a TOML file or a built-in name (drosophila, bumblebee, robobee_kinematic, dragonfly; actuated: robobee, hummingbird).
     #[arg(long, value_name = "FILE|NAME")]
     pub model: Option<String>,
+    /// The induced flow the wings meet, in place of the model's `[aero] inflow`: `frozen`
+    /// (the hover downwash held at each condition), `dynamic` (each pair's wake answers its
+    /// loads and the body; issue #38) or `off` (still air).
+    #[arg(long, value_name = "MODEL", value_parser = crate::vehicle::parse_inflow)]
+    pub inflow: Option<wingforce::InflowModel>,
     /// Forward speeds, m/s, comma separated (default: 10 speeds from 0 to 4.5 m/s, the
     /// range Dudley & Ellington 1990 filmed bumblebees over).
     #[arg(
@@ -52,7 +57,7 @@ pub struct EnvelopeArgs {
 /// Runs the command.
 pub fn run(args: EnvelopeArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
-    let vehicle = build_vehicle(&src)?;
+    let vehicle = crate::vehicle::with_inflow(build_vehicle(&src)?, args.inflow)?;
     let speeds = if args.speeds_m_s.is_empty() {
         (0..10).map(|i| 0.5 * i as f64).collect()
     } else {
@@ -99,13 +104,13 @@ pub fn run(args: EnvelopeArgs) -> Result<()> {
         crate::output::note(&format!("wrote {}", p.display()));
     }
     if rows.iter().any(|r| r.no_trim_reason == INTERRUPTED) {
-        print_table(&src.origin, &rows, vehicle.mass_kg)?;
+        print_table(&src.origin, &rows, &vehicle)?;
         anyhow::bail!("interrupted: the points marked `interrupted` did not run");
     }
     if args.json {
         crate::output::print_json(&rows)?;
     } else {
-        print_table(&src.origin, &rows, vehicle.mass_kg)?;
+        print_table(&src.origin, &rows, &vehicle)?;
     }
     if rows.iter().all(|r| r.point.is_none()) {
         anyhow::bail!(
@@ -116,12 +121,14 @@ pub fn run(args: EnvelopeArgs) -> Result<()> {
     Ok(())
 }
 
-fn print_table(origin: &str, rows: &[EnvelopeRow], mass_kg: f64) -> Result<()> {
+fn print_table(origin: &str, rows: &[EnvelopeRow], vehicle: &flapsim::Vehicle) -> Result<()> {
+    let mass_kg = vehicle.mass_kg;
     let mut o = String::new();
     writeln!(
         o,
         "flight envelope of {origin} (averaged model; modes about each trim)"
     )?;
+    writeln!(o, "induced flow: {}", vehicle.inflow_model().describe())?;
     writeln!(
         o,
         "{:>7} {:>7} {:>8} {:>8} {:>8} {:>10} {:>7} {:>9} {:>9}  modes / reason",
