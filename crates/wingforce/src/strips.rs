@@ -224,7 +224,9 @@ fn lee2016_lanes<T: Lanes, const L: usize>(
 /// Its chord is the reference's turned by d about the span towards n (e_le' = cos d e_le +
 /// sin d n, n' = -sin d e_le + cos d n), so its velocity components are turned into those
 /// axes, its lift and drag computed there by `model`, and the force turned back. The normal
-/// force's moment about the pitch axis keeps its form: e_le' x n' = e_le x n.
+/// force's moment about the pitch axis keeps its form: e_le' x n' = e_le x n. The Lee et al.
+/// model takes [`twisted_lanes`] on one lane (the pair's arithmetic, so a pair evaluates bit
+/// for bit as each wing alone).
 pub(crate) fn twisted_sums(
     c: &Cache,
     u: &StripVelocity,
@@ -232,22 +234,21 @@ pub(crate) fn twisted_sums(
     r_tip_m: f64,
     twist: &TwistAt,
 ) -> StripSums {
+    if model == TranslationalModel::Lee2016 {
+        let [s] = twisted_lanes::<f64, 1>([c], [u], [r_tip_m], [twist]);
+        return s;
+    }
     let mut s = StripSums::default();
     for k in &c.strips {
         let u_le = u.a_le + k.r_m * u.b_le;
         let u_n = u.a_n + k.r_m * u.b_n;
         let (sd, cd) = twist.offset_rad(k.r_m / r_tip_m).sin_cos();
         let (ul, un) = (cd * u_le + sd * u_n, -sd * u_le + cd * u_n);
-        let (fl, fn_) = match model {
-            TranslationalModel::Lee2016 => lee2016_strip(c, ul, un, k.half_rho_area),
-            TranslationalModel::Dickinson1999 => {
-                let v2 = ul * ul + un * un;
-                if v2 <= 0.0 {
-                    continue;
-                }
-                strip_lift_drag_dickinson(ul, un, v2, k.half_rho_area)
-            }
-        };
+        let v2 = ul * ul + un * un;
+        if v2 <= 0.0 {
+            continue;
+        }
+        let (fl, fn_) = strip_lift_drag_dickinson(ul, un, v2, k.half_rho_area);
         let (f_le, f_n) = (cd * fl - sd * fn_, sd * fl + cd * fn_);
         s.f_le += f_le;
         s.f_n += f_n;
@@ -256,6 +257,85 @@ pub(crate) fn twisted_sums(
         s.xf_n += k.x_cp_m * fn_;
     }
     s
+}
+
+/// Lee et al. translational strip sums of two twisted wings with the same number of strips,
+/// side by side in the two lanes of a SIMD register; each lane's arithmetic is that of
+/// [`twisted_sums`], so the results are identical bit for bit. A strip whose wings share its
+/// feathering offset (a mirrored pair: the same twist at the same radius) takes its sine and
+/// cosine once.
+pub(crate) fn twisted_sums_pair(
+    c: [&Cache; 2],
+    u: [&StripVelocity; 2],
+    r_tip_m: [f64; 2],
+    twist: [&TwistAt; 2],
+) -> [StripSums; 2] {
+    twisted_lanes::<f64x2, 2>(c, u, r_tip_m, twist)
+}
+
+/// [`twisted_sums`]' Lee et al. strips, wing `l` in lane `l` of `T`: one accumulation chain
+/// per sum, in strip order, the strip's force from [`lee2016_strip`]'s operations.
+#[inline(always)]
+fn twisted_lanes<T: Lanes, const L: usize>(
+    c: [&Cache; L],
+    u: [&StripVelocity; L],
+    r_tip_m: [f64; L],
+    twist: [&TwistAt; L],
+) -> [StripSums; L] {
+    let n = c[0].strips.len();
+    let strips: [&[StripK]; L] = std::array::from_fn(|l| &c[l].strips[..n]);
+    let (kl2, cd0, kd2) = (
+        T::gather(|l| c[l].kl2),
+        T::gather(|l| c[l].cd0),
+        T::gather(|l| c[l].kd2),
+    );
+    let (a_le, b_le) = (T::gather(|l| u[l].a_le), T::gather(|l| u[l].b_le));
+    let (a_n, b_n) = (T::gather(|l| u[l].a_n), T::gather(|l| u[l].b_n));
+    let tiny = T::splat(f64::MIN_POSITIVE);
+    let one = T::splat(1.0);
+    let zero = T::splat(0.0);
+    let mut acc = [zero; 5];
+    for i in 0..n {
+        // Each lane's (sin d, cos d), taken once where the lanes' offsets are the same.
+        let mut sc = [(0.0, 0.0); L];
+        for l in 0..L {
+            let shared = (0..l).find(|&m| {
+                twist[m] == twist[l]
+                    && strips[m][i].r_m == strips[l][i].r_m
+                    && r_tip_m[m] == r_tip_m[l]
+            });
+            sc[l] = match shared {
+                Some(m) => sc[m],
+                None => twist[l].offset_rad(strips[l][i].r_m / r_tip_m[l]).sin_cos(),
+            };
+        }
+        let (sd, cd) = (T::gather(|l| sc[l].0), T::gather(|l| sc[l].1));
+        let r = T::gather(|l| strips[l][i].r_m);
+        let hra = T::gather(|l| strips[l][i].half_rho_area);
+        let x_cp = T::gather(|l| strips[l][i].x_cp_m);
+        let u_le = a_le + r * b_le;
+        let u_n = a_n + r * b_n;
+        let (ul, un) = (cd * u_le + sd * u_n, -sd * u_le + cd * u_n);
+        let v2 = (ul * ul + un * un).max(tiny);
+        let inv = one / v2.sqrt();
+        let lift = kl2 * un * ul * inv;
+        let drag = (cd0 + kd2 * un * un * inv * inv) * (v2 * inv);
+        let fl = hra * (lift * un - drag * ul);
+        let fn_ = hra * (-(lift * ul) - drag * un);
+        let (f_le, f_n) = (cd * fl - sd * fn_, sd * fl + cd * fn_);
+        acc[0] = acc[0] + f_le;
+        acc[1] = acc[1] + f_n;
+        acc[2] = acc[2] + r * f_le;
+        acc[3] = acc[3] + r * f_n;
+        acc[4] = acc[4] + x_cp * fn_;
+    }
+    std::array::from_fn(|l| StripSums {
+        f_le: acc[0].lane(l),
+        f_n: acc[1].lane(l),
+        rf_le: acc[2].lane(l),
+        rf_n: acc[3].lane(l),
+        xf_n: acc[4].lane(l),
+    })
 }
 
 /// Dickinson et al. (1999) translational strip sums (angle of attack from the velocity).

@@ -178,6 +178,39 @@ fn a_pair_of_twisted_wings_evaluates_as_each_alone() {
 }
 
 #[test]
+fn a_pair_of_differently_twisted_wings_evaluates_as_each_alone() {
+    // Side by side in SIMD lanes, each wing with its own twist (no sine or cosine shared),
+    // and a rigid wing beside a twisted one: bit for bit each wing alone.
+    let left = waved_at_quarter(false);
+    let twisted_right = wing(
+        pitch_plus(|_| 0.0),
+        Some(TwistSpec {
+            reference_r_frac: 0.75,
+            stations_r_frac: vec![0.25, 0.5],
+            pitch_deg: vec![pitch_plus(|i| 0.5 * wave(i)), pitch_plus(|i| -wave(i))],
+        }),
+        false,
+    );
+    let rigid_right = wing(pitch_plus(|_| 0.0), None, false);
+    for right in [twisted_right, rigid_right] {
+        let mut mount = *right.mount();
+        mount.side = wingforce::Side::Right;
+        let right = Wing::builder(right.geometry().clone(), right.kinematics().clone())
+            .fluid(*right.fluid())
+            .options(right.options().clone())
+            .mount(mount)
+            .build();
+        for k in 0..20 {
+            let p = k as f64 / 20.0 + 0.01;
+            let loads = [left.kinematic_loads(p), right.kinematic_loads(p)];
+            let [l, r] = Wing::evaluate_pair_with(&left, &right, &loads, &moving());
+            assert_eq!(l, left.evaluate(p, &moving()));
+            assert_eq!(r, right.evaluate(p, &moving()));
+        }
+    }
+}
+
+#[test]
 fn bad_twists_are_refused_with_the_field_and_what_is_allowed() {
     let build = |twist: TwistSpec| {
         let w = |i: usize| 2.0 * PI * i as f64 / N as f64;

@@ -13,6 +13,7 @@ use crate::kinematics::{StrokePhase, WingAngles};
 use crate::mount::{BodyMotion, Side};
 use crate::strips::{
     StripSums, StripVelocity, dickinson1999_sums, lee2016_sums, lee2016_sums_pair, twisted_sums,
+    twisted_sums_pair,
 };
 use crate::terms::TermForce;
 use crate::wing::Wing;
@@ -251,9 +252,9 @@ impl Wing {
     }
 
     /// Two wings at once, each at its own kinematic loads, for the same body motion. Wings
-    /// with the same number of strips and the Lee et al. model (every vehicle's pair) have
-    /// their strips evaluated side by side, two lanes at a time; the results are bit for
-    /// bit those of [`Wing::evaluate_with`].
+    /// with the same number of strips and the Lee et al. model (every vehicle's pair), both
+    /// rigid or both twisted, have their strips evaluated side by side, two lanes at a time;
+    /// the results are bit for bit those of [`Wing::evaluate_with`].
     pub fn evaluate_pair_with(
         left: &Wing,
         right: &Wing,
@@ -276,14 +277,27 @@ impl Wing {
         if left.options.translational == lee
             && right.options.translational == lee
             && left.cache.strips.len() == right.cache.strips.len()
-            && k[0].twist.is_none()
-            && k[1].twist.is_none()
         {
             let u = [
                 left.strip_velocity(&k[0].frame, body[0]),
                 right.strip_velocity(&k[1].frame, body[1]),
             ];
-            let [sl, sr] = lee2016_sums_pair([&left.cache, &right.cache], [&u[0], &u[1]]);
+            let c = [&left.cache, &right.cache];
+            let [sl, sr] = match (&k[0].twist, &k[1].twist) {
+                (None, None) => lee2016_sums_pair(c, [&u[0], &u[1]]),
+                (Some(tl), Some(tr)) => twisted_sums_pair(
+                    c,
+                    [&u[0], &u[1]],
+                    [left.geometry.r_tip_m, right.geometry.r_tip_m],
+                    [tl, tr],
+                ),
+                _ => {
+                    return [
+                        left.evaluate_with(&k[0], body[0]),
+                        right.evaluate_with(&k[1], body[1]),
+                    ];
+                }
+            };
             [left.finish(&k[0], &sl), right.finish(&k[1], &sr)]
         } else {
             [
