@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::flapwing_in;
+use common::{flapwing, flapwing_in};
 
 #[test]
 fn trim_and_stability_at_a_forward_speed() {
@@ -264,4 +264,31 @@ fn inflow_option_selects_and_names_the_wake() {
     };
     let (off, frozen) = (hover_power("off"), hover_power("frozen"));
     assert!(frozen > off, "frozen {frozen} W, still air {off} W");
+}
+
+/// `envelope --vary angle-of-attack` trims every point on the angle of attack: the stroke
+/// amplitude stays the file's 116 deg, and the power at 4.5 m/s is within 15% of hover's
+/// (crates/flapsim/tests/forward_flight.rs: Dudley & Ellington 1990a/b).
+#[test]
+fn envelope_takes_the_trims_lift_variable() {
+    let r = flapwing(&[
+        "envelope",
+        "--model",
+        "bumblebee",
+        "--speeds-m-s",
+        "0,4.5",
+        "--vary",
+        "angle-of-attack",
+        "--json",
+    ]);
+    assert_eq!(r.code, 0, "{r:?}");
+    let j = r.json();
+    let point = |i: usize| &j[i]["point"]["point"];
+    for i in 0..2 {
+        let a = point(i)["stroke_amplitude_rad"].as_f64().unwrap().to_degrees();
+        assert!((a - 116.0).abs() < 1e-9, "{a} deg");
+    }
+    let power = |i: usize| point(i)["power"]["aero_w"].as_f64().unwrap();
+    let ratio = power(1) / power(0);
+    assert!((ratio - 1.0).abs() < 0.15, "{ratio}");
 }

@@ -22,6 +22,11 @@ pub struct EnvelopeArgs {
     /// loads and the body; issue #38) or `off` (still air).
     #[arg(long, value_name = "MODEL", value_parser = crate::vehicle::parse_inflow)]
     pub inflow: Option<wingforce::InflowModel>,
+    /// What carries the weight at every point, as `trim --vary` (default: the model's
+    /// `[trim] lift_variable`, else the amplitude); `angle-of-attack` holds the stroke
+    /// amplitude and frequency, as Dudley & Ellington's bumblebees flew.
+    #[arg(long, value_enum)]
+    pub vary: Option<crate::commands::trim::Vary>,
     /// Forward speeds, m/s, comma separated (default: 10 speeds from 0 to 4.5 m/s, the
     /// range Dudley & Ellington 1990 filmed bumblebees over).
     #[arg(
@@ -57,7 +62,8 @@ pub struct EnvelopeArgs {
 /// Runs the command.
 pub fn run(args: EnvelopeArgs) -> Result<()> {
     let src = read_vehicle(args.model.as_deref())?;
-    let vehicle = crate::vehicle::with_inflow(build_vehicle(&src)?, args.inflow)?;
+    let mut vehicle = crate::vehicle::with_inflow(build_vehicle(&src)?, args.inflow)?;
+    vehicle.trim_lift = crate::commands::trim::Vary::or_model(args.vary, &vehicle);
     let speeds = if args.speeds_m_s.is_empty() {
         (0..10).map(|i| 0.5 * i as f64).collect()
     } else {

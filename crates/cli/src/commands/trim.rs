@@ -49,6 +49,18 @@ pub enum Vary {
     Frequency,
 }
 
+impl Vary {
+    /// The trim's lift variable: `vary`'s, else the model's `[trim] lift_variable`.
+    pub fn or_model(vary: Option<Vary>, vehicle: &flapsim::Vehicle) -> flapsim::trim::LiftVariable {
+        match vary {
+            None => vehicle.trim_lift,
+            Some(Vary::Amplitude) => flapsim::trim::LiftVariable::Amplitude,
+            Some(Vary::AngleOfAttack) => flapsim::trim::LiftVariable::AngleOfAttack,
+            Some(Vary::Frequency) => flapsim::trim::LiftVariable::Frequency,
+        }
+    }
+}
+
 #[derive(Serialize)]
 struct Report<'a> {
     model: &'a str,
@@ -98,12 +110,7 @@ pub fn run(args: TrimArgs) -> Result<()> {
         }
         None => None,
     };
-    let lift = match args.vary {
-        None => vehicle.trim_lift,
-        Some(Vary::Amplitude) => flapsim::trim::LiftVariable::Amplitude,
-        Some(Vary::AngleOfAttack) => flapsim::trim::LiftVariable::AngleOfAttack,
-        Some(Vary::Frequency) => flapsim::trim::LiftVariable::Frequency,
-    };
+    let lift = Vary::or_model(args.vary, &vehicle);
     let t = flapsim::trim::trim_at(&vehicle, lift, &condition).map_err(sim_error)?;
     let point = flapsim::flight::trim_point(&vehicle, &t).map_err(sim_error)?;
     let report = Report {

@@ -1,6 +1,7 @@
 //! The bumblebee's rows: its four longitudinal mode times against Sun & Xiong's (2005)
-//! abstract, and its nine non-dimensional longitudinal derivatives term by term against the
-//! paper's CFD table ([`crate::sun_xiong`]), in the paper's axes.
+//! abstract, its nine non-dimensional longitudinal derivatives term by term against the
+//! paper's CFD table ([`crate::sun_xiong`]), in the paper's axes, and its power at 4.5 m/s
+//! against its hover power (Dudley & Ellington 1990b: independent of airspeed).
 //!
 //! A derivative that misses carries what was measured on the model: which of its force terms
 //! sets the derivative (the value with only the translational term, without the hover
@@ -11,10 +12,12 @@ use wingforce::{AddedMassForm, AeroOptions};
 
 use super::rows::{Check, RowBuilder};
 use crate::error::Result;
+use crate::flight::{FlightCondition, trim_point};
 use crate::model::Vehicle;
 use crate::operating_points::{SUN_XIONG_SOURCE, bumblebee_pitch_modes_note};
 use crate::stability::analyze;
 use crate::sun_xiong::{self, Comparison, MODE_TIME_NAMES, MODE_TIMES_S, TABLE_SOURCE};
+use crate::trim::{LiftVariable, trim_at};
 
 /// The bound on every bumblebee row: issue 17's 30% for a quasi-steady averaged model beside
 /// CFD, the mode times' bound used alike for the derivatives they come from.
@@ -58,6 +61,47 @@ pub(super) fn bumblebee_rows(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
             || derivative_cause(name, model, published, &c, &variants),
         );
     }
+    power_row(b, bee)
+}
+
+/// Dudley & Ellington 1990b (J Exp Biol 148:53, abstract): "the power required to fly is
+/// independent of airspeed over a range from hovering flight to an airspeed of 4.5 m/s".
+const POWER_SOURCE: &str = "Dudley & Ellington 1990b";
+
+/// The fastest airspeed of Dudley & Ellington's bumblebees, m/s.
+const TOP_SPEED_M_S: f64 = 4.5;
+
+/// The aerodynamic power at [`TOP_SPEED_M_S`] over the hover power, both trimmed on the
+/// mid-stroke angle of attack with the stroke amplitude and the wingbeat frequency held: of
+/// the filmed bees' kinematics, "body angle, stroke plane angle, geometrical angle of attack,
+/// and rotational angles of the wings" varied consistently with airspeed (Dudley & Ellington
+/// 1990a, J Exp Biol 148:19, abstract), amplitude and frequency not. The cause of a miss
+/// gives the ratio trimmed on the amplitude (the model file's lift variable) beside it.
+fn power_row(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
+    let ratio = |lift: LiftVariable| -> Result<f64> {
+        let power = |u: f64| -> Result<f64> {
+            let t = trim_at(bee, lift, &FlightCondition::new(u, 0.0)?)?;
+            Ok(trim_point(bee, &t)?.power.aero_w)
+        };
+        Ok(power(TOP_SPEED_M_S)? / power(0.0)?)
+    };
+    let at_aoa = ratio(LiftVariable::AngleOfAttack)?;
+    b.push(
+        "bumblebee",
+        "aerodynamic power at 4.5 m/s / hover power, the angle of attack trimmed (stroke amplitude and frequency held, as the filmed bees)",
+        POWER_SOURCE,
+        at_aoa,
+        Some(1.0),
+        Check::Relative { tolerance: 0.15 },
+        false,
+        || match ratio(LiftVariable::Amplitude) {
+            Ok(r) => format!(
+                "{:+.0}% off; trimmed on the stroke amplitude instead, {r:.3}",
+                100.0 * (at_aoa - 1.0)
+            ),
+            Err(e) => format!("{:+.0}% off; the amplitude trim: {e}", 100.0 * (at_aoa - 1.0)),
+        },
+    );
     Ok(())
 }
 
