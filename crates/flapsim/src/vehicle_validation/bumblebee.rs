@@ -88,7 +88,7 @@ fn power_row(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
     let at_aoa = ratio(LiftVariable::AngleOfAttack)?;
     b.push(
         "bumblebee",
-        "aerodynamic power at 4.5 m/s / hover power, the angle of attack trimmed (stroke amplitude and frequency held, as the filmed bees)",
+        "aerodynamic power at 4.5 m/s / hover power, angle-of-attack trim (amplitude and frequency held)",
         POWER_SOURCE,
         at_aoa,
         Some(1.0),
