@@ -106,6 +106,15 @@ CASES = [
     # --- state dicts that measure nothing ---
     C("controller-error-state-empty", "c.error_state({})", "ValueError", "state", setup=CTRL),
     C("controller-update-empty", "c.update({})", "ValueError", "state", setup=CTRL),
+    # --- the vehicle's induced flow and trim variable ---
+    C("vehicle-with-inflow-name", "Vehicle('drosophila').with_inflow('swirl')", "ValueError",
+      "swirl", "off, frozen, dynamic"),
+    C("vehicle-with-inflow-actuated", "Vehicle('robobee').with_inflow('frozen')", "ValueError",
+      "frozen", "allowed"),
+    C("vehicle-with-trim-lift-name", "Vehicle('bumblebee').with_trim_lift('speed')",
+      "ValueError", "speed", "amplitude, angle_of_attack, frequency"),
+    C("vehicle-with-trim-lift-actuated", "Vehicle('robobee').with_trim_lift('frequency')",
+      "ValueError", "frequency", "allowed: amplitude"),
     # --- Gymnasium: step before reset ---
     C("env-step-before-reset", "FlapwingEnv().step(np.zeros(4))", "ResetNeeded", "reset",
       setup=ENV),

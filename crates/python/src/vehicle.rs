@@ -226,6 +226,51 @@ impl Vehicle {
         Ok(v)
     }
 
+    /// A copy whose wings meet another induced flow (`[aero] inflow`): `"off"` (still air),
+    /// `"frozen"` (the hover downwash held at the flight condition) or `"dynamic"` (each
+    /// pair's wake answers its loads and the body). `ValueError` for another name, or for a
+    /// flow the vehicle cannot take (a frozen wake on actuated or four wings).
+    fn with_inflow(&self, model: &str) -> PyResult<Self> {
+        let m = wingforce::InflowModel::from_name(model).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "inflow `{model}` is not an induced-flow model; allowed: off, frozen, dynamic"
+            ))
+        })?;
+        let mut v = self.clone();
+        v.vehicle = v.vehicle.with_inflow_model(m).map_err(sim_err)?;
+        Ok(v)
+    }
+
+    /// What the vehicle's trims vary to carry the weight (`[trim] lift_variable`):
+    /// `"amplitude"`, `"angle_of_attack"` or `"frequency"`.
+    #[getter]
+    fn trim_lift(&self) -> &'static str {
+        self.vehicle.trim_lift.name()
+    }
+
+    /// A copy whose trims (`trim`, `trimmed`, `stability`, `envelope`) carry the weight on
+    /// `variable` (`[trim] lift_variable`): `"amplitude"`, `"angle_of_attack"` (both half
+    /// strokes moved alike, amplitude and frequency held) or `"frequency"`. `ValueError` for
+    /// another name, or for an actuated vehicle and anything but `"amplitude"` (its drive
+    /// amplitude carries the weight).
+    fn with_trim_lift(&self, variable: &str) -> PyResult<Self> {
+        use flapsim::trim::LiftVariable;
+        let lift = LiftVariable::from_name(variable).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "trim lift variable `{variable}` is not one of amplitude, angle_of_attack, frequency"
+            ))
+        })?;
+        if self.vehicle.drive_controlled() && lift != LiftVariable::Amplitude {
+            return Err(PyValueError::new_err(format!(
+                "trim lift variable `{variable}` on the actuated `{}`: its drive amplitude carries the weight; allowed: amplitude",
+                self.vehicle.name
+            )));
+        }
+        let mut v = self.clone();
+        v.vehicle.trim_lift = lift;
+        Ok(v)
+    }
+
     /// A copy whose initial state is `state` (a dict as returned by `Simulation.state`;
     /// missing keys keep the model's values).
     fn with_initial_state(&self, state: &Bound<'_, PyDict>) -> PyResult<Self> {

@@ -22,6 +22,18 @@ pub enum LiftVariable {
 }
 
 impl LiftVariable {
+    /// Every lift variable, in the order their names are listed.
+    pub const ALL: [LiftVariable; 3] = [
+        LiftVariable::Amplitude,
+        LiftVariable::AngleOfAttack,
+        LiftVariable::Frequency,
+    ];
+
+    /// The lift variable of a model-file name ([`Self::name`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|v| v.name() == name)
+    }
+
     /// The name used in model files and on the command line.
     pub fn name(self) -> &'static str {
         match self {

@@ -149,6 +149,17 @@ class Vehicle:
     def controls(self) -> dict[str, float]: ...
     def with_controls(self, **controls: float) -> "Vehicle": ...
     def with_initial_state(self, state: dict[str, Any]) -> "Vehicle": ...
+    def with_inflow(self, model: str) -> "Vehicle":
+        """A copy whose wings meet another induced flow: "off", "frozen" or "dynamic"
+        (`[aero] inflow`); ValueError for another name or a flow the vehicle cannot take."""
+    @property
+    def trim_lift(self) -> str:
+        """What its trims vary to carry the weight: "amplitude", "angle_of_attack" or
+        "frequency" (`[trim] lift_variable`)."""
+    def with_trim_lift(self, variable: str) -> "Vehicle":
+        """A copy whose trims (trim, trimmed, stability, envelope) carry the weight on
+        `variable`; "angle_of_attack" holds the stroke amplitude and frequency. ValueError
+        for another name, or anything but "amplitude" on an actuated vehicle."""
     def trim(self, speed_m_s: float = 0.0, climb_m_s: float = 0.0) -> dict[str, Any]:
         """Trim in hover or at a flight condition (forward speed, climb rate, m/s):
         condition, controls, pitch_rad, residuals, iterations, lift_variable."""
