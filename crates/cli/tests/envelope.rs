@@ -285,7 +285,10 @@ fn envelope_takes_the_trims_lift_variable() {
     let j = r.json();
     let point = |i: usize| &j[i]["point"]["point"];
     for i in 0..2 {
-        let a = point(i)["stroke_amplitude_rad"].as_f64().unwrap().to_degrees();
+        let a = point(i)["stroke_amplitude_rad"]
+            .as_f64()
+            .unwrap()
+            .to_degrees();
         assert!((a - 116.0).abs() < 1e-9, "{a} deg");
     }
     let power = |i: usize| point(i)["power"]["aero_w"].as_f64().unwrap();
