@@ -210,8 +210,9 @@ pub fn trim_at(vehicle: &Vehicle, lift: LiftVariable, condition: &FlightConditio
 /// 1973, J Exp Biol 59:169, "normal hovering"), so that pitch is near the balance for a
 /// vehicle whose model file holds its body as in forward flight. Measured: the dragonfly
 /// (stroke planes 55 and 48 deg to its body) does not converge from its level body, and from
-/// 35 to 80 deg of body pitch converges to one trim (55.7 deg; 0 to 30 deg leave the range). The first attempt's failure is
-/// reported, with the second's, if neither converges.
+/// 35 to 80 deg of body pitch converges to one trim (55.7 deg; from 0 to 30 deg the search
+/// leaves the range). The first attempt's failure is reported, with the second's, if neither
+/// converges.
 fn hover_from(vehicle: &Vehicle, lift: LiftVariable, start: Vector3<f64>) -> Result<Trim> {
     let direct = trim_from(vehicle, lift, &FlightCondition::HOVER, start);
     let Err(Error::Analysis(first)) = &direct else {
