@@ -4,11 +4,12 @@
 //!
 //! - [`Signals`]: polled from a loop running on the calling thread with the GIL released
 //!   (`py.detach`): every [`EVERY`] it re-attaches for the check.
-//! - [`watch`]: runs work that spreads over rayon's threads on a helper thread while the
-//!   calling thread checks the signals every [`EVERY`]; on an exception it sets the stop
-//!   flag the work polls, waits for it to stop and raises the exception.
-//! - [`analysis`]: [`watch`] for flapsim's trim, stability and LQR design, whose flag is a
-//!   `flapsim::cancel` token that their loops check.
+//! - [`watch_token`]: runs work that spreads over rayon's threads on a helper thread while
+//!   the calling thread checks the signals every [`EVERY`]; on an exception it sets the stop
+//!   flag the work polls (a `flapsim::cancel` token), waits for it to stop and raises the
+//!   exception.
+//! - [`analysis`]: the same for flapsim's trim, stability and LQR design, whose loops check
+//!   the token.
 //!
 //! After an interruption the object keeps what was done before the stop (the steps taken,
 //! the tasks' state); an interrupted task's episode has ended (reset it).
@@ -79,14 +80,9 @@ impl Signals {
 
 /// Runs `work` on a helper thread with the GIL released (work that fans out over rayon);
 /// the calling thread runs Python's signal handlers every [`EVERY`] meanwhile. When one
-/// raises, `stop` is set, `work` is waited for (it should poll `stop` and return early) and
-/// the exception is raised.
-pub fn watch<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<T> {
-    watch_token(py, |stop| work(stop))
-}
-
-/// [`watch`] handing `work` the stop flag as a shareable `flapsim::cancel` token: work that
-/// runs flapsim analyses on rayon's threads installs it in each job
+/// raises, the stop flag is set, `work` is waited for (it should poll the flag and return
+/// early) and the exception is raised. The flag is a shareable `flapsim::cancel` token: work
+/// that runs flapsim analyses on rayon's threads installs it in each job
 /// (`flapsim::cancel::with_cancel`), so that Ctrl-C stops an analysis in flight too.
 pub fn watch_token<T: Send>(
     py: Python<'_>,
@@ -97,7 +93,7 @@ pub fn watch_token<T: Send>(
     watch_flag(py, stop, move || work(&flag))
 }
 
-/// A flapsim analysis (trim, stability, LQR design) under [`watch`]: it runs with a
+/// A flapsim analysis (trim, stability, LQR design) under [`watch_token`]'s scheme: it runs with a
 /// `flapsim::cancel` token installed, which Ctrl-C sets, so that it stops at its next
 /// checkpoint (well within a second) and the KeyboardInterrupt is raised.
 pub fn analysis<T: Send>(py: Python<'_>, work: impl FnOnce() -> T + Send) -> PyResult<T> {
