@@ -135,24 +135,11 @@ fn twist_pair_ratio_rounds() {
         }
         t0.elapsed().as_secs_f64()
     };
-    let mut ratios = Vec::new();
-    for round in 0..21 {
-        let (tp, ts) = if round % 2 == 0 {
-            let tp = time(true);
-            (tp, time(false))
-        } else {
-            let ts = time(false);
-            (time(true), ts)
-        };
-        ratios.push(tp / ts);
-    }
-    ratios.sort_by(f64::total_cmp);
-    let q = |f: f64| ratios[((ratios.len() - 1) as f64 * f).round() as usize];
-    println!(
-        "twisted mirrored pair, side by side / each wing alone (robofly planform, 20 strips, all four terms, interleaved, 21 rounds of {n}): median {:.3}x [quartiles {:.3} {:.3}]",
-        q(0.5),
-        q(0.25),
-        q(0.75)
+    print_ratio(
+        &format!(
+            "twisted mirrored pair, side by side / each wing alone (robofly planform, 20 strips, all four terms, interleaved, 21 rounds of {n})"
+        ),
+        interleaved_ratios(|| time(true), || time(false)),
     );
 }
 
@@ -172,22 +159,36 @@ fn form_ratio_rounds() {
         }
         t0.elapsed().as_secs_f64()
     };
-    let mut ratios = Vec::new();
-    for round in 0..21 {
-        // Alternate which form goes first.
-        let (ti, tp) = if round % 2 == 0 {
-            let ti = time(&impulse);
-            (ti, time(&paper))
-        } else {
-            let tp = time(&paper);
-            (time(&impulse), tp)
-        };
-        ratios.push(ti / tp);
-    }
+    print_ratio(
+        &format!(
+            "added-mass forms, impulse / paper cost of a whole wing evaluation (robofly, 20 strips, interleaved, 21 rounds of {n})"
+        ),
+        interleaved_ratios(|| time(&impulse), || time(&paper)),
+    );
+}
+
+/// The ratios a / b of 21 interleaved rounds of two timed runs (which goes first alternates).
+fn interleaved_ratios(mut a: impl FnMut() -> f64, mut b: impl FnMut() -> f64) -> Vec<f64> {
+    (0..21)
+        .map(|round| {
+            let (ta, tb) = if round % 2 == 0 {
+                let ta = a();
+                (ta, b())
+            } else {
+                let tb = b();
+                (a(), tb)
+            };
+            ta / tb
+        })
+        .collect()
+}
+
+/// Prints the median of `ratios` with its quartiles.
+fn print_ratio(label: &str, mut ratios: Vec<f64>) {
     ratios.sort_by(f64::total_cmp);
     let q = |f: f64| ratios[((ratios.len() - 1) as f64 * f).round() as usize];
     println!(
-        "added-mass forms, impulse / paper cost of a whole wing evaluation (robofly, 20 strips, interleaved, 21 rounds of {n}): median {:.3}x [quartiles {:.3} {:.3}]",
+        "{label}: median {:.3}x [quartiles {:.3} {:.3}]",
         q(0.5),
         q(0.25),
         q(0.75)

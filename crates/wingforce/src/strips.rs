@@ -155,6 +155,53 @@ impl Lanes for f64x2 {
     }
 }
 
+/// What every strip of the Lee et al. sums needs, wing `l` in lane `l` of `T`: the force
+/// coefficients and the velocity's linear coefficients along the span.
+struct LeeLanes<T> {
+    kl2: T,
+    cd0: T,
+    kd2: T,
+    a_le: T,
+    b_le: T,
+    a_n: T,
+    b_n: T,
+}
+
+impl<T: Lanes> LeeLanes<T> {
+    #[inline(always)]
+    fn new<const L: usize>(c: [&Cache; L], u: [&StripVelocity; L]) -> Self {
+        Self {
+            kl2: T::gather(|l| c[l].kl2),
+            cd0: T::gather(|l| c[l].cd0),
+            kd2: T::gather(|l| c[l].kd2),
+            a_le: T::gather(|l| u[l].a_le),
+            b_le: T::gather(|l| u[l].b_le),
+            a_n: T::gather(|l| u[l].a_n),
+            b_n: T::gather(|l| u[l].b_n),
+        }
+    }
+
+    /// The velocity components (u_le, u_n) at radius `r`.
+    #[inline(always)]
+    fn velocity(&self, r: T) -> (T, T) {
+        (self.a_le + r * self.b_le, self.a_n + r * self.b_n)
+    }
+
+    /// A strip's force (f_le, f_n) from its velocity components in its chord's axes:
+    /// [`lee2016_strip`]'s operations, lane by lane.
+    #[inline(always)]
+    fn force(&self, u_le: T, u_n: T, hra: T) -> (T, T) {
+        let v2 = (u_le * u_le + u_n * u_n).max(T::splat(f64::MIN_POSITIVE));
+        let inv = T::splat(1.0) / v2.sqrt();
+        let lift = self.kl2 * u_n * u_le * inv;
+        let drag = (self.cd0 + self.kd2 * u_n * u_n * inv * inv) * (v2 * inv);
+        (
+            hra * (lift * u_n - drag * u_le),
+            hra * (-(lift * u_le) - drag * u_n),
+        )
+    }
+}
+
 /// The Lee et al. strip sums, wing `l` in lane `l` of `T` (which has `L` lanes; every wing
 /// has the same number of strips). In the (e_le, n) plane with u = (u_le, u_n),
 /// |V|^2 sin(2 alpha) along the lift direction is 2 u_le u_n (u_n, -u_le)/|V| and
@@ -170,27 +217,13 @@ fn lee2016_lanes<T: Lanes, const L: usize>(
     let n = c[0].strips.len();
     // Slices of one known length, so the indexing below needs no bounds checks.
     let strips: [&[StripK]; L] = std::array::from_fn(|l| &c[l].strips[..n]);
-    let (kl2, cd0, kd2) = (
-        T::gather(|l| c[l].kl2),
-        T::gather(|l| c[l].cd0),
-        T::gather(|l| c[l].kd2),
-    );
-    let (a_le, b_le) = (T::gather(|l| u[l].a_le), T::gather(|l| u[l].b_le));
-    let (a_n, b_n) = (T::gather(|l| u[l].a_n), T::gather(|l| u[l].b_n));
-    let tiny = T::splat(f64::MIN_POSITIVE);
-    let one = T::splat(1.0);
+    let lee = LeeLanes::<T>::new(c, u);
     let strip = |i: usize| -> [T; 5] {
         let r = T::gather(|l| strips[l][i].r_m);
         let hra = T::gather(|l| strips[l][i].half_rho_area);
         let x_cp = T::gather(|l| strips[l][i].x_cp_m);
-        let u_le = a_le + r * b_le;
-        let u_n = a_n + r * b_n;
-        let v2 = (u_le * u_le + u_n * u_n).max(tiny);
-        let inv = one / v2.sqrt();
-        let lift = kl2 * u_n * u_le * inv;
-        let drag = (cd0 + kd2 * u_n * u_n * inv * inv) * (v2 * inv);
-        let fl = hra * (lift * u_n - drag * u_le);
-        let fn_ = hra * (-(lift * u_le) - drag * u_n);
+        let (u_le, u_n) = lee.velocity(r);
+        let (fl, fn_) = lee.force(u_le, u_n, hra);
         [fl, fn_, r * fl, r * fn_, x_cp * fn_]
     };
     let zero = T::splat(0.0);
@@ -284,15 +317,7 @@ fn twisted_lanes<T: Lanes, const L: usize>(
 ) -> [StripSums; L] {
     let n = c[0].strips.len();
     let strips: [&[StripK]; L] = std::array::from_fn(|l| &c[l].strips[..n]);
-    let (kl2, cd0, kd2) = (
-        T::gather(|l| c[l].kl2),
-        T::gather(|l| c[l].cd0),
-        T::gather(|l| c[l].kd2),
-    );
-    let (a_le, b_le) = (T::gather(|l| u[l].a_le), T::gather(|l| u[l].b_le));
-    let (a_n, b_n) = (T::gather(|l| u[l].a_n), T::gather(|l| u[l].b_n));
-    let tiny = T::splat(f64::MIN_POSITIVE);
-    let one = T::splat(1.0);
+    let lee = LeeLanes::<T>::new(c, u);
     let zero = T::splat(0.0);
     let mut acc = [zero; 5];
     for i in 0..n {
@@ -313,15 +338,9 @@ fn twisted_lanes<T: Lanes, const L: usize>(
         let r = T::gather(|l| strips[l][i].r_m);
         let hra = T::gather(|l| strips[l][i].half_rho_area);
         let x_cp = T::gather(|l| strips[l][i].x_cp_m);
-        let u_le = a_le + r * b_le;
-        let u_n = a_n + r * b_n;
+        let (u_le, u_n) = lee.velocity(r);
         let (ul, un) = (cd * u_le + sd * u_n, -sd * u_le + cd * u_n);
-        let v2 = (ul * ul + un * un).max(tiny);
-        let inv = one / v2.sqrt();
-        let lift = kl2 * un * ul * inv;
-        let drag = (cd0 + kd2 * un * un * inv * inv) * (v2 * inv);
-        let fl = hra * (lift * un - drag * ul);
-        let fn_ = hra * (-(lift * ul) - drag * un);
+        let (fl, fn_) = lee.force(ul, un, hra);
         let (f_le, f_n) = (cd * fl - sd * fn_, sd * fl + cd * fn_);
         acc[0] = acc[0] + f_le;
         acc[1] = acc[1] + f_n;

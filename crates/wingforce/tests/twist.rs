@@ -159,16 +159,21 @@ fn the_translational_force_does_not_depend_on_which_station_is_the_reference() {
     }
 }
 
+/// `w` mounted on the right.
+fn on_the_right(w: &Wing) -> Wing {
+    let mut mount = *w.mount();
+    mount.side = wingforce::Side::Right;
+    Wing::builder(w.geometry().clone(), w.kinematics().clone())
+        .fluid(*w.fluid())
+        .options(w.options().clone())
+        .mount(mount)
+        .build()
+}
+
 #[test]
 fn a_pair_of_twisted_wings_evaluates_as_each_alone() {
     let left = waved_at_quarter(false);
-    let mut mount = *left.mount();
-    mount.side = wingforce::Side::Right;
-    let right = Wing::builder(left.geometry().clone(), left.kinematics().clone())
-        .fluid(*left.fluid())
-        .options(left.options().clone())
-        .mount(mount)
-        .build();
+    let right = on_the_right(&left);
     for k in 0..20 {
         let p = k as f64 / 20.0 + 0.01;
         let [l, r] = Wing::evaluate_mirrored_pair(&left, &right, p, &moving());
@@ -193,13 +198,7 @@ fn a_pair_of_differently_twisted_wings_evaluates_as_each_alone() {
     );
     let rigid_right = wing(pitch_plus(|_| 0.0), None, false);
     for right in [twisted_right, rigid_right] {
-        let mut mount = *right.mount();
-        mount.side = wingforce::Side::Right;
-        let right = Wing::builder(right.geometry().clone(), right.kinematics().clone())
-            .fluid(*right.fluid())
-            .options(right.options().clone())
-            .mount(mount)
-            .build();
+        let right = on_the_right(&right);
         for k in 0..20 {
             let p = k as f64 / 20.0 + 0.01;
             let loads = [left.kinematic_loads(p), right.kinematic_loads(p)];
