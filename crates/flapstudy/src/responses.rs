@@ -212,7 +212,8 @@ pub fn hover_responses(vehicle: &Vehicle, steps: usize) -> flapsim::Result<Hover
         aero_power_w: power,
         mean_pitch_moment_nm: loads.total.moment_nm.y,
         wake_capture_peak_cl: peak,
-        reynolds: vehicle.wings[0].reynolds(),
+        // An actuated wing's Re is that of its measured motion (its stroke reference).
+        reynolds: wings[0].reynolds(),
         wake_capture_clamped: clamped,
         trim_feasible: None,
     })

@@ -7,7 +7,7 @@ use super::super::error::{StudyError, StudyResult};
 use super::super::responses::Response;
 use super::design::generate_cases;
 use super::file::{DesignKind, MAX_CASES, StudySpec};
-use super::path::{parse_path, set_path};
+use super::path::{PathStep, parse_path, set_path};
 use super::study::{Factor, Study, vehicle_from_table};
 
 impl StudySpec {
@@ -71,6 +71,19 @@ impl StudySpec {
         for (i, f) in self.factors.iter().enumerate() {
             let at = |m: String| invalid(format!("factor {} (`{}`): {m}", i + 1, f.path));
             let steps = parse_path(&f.path).map_err(at)?;
+            if base_spec.actuation.is_some()
+                && steps.first() == Some(&PathStep::Key("kinematics".into()))
+            {
+                return Err(at(format!(
+                    "base_model `{}` has actuated wings: their motion is an output of its \
+                     [actuation] dynamics, and [kinematics] is only the nominal motion the \
+                     first wingbeat starts from, so no response would move with it; vary the \
+                     drive or the wings' dynamics instead (the numbers under [actuation], e.g. \
+                     {})",
+                    self.base_model,
+                    actuation_examples(&base).join(", ")
+                )));
+            }
             if factors.iter().any(|g| g.path == f.path) {
                 return Err(at("the same path appears twice".to_owned()));
             }
@@ -183,4 +196,25 @@ impl StudySpec {
             cases,
         })
     }
+}
+
+/// The base model's drive frequency and amplitude and its hinge's and stroke's stiffness,
+/// as factor paths, where its `[actuation]` table has them: what an error that refuses a
+/// path with no effect suggests instead.
+fn actuation_examples(base: &toml::Table) -> Vec<String> {
+    let Some(toml::Value::Table(act)) = base.get("actuation") else {
+        return Vec::new();
+    };
+    [
+        ("drive", "freq_hz"),
+        ("drive", "amplitude_v"),
+        ("hinge", "stiffness_nm_rad"),
+        ("stroke", "flexure_nm_rad"),
+    ]
+    .into_iter()
+    .filter(|(section, key)| {
+        matches!(act.get(*section), Some(toml::Value::Table(t)) if t.get(*key).is_some_and(|v| v.is_float() || v.is_integer()))
+    })
+    .map(|(section, key)| format!("`actuation.{section}.{key}`"))
+    .collect()
 }
