@@ -73,9 +73,17 @@ pub struct WakeCaptureArgs {
 #[derive(Debug, Args)]
 pub struct ForcesArgs {
     /// Wing model file (TOML). Default: the built-in robofly model (models/robofly.toml,
-    /// the paper's run V3), so the command works from any directory.
-    #[arg(long, value_name = "FILE")]
+    /// the paper's run V3), so the command works from any directory. A vehicle (a built-in
+    /// name: drosophila, bumblebee, robobee_kinematic, dragonfly, robobee, hummingbird; or a
+    /// vehicle model file) gives its left wing on a fixed mount, with the vehicle's
+    /// aerodynamic options and induced flow; an actuated vehicle's wing on the periodic
+    /// motion its drive gives it.
+    #[arg(long, value_name = "FILE|VEHICLE")]
     pub model: Option<PathBuf>,
+    /// A vehicle's wing pair, from 1 (the model file's first pair; the dragonfly's 2 is its
+    /// hind pair). Default: 1.
+    #[arg(long, value_name = "N")]
+    pub pair: Option<usize>,
     /// Reynolds number Re = V_ref c_bar / nu; sets the fluid's viscosity (overrides the model).
     #[arg(long, value_parser = parse_reynolds)]
     pub re: Option<f64>,
@@ -85,13 +93,15 @@ pub struct ForcesArgs {
     /// Deceleration fraction dtau_D of trapezoidal kinematics, in (0, 0.5) (overrides the model).
     #[arg(long = "dtau-d", value_parser = parse_dtau)]
     pub dtau_d: Option<f64>,
-    /// Number of wingbeats to evaluate; the means are those of the last one.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=10_000))]
-    pub cycles: u32,
-    /// Time steps per wingbeat (forces are sampled at the middle of each step).
-    #[arg(long = "steps-per-cycle", default_value_t = 1000,
+    /// Number of wingbeats to evaluate; the means are those of the last one [default: 3]
+    /// (prescribed kinematics only).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub cycles: Option<u32>,
+    /// Time steps per wingbeat (forces are sampled at the middle of each step) [default:
+    /// 1000] (prescribed kinematics only).
+    #[arg(long = "steps-per-cycle",
           value_parser = clap::value_parser!(u32).range(2..=10_000_000))]
-    pub steps_per_cycle: u32,
+    pub steps_per_cycle: Option<u32>,
     /// Switch the wake-capture term off.
     #[arg(long = "no-wake-capture")]
     pub no_wake_capture: bool,

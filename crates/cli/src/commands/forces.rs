@@ -13,9 +13,9 @@ use wingforce::cycle::CycleMean;
 use wingforce::{BodyMotion, KinematicsSpec, Term, TermForce, Wing, WingForces};
 
 use crate::cli::ForcesArgs;
+use crate::commands::forces_vehicle::{self, Periodic, Subject};
 use crate::commands::wake_capture;
 use crate::error::input_error;
-use crate::input::{LoadedSpec, load_wing_spec};
 use crate::output::{create_output_file, fmt_sig, print_json, print_stdout};
 
 /// Runs with more evaluations than this show a progress bar (on a terminal only).
@@ -84,8 +84,12 @@ impl Means {
 pub struct Report {
     /// The model's name.
     pub model: String,
-    /// The model file, or `<built-in robofly>`.
+    /// The model file, or `<built-in NAME>`.
     pub source: String,
+    /// Which wing of the model, and how it moves.
+    pub wing: String,
+    /// The induced flow the wing meets (`[aero] inflow`): `off`, `frozen` or `dynamic`.
+    pub induced_flow: String,
     /// Reynolds number in use.
     pub reynolds: f64,
     /// How Re is defined.
@@ -116,9 +120,10 @@ pub struct Report {
 
 /// Runs the command.
 pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
-    let (wing, loaded) = build_wing(&args)?;
+    let subject = build_wing(&args)?;
+    let wing = &subject.wing;
     let wake = wing.options().wake_capture.as_ref().map(|model| {
-        let (dtau_a, dtau_d) = wing.kinematics().acceleration_fractions();
+        let (dtau_a, dtau_d) = forces_vehicle::acceleration_fractions(wing);
         wake_capture::Report::new(model, wing.reynolds(), dtau_a, dtau_d)
     });
     let clamped = wake.as_ref().is_some_and(|w| w.any_clamped);
@@ -150,7 +155,23 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
         Some(path) => Some(CsvWriter::create(path, args.force)?),
         None => None,
     };
-    let mean = evaluate(&wing, args.cycles, args.steps_per_cycle, csv.as_mut())?;
+    let (cycles, steps_per_cycle, freq_hz) = match &subject.periodic {
+        None => (
+            args.cycles.unwrap_or(forces_vehicle::DEFAULT_CYCLES),
+            args.steps_per_cycle
+                .unwrap_or(forces_vehicle::DEFAULT_STEPS_PER_CYCLE),
+            wing.kinematics().freq_hz,
+        ),
+        Some(p) => (
+            u32::try_from(p.cycles).unwrap_or(u32::MAX),
+            u32::try_from(p.samples.len()).unwrap_or(u32::MAX),
+            p.freq_hz,
+        ),
+    };
+    let mean = match &subject.periodic {
+        None => evaluate(wing, cycles, steps_per_cycle, csv.as_mut())?,
+        Some(p) => periodic_mean(p, cycles, csv.as_mut())?,
+    };
     if let Some(csv) = csv {
         csv.finish()?;
     }
@@ -166,7 +187,7 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
         return Err(anyhow::anyhow!(
             "the model `{}` gives non-finite forces ({term}: C_L = {}, C_D = {}); check the \
              coefficients in the file",
-            loaded.origin,
+            subject.origin,
             c.c_l,
             c.c_d
         ));
@@ -175,23 +196,28 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
     if let Some(p) = &args.plot {
         let title = format!(
             "{}: C_L and C_D over a wingbeat (Re {:.0})",
-            loaded.spec.name,
+            subject.name,
             wing.reynolds()
         );
-        super::forces_plot::plot(&wing, p, &title)?;
+        match &subject.periodic {
+            None => super::forces_plot::plot(wing, p, &title)?,
+            Some(periodic) => super::forces_plot::plot_samples(&periodic.samples, p, &title)?,
+        }
     }
     let report = Report {
-        model: loaded.spec.name,
-        source: loaded.origin,
+        model: subject.name.clone(),
+        source: subject.origin.clone(),
+        wing: subject.wing_label.clone(),
+        induced_flow: induced_flow(wing).to_string(),
         reynolds: wing.reynolds(),
         reynolds_definition: "Re = V_ref c_bar / nu",
         v_ref_m_s: wing.v_ref_m_s(),
-        freq_hz: wing.kinematics().freq_hz,
+        freq_hz,
         added_mass_form: wing.options().added_mass.name(),
-        period_s: wing.kinematics().period_s(),
+        period_s: 1.0 / freq_hz,
         reference_force_n: wing.reference_force_n(),
-        cycles: args.cycles,
-        steps_per_cycle: args.steps_per_cycle,
+        cycles,
+        steps_per_cycle,
         wake_capture: wake,
         wake_capture_clamped: clamped,
         mean_last_cycle: means,
@@ -204,9 +230,21 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
     }
 }
 
+/// The induced flow `wing` meets (its `[aero] inflow`).
+fn induced_flow(wing: &Wing) -> wingforce::InflowModel {
+    match wing.options().induced_inflow {
+        None => wingforce::InflowModel::Off,
+        Some(i) if i.dynamic => wingforce::InflowModel::Dynamic,
+        Some(_) => wingforce::InflowModel::Frozen,
+    }
+}
+
 /// Loads the model, applies the command-line overrides and builds the wing.
-fn build_wing(args: &ForcesArgs) -> anyhow::Result<(Wing, LoadedSpec)> {
-    let mut loaded = load_wing_spec(args.model.as_deref())?;
+fn build_wing(args: &ForcesArgs) -> anyhow::Result<Subject> {
+    let mut loaded = match forces_vehicle::load(args)? {
+        Ok(loaded) => loaded,
+        Err(subject) => return Ok(subject),
+    };
     let overrides = args.dtau_a.is_some() || args.dtau_d.is_some();
     if overrides {
         match &mut loaded.spec.kinematics {
@@ -241,7 +279,33 @@ fn build_wing(args: &ForcesArgs) -> anyhow::Result<(Wing, LoadedSpec)> {
     if let Some(re) = args.re {
         wing.set_reynolds(re)?;
     }
-    Ok((wing, loaded))
+    Ok(Subject {
+        name: loaded.spec.name,
+        origin: loaded.origin,
+        wing_label: "the model's wing on a fixed mount".to_owned(),
+        wing,
+        periodic: None,
+    })
+}
+
+/// The mean over an actuated wing's periodic samples, writing each to `csv` as wingbeat
+/// `cycles` (the last of the drive periods run).
+fn periodic_mean(
+    p: &Periodic,
+    cycles: u32,
+    mut csv: Option<&mut CsvWriter>,
+) -> anyhow::Result<CycleMean> {
+    let n = p.samples.len();
+    let mut mean = CycleMean::default();
+    for (k, forces) in p.samples.iter().enumerate() {
+        mean.accumulate(forces, 1.0 / n as f64);
+        if let Some(csv) = csv.as_mut() {
+            let last = u64::from(cycles.saturating_sub(1));
+            let t_s = (last as f64 + k as f64 / n as f64) / p.freq_hz;
+            csv.row(t_s, last, forces)?;
+        }
+    }
+    Ok(mean)
 }
 
 /// Evaluates `cycles` wingbeats at `steps` phases each, writing every step to `csv`; returns
@@ -362,6 +426,13 @@ fn text_report(r: &Report) -> anyhow::Result<String> {
         &r.model
     };
     writeln!(s, "model         {name} ({})", r.source)?;
+    writeln!(s, "wing          {}", r.wing)?;
+    let flow = match r.induced_flow.as_str() {
+        "off" => "off (still air)",
+        "frozen" => "frozen (the hover downwash of the weight)",
+        _ => "dynamic (the pair's wake answering its loads)",
+    };
+    writeln!(s, "induced flow  {flow}")?;
     writeln!(
         s,
         "Re            {} ({})",

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use plotters::prelude::*;
-use wingforce::{BodyMotion, Wing};
+use wingforce::{BodyMotion, Term, TermForce, Wing, WingForces};
 
 /// Samples per wingbeat drawn.
 const SAMPLES: usize = 1000;
@@ -17,17 +17,55 @@ pub fn plot(wing: &Wing, path: &Path, title: &str) -> anyhow::Result<()> {
     off.set_options(options);
     let body = BodyMotion::default();
     // Phase over [0, 1): t* runs 0..0.5 in each half stroke; plot against phase (t/T).
-    let series = |w: &Wing| -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+    let series = |w: &Wing| -> Vec<(f64, TermForce)> {
         (0..SAMPLES)
             .map(|k| {
                 let p = (k as f64 + 0.5) / SAMPLES as f64;
-                let f = w.evaluate(p, &body).total;
-                ((p, f.c_l), (p, f.c_d))
+                (p, w.evaluate(p, &body).total)
             })
-            .unzip()
+            .collect()
     };
-    let (cl_on, cd_on) = series(wing);
-    let (cl_off, cd_off) = series(&off);
+    draw_series(&series(wing), &series(&off), path, title)
+}
+
+/// The same plot from a wing's forces at equal steps over one wingbeat (phase k / n): an
+/// actuated wing's periodic motion. The curves without wake capture are the same motion's
+/// totals less that term (the terms add); switching the term off would also change the
+/// motion the drive gives the wing, so they are not a run without it.
+pub fn plot_samples(samples: &[WingForces], path: &Path, title: &str) -> anyhow::Result<()> {
+    let n = samples.len() as f64;
+    let phase = |k: usize| k as f64 / n;
+    let on: Vec<(f64, TermForce)> = samples
+        .iter()
+        .enumerate()
+        .map(|(k, f)| (phase(k), f.total))
+        .collect();
+    let off: Vec<(f64, TermForce)> = samples
+        .iter()
+        .enumerate()
+        .map(|(k, f)| {
+            let wc = f.term(Term::WakeCapture);
+            let mut t = f.total;
+            t.c_l -= wc.c_l;
+            t.c_d -= wc.c_d;
+            (phase(k), t)
+        })
+        .collect();
+    draw_series(&on, &off, path, title)
+}
+
+/// Draws C_L and C_D against the phase, with (`on`) and without (`off`) wake capture.
+fn draw_series(
+    on: &[(f64, TermForce)],
+    off: &[(f64, TermForce)],
+    path: &Path,
+    title: &str,
+) -> anyhow::Result<()> {
+    let split = |s: &[(f64, TermForce)]| -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+        s.iter().map(|(p, f)| ((*p, f.c_l), (*p, f.c_d))).unzip()
+    };
+    let (cl_on, cd_on) = split(on);
+    let (cl_off, cd_off) = split(off);
     let all = cl_on
         .iter()
         .chain(&cd_on)

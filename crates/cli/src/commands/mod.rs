@@ -7,6 +7,7 @@ pub mod envelope_plot;
 pub mod fit_wake;
 pub mod forces;
 pub mod forces_plot;
+pub mod forces_vehicle;
 pub mod frequency_response;
 pub mod frequency_response_plot;
 pub mod hover;
