@@ -193,6 +193,14 @@ impl Wing {
             .unwrap_or(false);
         let wing = if is_vehicle {
             let v = flapsim::Vehicle::from_toml(&text, &origin).map_err(sim_err)?;
+            if v.actuation.is_some() {
+                // Its [kinematics] is only the nominal motion the first wingbeat starts from:
+                // a Wing of it would evaluate a motion the vehicle never makes.
+                return Err(PyValueError::new_err(format!(
+                    "{origin}: `{}` has actuated wings, whose motion is an output of their drive and dynamics; a Wing evaluates prescribed kinematics. Its wing on the periodic motion its drive gives it: `flapwing forces --model {model}`, or Simulation(Vehicle({model:?}), mode=\"tethered\")",
+                    v.name
+                )));
+            }
             v.wings[i].clone()
         } else {
             WingModelSpec::from_toml(&text, &origin)

@@ -64,7 +64,9 @@ class Wing:
     """One wing with its kinematics, fluid and aerodynamic options."""
 
     def __init__(self, model: str = "robofly", side: str = "left") -> None:
-        """A wing model (file or `robofly`) or the `side` wing of a vehicle model."""
+        """A wing model (file or `robofly`) or the `side` wing of a vehicle model (one with
+        prescribed kinematics: an actuated vehicle's wing moves as its drive makes it, and
+        is refused with a ValueError naming where that motion is evaluated)."""
     @property
     def origin(self) -> str: ...
     @property
