@@ -14,7 +14,9 @@
  * step (the state at t_k); later evaluations within the same step (RK4's stages, a user's
  * mj_forward) apply the same wrench, held over the step as flapwing's own host does; the
  * `advance` callback (after MuJoCo's time integration) marks the next evaluation as a new
- * step. mj_resetData restarts the wings from t = 0.
+ * step. mj_resetData restarts the wings from t = 0 (a copy of the wings made at init, so a
+ * reset costs a copy, not a new build and trim); mj_copyData gives the copy the source's wings
+ * as they are (flapwing_wings_clone), so both fly on alike.
  *
  * Errors through MuJoCo's own channels: a bad attribute or model (or `<option timestep>` not
  * > 0, or longer than the wing set allows: 1/10 of the wingbeat) makes `init` fail with a
@@ -116,6 +118,10 @@ typedef struct Instance {
                                  * one free joint (read qvel, write qfrc_passive directly), else
                                  * -1 (mj_objectVelocity, mj_applyFT) */
   FlapwingWings *wings;         /* NULL if a rebuild on reset failed (warned) */
+  FlapwingWings *pristine;      /* the wings as built (and trimmed) at init, never stepped:
+                                 * cloned at each reset instead of building (and trimming)
+                                 * them again, which costs up to seconds (the hummingbird's
+                                 * trim); NULL: rebuild */
   int stepped;                  /* the wings have stepped for the current mj_step */
   uint64_t steps;               /* wing steps since creation */
   int failing;                  /* the last step failed (warned once per run of failures) */
@@ -557,6 +563,8 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
                        mj_id2name(m, mjOBJ_BODY, body_id), msg);
   }
   in->sent = in->base;
+  /* Without the copy a reset rebuilds the wings, as it did before flapwing_wings_clone. */
+  if (flapwing_wings_clone(in->wings, &in->pristine) != FLAPWING_OK) in->pristine = NULL;
   d->plugin_data[instance] = (uintptr_t)in;
   return 0;
 }
@@ -565,6 +573,7 @@ static void plugin_destroy(mjData *d, int instance) {
   Instance *in = (Instance *)d->plugin_data[instance];
   if (!in) return;
   flapwing_wings_free(in->wings);
+  flapwing_wings_free(in->pristine);
   free_config(&in->config);
   free(in);
   d->plugin_data[instance] = 0;
@@ -583,13 +592,42 @@ static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_da
   char msg[MESSAGE_CHARS];
   flapwing_wings_free(in->wings);
   in->steps = 0;
-  in->wings = instance_wings(in, msg, sizeof(msg));
+  in->wings = NULL;
+  if (in->pristine && flapwing_wings_clone(in->pristine, &in->wings) != FLAPWING_OK) {
+    in->wings = NULL;
+  }
+  if (!in->wings) in->wings = instance_wings(in, msg, sizeof(msg));
   in->sent = in->base;
   in->control_failing = 0;
   if (!in->wings) {
     mju_warning("%s instance %d: rebuilding the wings on reset failed: %s; the wings apply no "
                 "force", PLUGIN_NAME, instance, msg);
   }
+}
+
+/* mj_copyData (dest keeps its own instance: MuJoCo restores dest's plugin_data before this
+ * call): the copy's wings become a clone of the source's, with the source's step bookkeeping,
+ * so that both continue alike from the copied state. The configuration, body and actuator
+ * mapping are the model's and already the same. */
+static void plugin_copy(mjData *dest, const mjModel *m, const mjData *src, int instance) {
+  (void)m;
+  Instance *to = (Instance *)dest->plugin_data[instance];
+  const Instance *from = (const Instance *)src->plugin_data[instance];
+  if (!to || !from || to == from) return;
+  FlapwingWings *w = NULL;
+  if (from->wings && flapwing_wings_clone(from->wings, &w) != FLAPWING_OK) {
+    mju_warning("%s instance %d: copying the wings failed: %s; the copy keeps its own wings",
+                PLUGIN_NAME, instance, flapwing_last_error());
+    return;
+  }
+  flapwing_wings_free(to->wings);
+  to->wings = w;
+  to->stepped = from->stepped;
+  to->steps = from->steps;
+  to->failing = from->failing;
+  to->wrench = from->wrench;
+  to->sent = from->sent;
+  to->control_failing = from->control_failing;
 }
 
 /* Passive forces: the wings' wrench on the body at its centre of mass. */
@@ -640,6 +678,7 @@ mjPLUGIN_LIB_INIT(flapwing_wings) {
   plugin.init = plugin_init;
   plugin.destroy = plugin_destroy;
   plugin.reset = plugin_reset;
+  plugin.copy = plugin_copy;
   plugin.compute = plugin_compute;
   plugin.advance = plugin_advance;
   mjp_registerPlugin(&plugin);

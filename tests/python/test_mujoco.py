@@ -366,17 +366,43 @@ def test_nan_state_warns_applies_no_force_and_recovers(native, capfd):
     assert np.all(np.isfinite(d.qpos)) and np.any(d.plugin_state != 0)
 
 
-def test_reset_restarts_the_wings(native):
-    m = mujoco.MjModel.from_xml_path(str(plugin.FLY_XML))
+@pytest.mark.parametrize("config", [{}, {"trim": "0.3 0"}])
+def test_reset_restarts_the_wings(native, config):
+    # With `trim`, a reset clones the wings the load built and trimmed (it no longer trims
+    # again: the hummingbird's trim alone takes seconds), and must restart them all the same.
+    m = mujoco.MjModel.from_xml_string(plugin.fly_xml(**config))
     d = mujoco.MjData(m)
     first = []
-    for _ in range(3):
+    for _ in range(150):
         mujoco.mj_step(m, d)
         first.append(d.plugin_state.copy())
     mujoco.mj_resetData(m, d)
-    for k in range(3):
+    for k in range(150):
         mujoco.mj_step(m, d)
         assert np.array_equal(d.plugin_state, first[k])
+
+
+def test_a_copied_data_flies_on_as_the_original(native):
+    """mj_copyData (and Python's copy.copy) gives the copy the source's wings as they are
+    (the plugin's `copy` callback, flapwing_wings_clone), so stepped alike the two stay equal
+    bit for bit. Before, the copy's wings kept their own phase: t = 0 for a fresh mjData, while
+    its body was the source's, mid-wingbeat."""
+    import copy
+
+    m = mujoco.MjModel.from_xml_path(str(plugin.FLY_XML))
+    d = mujoco.MjData(m)
+    for _ in range(150):  # 1.5 wingbeats in
+        mujoco.mj_step(m, d)
+    c = mujoco.MjData(m)
+    mujoco.mj_copyData(c, m, d)
+    copies = [c, copy.copy(d)]
+    for _ in range(100):
+        for x in [d, *copies]:
+            mujoco.mj_step(m, x)
+        for x in copies:
+            assert np.array_equal(x.plugin_state, d.plugin_state)
+            assert np.array_equal(x.qpos, d.qpos) and np.array_equal(x.qvel, d.qvel)
+    assert np.any(d.plugin_state != 0)
 
 
 # ------------------------------------------------------------------ the callback fallback

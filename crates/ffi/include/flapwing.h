@@ -307,7 +307,7 @@ extern "C" {
 
 /**
  * A built-in model's wings: `name` is one of drosophila, bumblebee, robobee_kinematic,
- * robobee, hummingbird. `dt_s > 0` is the host's fixed step, at most 1/10 of the wingbeat
+ * dragonfly, robobee, hummingbird. `dt_s > 0` is the host's fixed step, at most 1/10 of the wingbeat
  * period (1 / (10 f); a longer step is FLAPWING_INVALID_ARGUMENT); `dt_s == 0` takes the
  * model's own (1 / (f sim.steps_per_wingbeat)). On error `*out` is set to NULL.
  *
@@ -351,6 +351,19 @@ enum FlapwingStatus flapwing_wings_from_toml(const char *text,
  * `wings` is NULL or a handle from a flapwing_wings_from_* function not yet freed.
  */
 void flapwing_wings_free(struct FlapwingWings *wings);
+
+/**
+ * A copy of a handle, in the state it is in now (time, wing and inflow states, controls,
+ * wind, trim, host settings): each steps on its own from there, as the original would. A host
+ * that restarts runs keeps a copy made before the first step and clones it at each restart
+ * instead of building (and trimming) the wings again: the same handle, bit for bit, at the
+ * cost of a copy. On error `*out` is set to NULL.
+ *
+ * # Safety
+ * `wings` is NULL or a live handle; `out` is NULL or valid for a write.
+ */
+enum FlapwingStatus flapwing_wings_clone(const struct FlapwingWings *wings,
+                                         struct FlapwingWings **out);
 
 /**
  * Number of wings.

@@ -21,7 +21,7 @@ pub const FLAPWING_TERM_WAKE_CAPTURE: u32 = 3;
 pub const FLAPWING_QUATERNION_NORM_TOLERANCE: f64 = 1e-6;
 
 /// One wing set (opaque): the wings of a vehicle model, their state, and the model's body.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct FlapwingWings {
     pub(crate) set: WingSet,
     pub(crate) body: FlapwingBodyProperties,

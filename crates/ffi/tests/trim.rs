@@ -17,6 +17,9 @@ mod inflow_abi;
 /// A host that takes the gyroscopic term at the step's start (in this binary likewise).
 mod gyroscopic_abi;
 
+/// A copy of a handle, for a host that restarts runs (in this binary likewise).
+mod clone_abi;
+
 use std::ptr;
 
 use flapsim::Vehicle;
