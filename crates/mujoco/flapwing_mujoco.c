@@ -515,6 +515,23 @@ static int init_failed(const char *fmt, ...) {
 }
 
 /* Fails (init_failed: the compiler's load error) on a bad configuration. */
+/* The wings' loads are the model's vehicle's: on a body (with what hangs from it) of another
+ * mass they accelerate it as many times more or less, which nothing else reports (the
+ * dragonfly's wings on examples/mujoco/fly.xml's 1 mg fly made MuJoCo's accelerations blow up
+ * at the first step). Warned once per mjData when the masses differ by more than 1%. */
+static void warn_mass_mismatch(const mjModel *m, int instance, const Instance *in) {
+  FlapwingBodyProperties p;
+  if (flapwing_wings_body_properties(in->wings, &p) != FLAPWING_OK) return;
+  const double body_kg = m->body_subtreemass[in->body_id];
+  if (fabs(body_kg - p.mass_kg) <= 0.01 * p.mass_kg) return;
+  mju_warning("%s instance %d: body `%s` (with its subtree) has a mass of %.6g kg and the model "
+              "`%s` %.6g kg: the wings' loads are the model's vehicle's, so they accelerate "
+              "this body %.3g times as much; give the body the model's mass and inertia "
+              "(flapwing_wings_body_properties; examples/mujoco/fly.xml)",
+              PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), body_kg,
+              in->config.model, p.mass_kg, p.mass_kg / body_kg);
+}
+
 static int plugin_init(const mjModel *m, mjData *d, int instance) {
   char msg[MESSAGE_CHARS];
   int body_id = -1, nbody = 0;
@@ -563,6 +580,7 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
                        mj_id2name(m, mjOBJ_BODY, body_id), msg);
   }
   in->sent = in->base;
+  warn_mass_mismatch(m, instance, in);
   /* Without the copy a reset rebuilds the wings, as it did before flapwing_wings_clone. */
   if (flapwing_wings_clone(in->wings, &in->pristine) != FLAPWING_OK) in->pristine = NULL;
   d->plugin_data[instance] = (uintptr_t)in;

@@ -345,6 +345,18 @@ def test_bad_model_file_fails_the_load_naming_it(native, tmp_path):
     assert str(bad) in str(e.value)
 
 
+def test_a_body_whose_mass_is_not_the_models_is_warned_about(native, capfd):
+    # The wings' loads are the model's vehicle's; fly.xml's body is the fly's 1 mg.
+    capfd.readouterr()
+    mujoco.MjData(mujoco.MjModel.from_xml_string(plugin.fly_xml(model="drosophila")))
+    assert "has a mass of" not in "".join(capfd.readouterr())
+    mujoco.MjData(mujoco.MjModel.from_xml_string(plugin.fly_xml(model="bumblebee")))
+    out = "".join(capfd.readouterr())
+    assert ("body `fly` (with its subtree) has a mass of 1e-06 kg and the model `bumblebee` "
+            "0.000175 kg") in out, out
+    assert "accelerate this body 175 times as much" in out, out
+
+
 def test_plugin_on_a_body_without_joints_fails_the_load(native):
     xml = plugin.FLY_XML.read_text().replace('<freejoint name="fly"/>', "")
     with pytest.raises(ValueError, match="no degrees of freedom"):
