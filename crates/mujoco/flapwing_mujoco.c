@@ -38,8 +38,11 @@
  * drive those fields: their ctrl values (SI) go to the wings when they change and take effect
  * at the next wingbeat, as in flapwing's own hosts.
  *
- * Plugin state (m->plugin_statenum = 6): the wrench applied in the last step, body frame:
- * force_body_n[3], moment_body_nm[3] (zero before the first step and after a failure).
+ * Plugin state (m->plugin_statenum = 7): the wrench applied in the last step, body frame:
+ * force_body_n[3], moment_body_nm[3] (zero before the first step and after a failure), and the
+ * wing steps taken, so that MuJoCo's state functions carry the wings' place in time: a state
+ * set back or forth by the host (mj_setState, mjd_transitionFD's perturbed steps) leaves the
+ * wings where they were, since they cannot go back, and is warned about once per instance.
  */
 
 #include <errno.h>
@@ -56,7 +59,7 @@
 #include "flapwing.h"
 
 #define PLUGIN_NAME "flapwing.wings"
-#define NSTATE 6
+#define NSTATE 7
 #define MESSAGE_CHARS 1024
 
 /* Config attributes. Controls are offsets on the model's base kinematics (flapsim::Controls);
@@ -135,6 +138,7 @@ typedef struct Instance {
   FlapwingControls base;        /* the model's controls with the attributes applied */
   FlapwingControls sent;        /* the controls last handed to the wings */
   int control_failing;          /* the last actuator controls were refused (warned once) */
+  int time_warned;              /* the plugin state was set to another step (warned once) */
 } Instance;
 
 /*---------------------------------- configuration -----------------------------------------*/
@@ -605,6 +609,7 @@ static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_da
   if (!in) return;
   in->stepped = 0;
   in->failing = 0;
+  in->time_warned = 0;
   memset(&in->wrench, 0, sizeof(in->wrench));
   if (in->wings && in->steps == 0) return; /* still at t = 0 */
   char msg[MESSAGE_CHARS];
@@ -646,6 +651,7 @@ static void plugin_copy(mjData *dest, const mjModel *m, const mjData *src, int i
   to->wrench = from->wrench;
   to->sent = from->sent;
   to->control_failing = from->control_failing;
+  to->time_warned = from->time_warned;
 }
 
 /* Passive forces: the wings' wrench on the body at its centre of mass. */
@@ -654,11 +660,22 @@ static void plugin_compute(const mjModel *m, mjData *d, int instance, int capabi
   Instance *in = (Instance *)d->plugin_data[instance];
   if (!in) return;
   if (!in->stepped) {
+    mjtNum *state = d->plugin_state + m->plugin_stateadr[instance];
+    if (state[6] != (mjtNum)in->steps && !in->time_warned) {
+      in->time_warned = 1;
+      mju_warning("%s (instance %d, body `%s`, t = %.9g s): the plugin state says %.0f wing steps "
+                  "and the wings have taken %llu: the host set the state to another step "
+                  "(mj_setState, mjd_transitionFD); the wings cannot go back, so their phase no "
+                  "longer follows the body's time (restart with mj_resetData; branch a run with "
+                  "mj_copyData, which copies the wings)",
+                  PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time,
+                  (double)state[6], (unsigned long long)in->steps);
+    }
     step_wings(m, d, instance, in);
     in->stepped = 1;
-    mjtNum *state = d->plugin_state + m->plugin_stateadr[instance];
     mju_copy3(state, in->wrench.force_body_n);
     mju_copy3(state + 3, in->wrench.moment_body_nm);
+    state[6] = (mjtNum)in->steps;
   }
   const int b = in->body_id;
   if (in->free_dof >= 0) {

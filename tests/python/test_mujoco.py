@@ -357,6 +357,30 @@ def test_a_body_whose_mass_is_not_the_models_is_warned_about(native, capfd):
     assert "accelerate this body 175 times as much" in out, out
 
 
+def test_a_state_set_to_another_step_is_warned_about(native, capfd):
+    """The plugin state carries the wing steps taken, so MuJoCo's state functions carry the
+    wings' place in time; the wings cannot go back, so a host that sets the state to another
+    step (mjd_transitionFD's perturbed steps restore the state each time) is warned: their
+    phase no longer follows the body's time. Stepping, resetting and copying are not."""
+    m = mujoco.MjModel.from_xml_path(str(plugin.FLY_XML))
+    d = mujoco.MjData(m)
+    capfd.readouterr()
+    for _ in range(30):
+        mujoco.mj_step(m, d)
+    assert d.plugin_state[6] == 30
+    mujoco.mj_copyData(mujoco.MjData(m), m, d)
+    mujoco.mj_resetData(m, d)
+    mujoco.mj_step(m, d)
+    assert d.plugin_state[6] == 1
+    assert "another step" not in "".join(capfd.readouterr())
+    nx = 2 * m.nv + m.na
+    mujoco.mjd_transitionFD(m, d, 1e-6, True, np.zeros((nx, nx)), np.zeros((nx, m.nu)), None,
+                            None)
+    out = "".join(capfd.readouterr())
+    assert "the plugin state says 1 wing steps and the wings have taken 2" in out, out
+    assert out.count("another step") == 1, out
+
+
 def test_plugin_on_a_body_without_joints_fails_the_load(native):
     xml = plugin.FLY_XML.read_text().replace('<freejoint name="fly"/>', "")
     with pytest.raises(ValueError, match="no degrees of freedom"):
@@ -372,7 +396,7 @@ def test_nan_state_warns_applies_no_force_and_recovers(native, capfd):
     mujoco.mj_forward(m, d)  # the plugin's step sees the NaN (mj_step would reset it first)
     err = capfd.readouterr().err
     assert "flapwing.wings" in err and "velocity_world_m_s[0] = NaN" in err, err
-    assert np.all(d.qfrc_passive == 0) and np.all(d.plugin_state == 0)
+    assert np.all(d.qfrc_passive == 0) and np.all(d.plugin_state[:6] == 0)
     # mj_step: MuJoCo's own check resets the data; the plugin restarts its wings; no crash.
     mujoco.mj_step(m, d)
     assert np.all(np.isfinite(d.qpos)) and np.any(d.plugin_state != 0)
