@@ -6,6 +6,7 @@ use std::process::Command;
 use flapsim::{Mode, Simulation, Vehicle};
 use flightlog::{LogOptions, Recorder, RunInfo, SimSettings};
 
+#[derive(Debug)]
 struct Out {
     code: i32,
     stdout: String,
@@ -170,12 +171,91 @@ fn bad_input_exits_2() {
     assert_bad_input(&o);
     assert!(o.stderr.contains("not an MCAP file"), "{}", o.stderr);
     assert_bad_input(&flapwing(&["replay", s(&text), "--check"]));
-    // A hover log cannot be re-run.
+    // A log of another command cannot be re-run.
+    let other = dir.path().join("identify.mcap");
+    record(&other, "identify", flapsim::DROSOPHILA_TOML, 1.0);
+    let o = flapwing(&["replay", s(&other), "--check"]);
+    assert_bad_input(&o);
+    assert!(
+        o.stderr
+            .contains("written by `flapwing identify`; only `simulate` and `hover` logs"),
+        "{}",
+        o.stderr
+    );
+    // A `hover` log whose settings are not a hover's names them.
     let hover = dir.path().join("hover.mcap");
     record(&hover, "hover", flapsim::DROSOPHILA_TOML, 1.0);
     let o = flapwing(&["replay", s(&hover), "--check"]);
     assert_bad_input(&o);
-    assert!(o.stderr.contains("only `simulate` logs"), "{}", o.stderr);
+    assert!(
+        o.stderr.contains("the log's hover settings do not load"),
+        "{}",
+        o.stderr
+    );
+}
+
+/// `flapwing hover` logs re-run bit for bit (`replay --check`): the logged trim, the LQR of
+/// the default weights designed there, the disturbance (an initial roll and sideslip and a
+/// gust) and the wind field, on the true state, closed loop and open loop. A run flown on the
+/// state estimate is not re-run (its sensors' noise is not in the log) and says so.
+#[test]
+fn hover_logs_re_run_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, extra) in [
+        (
+            "closed.mcap",
+            &[
+                "--disturbance",
+                "roll_deg=3,vy_m_s=0.05,gust_x_m_s=0.3,gust_start_s=0.05,gust_duration_s=0.05",
+                "--wind-world-m-s",
+                "0.2,0,0",
+            ][..],
+        ),
+        ("open.mcap", &["--open-loop", "--model", "bumblebee"][..]),
+    ] {
+        let log = dir.path().join(name);
+        let rrd = log.with_extension("rrd");
+        let mut args = vec![
+            "hover",
+            "--duration-s",
+            "0.15",
+            "--mcap",
+            s(&log),
+            "--rrd",
+            s(&rrd),
+        ];
+        args.extend_from_slice(extra);
+        let run = flapwing(&args);
+        assert_eq!(run.code, 0, "{run:?}");
+        let o = flapwing(&["replay", s(&log), "--check"]);
+        assert_eq!(o.code, 0, "{name}: {o:?}");
+        assert!(
+            o.stdout.contains("samples identical"),
+            "{name}: {}",
+            o.stdout
+        );
+    }
+    let log = dir.path().join("estimated.mcap");
+    let rrd = dir.path().join("estimated.rrd");
+    let run = flapwing(&[
+        "hover",
+        "--duration-s",
+        "0.05",
+        "--feedback",
+        "estimated",
+        "--mcap",
+        s(&log),
+        "--rrd",
+        s(&rrd),
+    ]);
+    assert_eq!(run.code, 0, "{run:?}");
+    let o = flapwing(&["replay", s(&log), "--check"]);
+    assert_bad_input(&o);
+    assert!(
+        o.stderr.contains("the run flew on the state estimate"),
+        "{}",
+        o.stderr
+    );
 }
 
 /// A run with the second-order load sampling (`[sim] load_sampling = "midpoint"`, issue 37)

@@ -13,8 +13,8 @@ use crate::json;
 /// What produced a log: written into the MCAP `flapwing` metadata record.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RunInfo {
-    /// The CLI subcommand: "simulate", "hover", "forces", ... Only "simulate" logs can be
-    /// re-run by [`check::check_log`].
+    /// The CLI subcommand: "simulate", "hover", "forces", ... "simulate" and "hover" logs
+    /// (the latter flown on the true state) can be re-run by [`check::check_log`].
     pub command: String,
     /// The full command line, for people reading the log.
     pub command_line: String,

@@ -80,12 +80,21 @@ fn other_modes_and_commands() {
         check_log(&long).unwrap(),
         CheckOutcome::Match { .. }
     ));
-    let hover = dir.path().join("hover.mcap");
-    record(&mcap_opts(&hover, Some(2000.0)), "hover", wingbeats(1.0));
-    match check_log(&hover).unwrap() {
-        CheckOutcome::NotCheckable { reason } => assert!(reason.contains("hover"), "{reason}"),
+    // Another command's log is not re-run; a `hover` log with a simulate's settings is an
+    // error naming them (real hover logs re-run: crates/cli/tests/replay.rs).
+    let other = dir.path().join("identify.mcap");
+    record(&mcap_opts(&other, Some(2000.0)), "identify", wingbeats(1.0));
+    match check_log(&other).unwrap() {
+        CheckOutcome::NotCheckable { reason } => assert!(
+            reason.contains("`flapwing identify`; only `simulate` and `hover` logs"),
+            "{reason}"
+        ),
         other => panic!("{other:?}"),
     }
+    let hover = dir.path().join("hover.mcap");
+    record(&mcap_opts(&hover, Some(2000.0)), "hover", wingbeats(1.0));
+    let e = check_log(&hover).unwrap_err().to_string();
+    assert!(e.contains("the log's hover settings do not load"), "{e}");
 }
 
 #[test]

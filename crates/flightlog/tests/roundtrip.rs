@@ -421,7 +421,7 @@ fn dropped_recorder_still_finishes_the_file() {
     let path = dir.path().join("dropped.mcap");
     let toml = flapsim::DROSOPHILA_TOML;
     let vehicle = flapsim::Vehicle::from_toml(toml, ORIGIN).unwrap();
-    let info = flightlog::RunInfo::new("hover", "flapwing hover", toml, ORIGIN, "{}");
+    let info = flightlog::RunInfo::new("identify", "flapwing identify", toml, ORIGIN, "{}");
     {
         let mut rec =
             flightlog::Recorder::create(&mcap_opts(&path, None), &info, &vehicle).unwrap();

@@ -1,4 +1,8 @@
-//! Re-running a `simulate` log and comparing its trajectory bit for bit.
+//! Re-running a `simulate` or `hover` log and comparing its trajectory bit for bit.
+//!
+//! A `hover` log re-runs the command's controlled hover from its logged settings
+//! (`hover.rs`: the trim, the disturbance, the controller, the wind); the rest of this doc
+//! is the `simulate` re-run, and the comparison (`compare.rs`) is the same for both.
 //!
 //! [`check_log`] rebuilds the vehicle from the embedded model text
 //! (`flapsim::Vehicle::from_toml(model_toml, model_origin)`), runs
@@ -28,7 +32,9 @@ use std::path::Path;
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::decimate::Decimator;
+mod compare;
+mod hover;
+
 use crate::error::{Error, Result};
 use crate::json::Json;
 use crate::options::SimSettings;
@@ -37,6 +43,7 @@ use crate::schema::{
     ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT,
     STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, TOPIC_STATE, TOPIC_WIND,
 };
+use compare::Comparer;
 
 /// The verdict of [`check_log`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -123,33 +130,45 @@ fn same(logged: f64, rerun: f64, json: bool) -> bool {
         || (json && !rerun.is_finite() && logged == 0.0)
 }
 
-/// Re-runs a `simulate` log and compares it (see the module docs). Errors: the file cannot
-/// be read or is not a flapwing log, the embedded settings are not valid, the embedded
-/// model does not load.
+/// Re-runs a `simulate` or `hover` log and compares it (see the module docs). Errors: the
+/// file cannot be read or is not a flapwing log, the embedded settings are not valid, the
+/// embedded model does not load.
 pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
-    let log = read_log(path.as_ref())?;
+    let path = path.as_ref();
+    let log = read_log(path)?;
     let md = log.run_metadata();
     let command = md.get("command").map(String::as_str).unwrap_or("");
-    if command != "simulate" {
-        return Ok(CheckOutcome::NotCheckable {
-            reason: format!(
-                "the log was written by `flapwing {command}`; only `simulate` logs can be re-run"
-            ),
-        });
-    }
-    let settings = SimSettings::from_json(md.get("settings").map(String::as_str).unwrap_or(""))?;
-    if settings.mode == "locked" {
-        return Ok(CheckOutcome::NotCheckable {
-            reason: "the run used a custom locked mode, which the settings do not describe".into(),
-        });
-    }
-    let mode = settings.mode_value()?;
-    if !(settings.duration_s.is_finite() && settings.duration_s >= 0.0) {
-        return Err(Error::Embedded(format!(
-            "the settings' duration {} s is not a finite time >= 0",
-            settings.duration_s
-        )));
-    }
+    let settings_text = md.get("settings").map(String::as_str).unwrap_or("");
+    let run = match command {
+        "simulate" => {
+            let settings = SimSettings::from_json(settings_text)?;
+            if settings.mode == "locked" {
+                return Ok(CheckOutcome::NotCheckable {
+                    reason: "the run used a custom locked mode, which the settings do not describe"
+                        .into(),
+                });
+            }
+            let mode = settings.mode_value()?;
+            if !(settings.duration_s.is_finite() && settings.duration_s >= 0.0) {
+                return Err(Error::Embedded(format!(
+                    "the settings' duration {} s is not a finite time >= 0",
+                    settings.duration_s
+                )));
+            }
+            Rerun::Simulate(settings, mode)
+        }
+        "hover" => match hover::HoverSettings::from_json(settings_text)? {
+            Ok(s) => Rerun::Hover(s),
+            Err(reason) => return Ok(CheckOutcome::NotCheckable { reason }),
+        },
+        _ => {
+            return Ok(CheckOutcome::NotCheckable {
+                reason: format!(
+                    "the log was written by `flapwing {command}`; only `simulate` and `hover` logs can be re-run"
+                ),
+            });
+        }
+    };
     let origin = md
         .get("model_origin")
         .map(String::as_str)
@@ -158,7 +177,7 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
     let embedded = |e: flapsim::Error| {
         Error::Embedded(format!(
             "the model embedded in `{}` does not load: {e}",
-            path.as_ref().display()
+            path.display()
         ))
     };
     let mut spec = flapsim::VehicleSpec::from_toml(toml, origin).map_err(embedded)?;
@@ -172,6 +191,10 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
         md.get(STRIKE_IMPULSE_KEY).map(String::as_str) != Some(STRIKE_IMPULSE_SHARED);
     let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
+    let settings_rate = match &run {
+        Rerun::Simulate(settings, _) => settings.log_rate_hz,
+        Rerun::Hover(_) => None,
+    };
     let rate = match md.get("log_rate_hz").map(String::as_str) {
         Some("every step") => None,
         Some(r) => match r.parse::<f64>() {
@@ -181,9 +204,9 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
                     reason: format!("the log's `log_rate_hz` metadata {r} is not a rate > 0"),
                 });
             }
-            Err(_) => settings.log_rate_hz,
+            Err(_) => settings_rate,
         },
-        None => settings.log_rate_hz,
+        None => settings_rate,
     };
 
     let json = log.message_encoding(TOPIC_STATE) == Some("json");
@@ -225,151 +248,86 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
             }
         }
     }
+    let comparer = Comparer::new(logged, winds, json, rate);
+    let complete = log.complete;
+    match run {
+        Rerun::Simulate(settings, mode) => {
+            let wind = simulate_wind(path, origin, settings_text, &vehicle)?;
+            rerun_simulate(&settings, mode, vehicle, wind, comparer, complete)
+        }
+        Rerun::Hover(settings) => hover::rerun(&settings, vehicle, comparer, complete),
+    }
+}
 
-    // The run's wind field: the settings' `wind` (the wind flags' field; `null`: still air,
-    // `--no-wind`), else the model's own `[wind]`, as `flapwing simulate` flies it.
+/// What a log's command re-runs.
+enum Rerun {
+    /// `flapwing simulate`: its settings and mode.
+    Simulate(SimSettings, flapsim::Mode),
+    /// `flapwing hover`.
+    Hover(hover::HoverSettings),
+}
+
+/// The wind field of a `simulate` log's run: the settings' `wind` (the wind flags' field;
+/// `null`: still air, `--no-wind`), else the model's own `[wind]`, as `flapwing simulate`
+/// flies it.
+fn simulate_wind(
+    path: &Path,
+    origin: &str,
+    settings_text: &str,
+    vehicle: &flapsim::Vehicle,
+) -> Result<Option<flapsim::Wind>> {
     let raw: serde_json::Value =
-        serde_json::from_str(md.get("settings").map(String::as_str).unwrap_or(""))
-            .unwrap_or(serde_json::Value::Null);
+        serde_json::from_str(settings_text).unwrap_or(serde_json::Value::Null);
     let spec = match raw.get("wind") {
         Some(serde_json::Value::Null) => None,
         Some(w) => Some(
             serde_json::from_value::<flapsim::WindSpec>(w.clone()).map_err(|e| {
                 Error::Embedded(format!(
                     "the settings' `wind` in `{}` does not load: {e}",
-                    path.as_ref().display()
+                    path.display()
                 ))
             })?,
         ),
         None => vehicle.wind.clone(),
     };
-    let wind = spec
-        .as_ref()
+    spec.as_ref()
         .map(|w| flapsim::Wind::from_spec(w, origin, vehicle.initial_position_m))
         .transpose()
-        .map_err(embedded)?;
+        .map_err(|e| {
+            Error::Embedded(format!(
+                "the model embedded in `{}` does not load: {e}",
+                path.display()
+            ))
+        })
+}
+
+/// Re-runs a `simulate` log: `vehicle` in its mode, no controller, in `wind`, for
+/// round(duration / dt) steps, exactly as `flapwing simulate` does.
+fn rerun_simulate(
+    settings: &SimSettings,
+    mode: flapsim::Mode,
+    vehicle: flapsim::Vehicle,
+    wind: Option<flapsim::Wind>,
+    mut comparer: Comparer,
+    complete: bool,
+) -> Result<CheckOutcome> {
     let mut sim = flapsim::Simulation::new(vehicle, mode);
     sim.set_wind(Vector3::from(settings.wind_world_m_s));
     sim.set_wind_model(wind);
     let n = (settings.duration_s / sim.dt_s()).round() as u64;
-    let mut decimator = Decimator::new(rate);
-    let mut idx = 0usize;
     for _ in 0..n {
-        if idx == logged.len() {
+        if comparer.done() {
             break;
         }
         let out = match sim.step() {
-            Ok(out) => out,
-            Err(e) => {
-                return Ok(CheckOutcome::Mismatch {
-                    samples_matched: idx as u64,
-                    detail: format!(
-                        "the re-run stopped ({e}) but the log has samples up to step {}",
-                        logged[logged.len() - 1].0
-                    ),
-                });
-            }
+            Ok(out) => *out,
+            Err(e) => return Ok(comparer.stopped(&e.to_string())),
         };
-        if !decimator.take(out.t_s) {
-            // Past the next logged step without taking it: the settings (e.g. a forged log
-            // rate) cannot reproduce the log; stop instead of running to the end.
-            if out.step > logged[idx].0 {
-                return Ok(CheckOutcome::Mismatch {
-                    samples_matched: idx as u64,
-                    detail: format!(
-                        "sample {idx}: the log has step {}, the re-run with the logged settings does not log it",
-                        logged[idx].0
-                    ),
-                });
-            }
-            continue;
+        if let Some(m) = comparer.step(&out, &sim) {
+            return Ok(m);
         }
-        let (step, values) = &logged[idx];
-        if *step != out.step {
-            return Ok(CheckOutcome::Mismatch {
-                samples_matched: idx as u64,
-                detail: format!(
-                    "sample {idx}: the log has step {step}, the re-run logs step {}",
-                    out.step
-                ),
-            });
-        }
-        let (t_s, t_ns) = (out.t_s, crate::sample::time_ns(out.t_s));
-        let again = rerun_values(&out.state);
-        for (k, (a, b)) in values.iter().zip(&again).enumerate() {
-            if !same(*a, *b, json) {
-                return Ok(CheckOutcome::Mismatch {
-                    samples_matched: idx as u64,
-                    detail: format!(
-                        "step {step} (t = {:.9} s): {} logged {a:e}, re-run {b:e}",
-                        out.t_s, FIELDS[k]
-                    ),
-                });
-            }
-        }
-        if let Some(w) = winds.get(&t_ns) {
-            let uniform = sim.uniform_wind_m_s();
-            let field = sim.wing_winds_m_s();
-            let n_wings = if field.is_empty() {
-                w.len()
-            } else {
-                field.len()
-            };
-            if w.len() != n_wings {
-                return Ok(CheckOutcome::Mismatch {
-                    samples_matched: idx as u64,
-                    detail: format!(
-                        "step {step} (t = {t_s:.9} s): /wind has {} wings, the re-run {n_wings}",
-                        w.len()
-                    ),
-                });
-            }
-            for (k, logged_w) in w.iter().enumerate() {
-                let again = field.get(k).copied().unwrap_or(uniform);
-                for (c, (a, b)) in logged_w.iter().zip(again.iter()).enumerate() {
-                    if !same(*a, *b, json) {
-                        return Ok(CheckOutcome::Mismatch {
-                            samples_matched: idx as u64,
-                            detail: format!(
-                                "step {step} (t = {t_s:.9} s): /wind wing {k} {} logged {a:e}, re-run {b:e}",
-                                ["x", "y", "z"][c]
-                            ),
-                        });
-                    }
-                }
-            }
-        }
-        idx += 1;
     }
-    if idx < logged.len() {
-        return Ok(CheckOutcome::Mismatch {
-            samples_matched: idx as u64,
-            detail: format!(
-                "the log has {} samples but the re-run of {} steps logs only {idx}",
-                logged.len(),
-                n
-            ),
-        });
-    }
-    let last = logged[logged.len() - 1].0;
-    // Would the run have logged more samples after the last one in the file?
-    let dt = sim.dt_s();
-    let more = (sim.steps()..n).any(|k| decimator.take(k as f64 * dt));
-    let note = if !log.complete {
-        Some(format!(
-            "the log is truncated: compared up to step {last} of {n}"
-        ))
-    } else if more {
-        Some(format!(
-            "the log ends at step {last} of {n}: the run stopped early"
-        ))
-    } else {
-        None
-    };
-    Ok(CheckOutcome::Match {
-        samples: idx as u64,
-        note,
-    })
+    Ok(comparer.finish(settings.duration_s, complete))
 }
 
 /// Where in a step the logged run took the wings' loads: the log's `load_sampling`
