@@ -196,8 +196,8 @@ fn bad_input_exits_2() {
 
 /// `flapwing hover` logs re-run bit for bit (`replay --check`): the logged trim, the LQR of
 /// the default weights designed there, the disturbance (an initial roll and sideslip and a
-/// gust) and the wind field, on the true state, closed loop and open loop. A run flown on the
-/// state estimate is not re-run (its sensors' noise is not in the log) and says so.
+/// gust) and the wind field, on the true state, closed loop and open loop, and on the state
+/// estimate of the model's sensors (the seed of their noise is in the log).
 #[test]
 fn hover_logs_re_run_bit_for_bit() {
     let dir = tempfile::tempdir().unwrap();
@@ -235,27 +235,29 @@ fn hover_logs_re_run_bit_for_bit() {
             o.stdout
         );
     }
-    let log = dir.path().join("estimated.mcap");
-    let rrd = dir.path().join("estimated.rrd");
-    let run = flapwing(&[
-        "hover",
-        "--duration-s",
-        "0.05",
-        "--feedback",
-        "estimated",
-        "--mcap",
-        s(&log),
-        "--rrd",
-        s(&rrd),
-    ]);
-    assert_eq!(run.code, 0, "{run:?}");
-    let o = flapwing(&["replay", s(&log), "--check"]);
-    assert_bad_input(&o);
-    assert!(
-        o.stderr.contains("the run flew on the state estimate"),
-        "{}",
-        o.stderr
-    );
+    // On the state estimate: re-run from the logged seed of the sensors' noise; a seed
+    // other than the default too.
+    for seed in ["0", "7"] {
+        let log = dir.path().join(format!("estimated_{seed}.mcap"));
+        let rrd = log.with_extension("rrd");
+        let run = flapwing(&[
+            "hover",
+            "--duration-s",
+            "0.1",
+            "--feedback",
+            "estimated",
+            "--sensor-seed",
+            seed,
+            "--mcap",
+            s(&log),
+            "--rrd",
+            s(&rrd),
+        ]);
+        assert_eq!(run.code, 0, "{run:?}");
+        let o = flapwing(&["replay", s(&log), "--check"]);
+        assert_eq!(o.code, 0, "seed {seed}: {o:?}");
+        assert!(o.stdout.contains("samples identical"), "{}", o.stdout);
+    }
 }
 
 /// A run with the second-order load sampling (`[sim] load_sampling = "midpoint"`, issue 37)

@@ -191,6 +191,10 @@ pub fn run(args: HoverArgs) -> Result<()> {
     if let Some(w) = &trimmed.wind {
         settings["wind"] = serde_json::to_value(w)?;
     }
+    if feedback.is_some() {
+        // The sensors' noise the controller flew on: `replay --check` re-runs it from this.
+        settings["sensor_seed"] = args.sensors.sensor_seed.unwrap_or(0).into();
+    }
     let settings = settings.to_string();
     // On the estimate the feedback's own sensors are the ones sampled and logged.
     let mut sensors = match feedback {

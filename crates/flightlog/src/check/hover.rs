@@ -4,10 +4,11 @@
 //! closed loop, the controller's delay and the wind field; the controller is the LQR of the
 //! default weights designed at that trim, as the command designs it
 //! ([`flapsim::control::HoverController::design`]), and the run is
-//! [`flapsim::control::run_hover_with`] on the true state. A run flown on the state estimate
-//! (`--feedback estimated`) is not re-run: its controller flew on noisy sensors whose noise
-//! the log does not hold.
+//! [`flapsim::control::run_hover_with`] on the true state, or on the state estimate
+//! (`--feedback estimated`) of the model's sensors with the logged seed of their noise. A
+//! run on the estimate logged before the seed was is not re-run.
 
+use flapsim::estimator::{EstimatedFeedback, Prior};
 use serde::Deserialize;
 
 use super::CheckOutcome;
@@ -26,6 +27,10 @@ pub(super) struct HoverSettings {
     /// The run's wind field (absent: still air apart from the disturbance's gust).
     #[serde(default)]
     wind: Option<flapsim::WindSpec>,
+    /// The seed of the sensors' noise a run on the state estimate flew on (absent: a run on
+    /// the true state, or one logged before the seed was).
+    #[serde(default)]
+    sensor_seed: Option<u64>,
 }
 
 impl HoverSettings {
@@ -39,13 +44,15 @@ impl HoverSettings {
                 s.duration_s
             )));
         }
-        if s.feedback != "true" {
-            return Ok(Err(format!(
-                "the run flew on the state estimate (feedback `{}`), from sensors whose noise the log does not hold; only runs on the true state can be re-run",
-                s.feedback
-            )));
+        match (s.feedback.as_str(), s.sensor_seed) {
+            ("true", _) | ("estimated", Some(_)) => Ok(Ok(s)),
+            ("estimated", None) => Ok(Err(
+                "the run flew on the state estimate, and the log (written before the sensors' seed was logged) does not say which noise its sensors had".into(),
+            )),
+            (other, _) => Err(Error::Embedded(format!(
+                "the hover settings' feedback `{other}` is not one: allowed `true`, `estimated`"
+            ))),
         }
-        Ok(Ok(s))
     }
 }
 
@@ -74,6 +81,18 @@ pub(super) fn rerun(
             Err(e) => return Ok(comparer.stopped(&format!("the controller's design: {e}"))),
         },
     };
+    // On the estimate: the model's sensors with the logged seed and the filter starting at
+    // the trim pose at rest, as the command builds them.
+    let mut feedback = match s.sensor_seed.filter(|_| s.feedback == "estimated") {
+        None => None,
+        Some(seed) => {
+            match EstimatedFeedback::new(&trimmed, seed, &Prior::hover(&trimmed, s.trim.attitude()))
+            {
+                Ok(f) => Some(f),
+                Err(e) => return Ok(comparer.stopped(&format!("the sensors and filter: {e}"))),
+            }
+        }
+    };
     let mut difference = None;
     let outcome = flapsim::control::run_hover_with(
         &trimmed,
@@ -81,7 +100,7 @@ pub(super) fn rerun(
         controller,
         &s.disturbance,
         s.duration_s,
-        None,
+        feedback.as_mut(),
         |step| {
             if comparer.done() {
                 return false;
