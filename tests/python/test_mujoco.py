@@ -30,6 +30,8 @@ import subprocess
 import numpy as np
 import pytest
 
+import flapwing
+
 mujoco = pytest.importorskip("mujoco", reason="the `mujoco` package (pip install mujoco) is not installed")
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -121,6 +123,38 @@ def test_tethered_wrench_per_step_and_cycle_mean_equal_flapwing(native, fly100):
     # Each step's wrench, to 1e-12 of the wingbeat's largest (round-off of the rotation).
     assert np.abs(f - ref["force_n"]).max() <= 1e-12 * np.abs(ref["force_n"]).max()
     assert np.abs(mo - ref["moment_nm"]).max() <= 1e-12 * np.abs(ref["moment_nm"]).max()
+
+
+@pytest.mark.parametrize("name", ["drosophila", "bumblebee", "robobee_kinematic", "dragonfly",
+                                  "robobee", "hummingbird"])
+def test_every_built_in_vehicle_applies_the_wing_sets_wrench(native, name):
+    """Each built-in vehicle on a body with its mass and inertia, held at rest (tethered) at
+    the model's own step for one wingbeat: the wrench the plugin applied in each step is the
+    one flapwing's WingSet returns for the same body state, bit for bit (the actuated wings'
+    dynamics and stops, the four twisted wings of the dragonfly included)."""
+    import re
+
+    v = flapwing.Vehicle(name)
+    wings = flapwing.WingSet(v)
+    inertia = np.diag(v.inertia_kg_m2) if np.ndim(v.inertia_kg_m2) == 2 else v.inertia_kg_m2
+    xml = plugin.fly_xml(model=name)
+    xml = re.sub(r'timestep="[^"]*"', f'timestep="{wings.dt_s!r}"', xml)
+    xml = xml.replace('mass="1e-6" diaginertia="8.1e-14 3.53e-13 3.53e-13"',
+                      f'mass="{v.mass_kg!r}" diaginertia="{" ".join(repr(float(i)) for i in inertia)}"')
+    m = mujoco.MjModel.from_xml_string(xml)
+    m.opt.gravity[:] = 0
+    d = mujoco.MjData(m)
+    qpos0 = d.qpos.copy()
+    mujoco.mj_forward(m, d)
+    pos, quat = d.xipos[1].copy(), d.xquat[1].copy()
+    for k in range(v.steps_per_wingbeat):
+        mujoco.mj_step(m, d)
+        got = d.plugin_state[:6].copy()
+        d.qpos[:], d.qvel[:] = qpos0, 0
+        want = wings.step(pos, quat, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+        want = np.concatenate([want["force_body_n"], want["moment_body_nm"]])
+        assert np.array_equal(got.view(np.uint64), want.view(np.uint64)), (k, got, want)
+    assert np.abs(got[:3]).max() > 0
 
 
 def test_tethered_mean_over_21_wingbeats_equals_the_cli(native, run_flapwing, fly100):
