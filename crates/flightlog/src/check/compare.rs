@@ -6,8 +6,11 @@
 
 use std::collections::HashMap;
 
-use super::{CheckOutcome, FIELDS, rerun_values, same};
+use nalgebra::Vector3;
+
+use super::outcome::CheckOutcome;
 use crate::decimate::Decimator;
+use crate::json::Json;
 
 /// A log's samples, compared with a re-run as it steps.
 pub(super) struct Comparer {
@@ -179,4 +182,51 @@ impl Comparer {
             note,
         }
     }
+}
+
+const FIELDS: [&str; 13] = [
+    "position_m.x",
+    "position_m.y",
+    "position_m.z",
+    "velocity_m_s.x",
+    "velocity_m_s.y",
+    "velocity_m_s.z",
+    "attitude.x",
+    "attitude.y",
+    "attitude.z",
+    "attitude.w",
+    "body_rates_rad_s.x",
+    "body_rates_rad_s.y",
+    "body_rates_rad_s.z",
+];
+
+pub(super) fn logged_values(v: &Json) -> Option<(u64, [f64; 13])> {
+    let step = v.get("step")?.as_u64()?;
+    let mut out = [0.0; 13];
+    for (o, f) in out.iter_mut().zip(FIELDS) {
+        *o = v.f64_at(f)?;
+    }
+    Some((step, out))
+}
+
+fn rerun_values(s: &flapsim::State) -> [f64; 13] {
+    let v = |x: &Vector3<f64>| [x.x, x.y, x.z];
+    let (p, u, w) = (
+        v(&s.position_m),
+        v(&s.velocity_m_s),
+        v(&s.angular_velocity_body_rad_s),
+    );
+    let q = &s.world_from_body;
+    [
+        p[0], p[1], p[2], u[0], u[1], u[2], q.i, q.j, q.k, q.w, w[0], w[1], w[2],
+    ]
+}
+
+/// True when a logged number is the re-run's: the same bits; or zeros of either sign (proto3
+/// leaves zeros off the wire, so a -0.0 reads back as 0.0); or (JSON logs only) 0 for a
+/// non-finite value.
+fn same(logged: f64, rerun: f64, json: bool) -> bool {
+    logged.to_bits() == rerun.to_bits()
+        || (logged == 0.0 && rerun == 0.0)
+        || (json && !rerun.is_finite() && logged == 0.0)
 }

@@ -11,8 +11,8 @@
 use flapsim::estimator::{EstimatedFeedback, Prior};
 use serde::Deserialize;
 
-use super::CheckOutcome;
 use super::compare::Comparer;
+use super::outcome::CheckOutcome;
 use crate::error::{Error, Result};
 
 /// The settings `flapwing hover` writes into its log's metadata.

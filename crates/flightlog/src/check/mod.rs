@@ -30,10 +30,10 @@
 use std::path::Path;
 
 use nalgebra::Vector3;
-use serde::Serialize;
 
 mod compare;
 mod hover;
+mod outcome;
 
 use crate::error::{Error, Result};
 use crate::json::Json;
@@ -43,57 +43,8 @@ use crate::schema::{
     ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT,
     STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, TOPIC_STATE, TOPIC_WIND,
 };
-use compare::Comparer;
-
-/// The verdict of [`check_log`].
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(tag = "result", rename_all = "snake_case")]
-pub enum CheckOutcome {
-    /// Every logged sample equals the re-run bit for bit.
-    Match {
-        /// Samples compared.
-        samples: u64,
-        /// A remark (e.g. the log ends before the run's duration).
-        note: Option<String>,
-    },
-    /// The first difference.
-    Mismatch {
-        /// Samples that matched before it.
-        samples_matched: u64,
-        /// What differs, with both values.
-        detail: String,
-    },
-    /// The log cannot be re-run (another command, an unsupported mode, no samples).
-    NotCheckable {
-        /// Why.
-        reason: String,
-    },
-}
-
-const FIELDS: [&str; 13] = [
-    "position_m.x",
-    "position_m.y",
-    "position_m.z",
-    "velocity_m_s.x",
-    "velocity_m_s.y",
-    "velocity_m_s.z",
-    "attitude.x",
-    "attitude.y",
-    "attitude.z",
-    "attitude.w",
-    "body_rates_rad_s.x",
-    "body_rates_rad_s.y",
-    "body_rates_rad_s.z",
-];
-
-fn logged_values(v: &Json) -> Option<(u64, [f64; 13])> {
-    let step = v.get("step")?.as_u64()?;
-    let mut out = [0.0; 13];
-    for (o, f) in out.iter_mut().zip(FIELDS) {
-        *o = v.f64_at(f)?;
-    }
-    Some((step, out))
-}
+use compare::{Comparer, logged_values};
+pub use outcome::CheckOutcome;
 
 /// The wing winds of a `/wind` message (world, m/s), `None` if it does not read.
 fn logged_winds(v: &Json) -> Option<Vec<[f64; 3]>> {
@@ -106,28 +57,6 @@ fn logged_winds(v: &Json) -> Option<Vec<[f64; 3]>> {
         None => Some(Vec::new()),
         Some(_) => None,
     }
-}
-
-fn rerun_values(s: &flapsim::State) -> [f64; 13] {
-    let v = |x: &Vector3<f64>| [x.x, x.y, x.z];
-    let (p, u, w) = (
-        v(&s.position_m),
-        v(&s.velocity_m_s),
-        v(&s.angular_velocity_body_rad_s),
-    );
-    let q = &s.world_from_body;
-    [
-        p[0], p[1], p[2], u[0], u[1], u[2], q.i, q.j, q.k, q.w, w[0], w[1], w[2],
-    ]
-}
-
-/// True when a logged number is the re-run's: the same bits; or zeros of either sign (proto3
-/// leaves zeros off the wire, so a -0.0 reads back as 0.0); or (JSON logs only) 0 for a
-/// non-finite value.
-fn same(logged: f64, rerun: f64, json: bool) -> bool {
-    logged.to_bits() == rerun.to_bits()
-        || (logged == 0.0 && rerun == 0.0)
-        || (json && !rerun.is_finite() && logged == 0.0)
 }
 
 /// Re-runs a `simulate` or `hover` log and compares it (see the module docs). Errors: the
