@@ -48,7 +48,7 @@ out="$target_dir/release/libflapwing_mujoco.so"
 # exception that unwinds through the plugin's C frames.
 "$cc" -std=c11 -O2 -fPIC -fexceptions -shared -Wall -Wextra -Werror \
     -I"$mj/include" -I"$header_dir" \
-    "$root/crates/mujoco/flapwing_mujoco.c" \
+    "$root/crates/mujoco/flapwing_mujoco.c" "$root/crates/mujoco/config.c" \
     "$staticlib" \
     -L"$mj" -l:"$libmujoco" -Wl,-rpath,"$mj" \
     -Wl,--exclude-libs,ALL -Wl,--gc-sections -Wl,--strip-debug -Wl,--no-undefined \
