@@ -376,7 +376,6 @@ static int init_failed(const char *fmt, ...) {
   return -1;
 }
 
-/* Fails (init_failed: the compiler's load error) on a bad configuration. */
 /* The wings' loads are the model's vehicle's: on a body (with what hangs from it) of another
  * mass they accelerate it as many times more or less, which nothing else reports (the
  * dragonfly's wings on examples/mujoco/fly.xml's 1 mg fly made MuJoCo's accelerations blow up
@@ -394,6 +393,7 @@ static void warn_mass_mismatch(const mjModel *m, int instance, const Instance *i
               in->config.model, p.mass_kg, p.mass_kg / body_kg);
 }
 
+/* Fails (init_failed: the compiler's load error) on a bad configuration. */
 static int plugin_init(const mjModel *m, mjData *d, int instance) {
   char msg[MESSAGE_CHARS];
   int body_id = -1, nbody = 0;
@@ -491,7 +491,6 @@ static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_da
  * so that both continue alike from the copied state. The configuration, body and actuator
  * mapping are the model's and already the same. */
 static void plugin_copy(mjData *dest, const mjModel *m, const mjData *src, int instance) {
-  (void)m;
   Instance *to = (Instance *)dest->plugin_data[instance];
   const Instance *from = (const Instance *)src->plugin_data[instance];
   if (!to || !from || to == from) return;
@@ -499,6 +498,11 @@ static void plugin_copy(mjData *dest, const mjModel *m, const mjData *src, int i
   if (from->wings && flapwing_wings_clone(from->wings, &w) != FLAPWING_OK) {
     mju_warning("%s instance %d: copying the wings failed: %s; the copy keeps its own wings",
                 PLUGIN_NAME, instance, flapwing_last_error());
+    /* MuJoCo copied the source's plugin state: put back the copy's own wrench and steps. */
+    mjtNum *state = dest->plugin_state + m->plugin_stateadr[instance];
+    mju_copy3(state, to->wrench.force_body_n);
+    mju_copy3(state + 3, to->wrench.moment_body_nm);
+    state[6] = (mjtNum)to->steps;
     return;
   }
   flapwing_wings_free(to->wings);

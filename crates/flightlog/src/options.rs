@@ -14,7 +14,8 @@ use crate::json;
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RunInfo {
     /// The CLI subcommand: "simulate", "hover", "forces", ... "simulate" and "hover" logs
-    /// (the latter flown on the true state) can be re-run by [`check::check_log`].
+    /// can be re-run by [`check::check_log`] (a hover on the state estimate when its sensors'
+    /// seed is logged).
     pub command: String,
     /// The full command line, for people reading the log.
     pub command_line: String,

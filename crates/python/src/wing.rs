@@ -178,8 +178,9 @@ fn forces_dict<'py>(
 #[pymethods]
 impl Wing {
     /// Loads a wing: `model` is a wing model file or built-in name (`robofly`), or a vehicle
-    /// model file or built-in name (`drosophila`, ...), whose `side` wing is taken on its
-    /// hinge (forces in the body frame, moments about the hinge).
+    /// model file or built-in name (`drosophila`, ...) with prescribed kinematics, whose `side`
+    /// wing is taken on its hinge (forces in the body frame, moments about the hinge); an
+    /// actuated vehicle's wing is refused (its motion is an output of its drive).
     #[new]
     #[pyo3(signature = (model = "robofly", side = "left"))]
     fn new(model: &str, side: &str) -> PyResult<Self> {

@@ -90,6 +90,9 @@ pub struct Report {
     pub wing: String,
     /// The induced flow the wing meets (`[aero] inflow`): `off`, `frozen` or `dynamic`.
     pub induced_flow: String,
+    /// The wing moves as an actuated vehicle's drive makes it (its periodic motion, with the
+    /// pair's dynamic wake stepped along it), not on prescribed kinematics.
+    pub periodic_motion: bool,
     /// Reynolds number in use.
     pub reynolds: f64,
     /// How Re is defined.
@@ -209,6 +212,7 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
         source: subject.origin.clone(),
         wing: subject.wing_label.clone(),
         induced_flow: induced_flow(wing).to_string(),
+        periodic_motion: subject.periodic.is_some(),
         reynolds: wing.reynolds(),
         reynolds_definition: "Re = V_ref c_bar / nu",
         v_ref_m_s: wing.v_ref_m_s(),
@@ -427,10 +431,14 @@ fn text_report(r: &Report) -> anyhow::Result<String> {
     };
     writeln!(s, "model         {name} ({})", r.source)?;
     writeln!(s, "wing          {}", r.wing)?;
-    let flow = match r.induced_flow.as_str() {
-        "off" => "off (still air)",
-        "frozen" => "frozen (the hover downwash of the weight)",
-        _ => "dynamic (the pair's wake answering its loads)",
+    let flow = match (r.induced_flow.as_str(), r.periodic_motion) {
+        ("off", _) => "off (still air)",
+        ("frozen", _) => "frozen (the hover downwash of the weight)",
+        (_, true) => "dynamic (the pair's wake answering its loads along the motion)",
+        // A lone wing meets its dynamic inflow's start; only a wing set steps the wake.
+        (_, false) => {
+            "dynamic, held at its start on a fixed mount (the hover downwash of the weight)"
+        }
     };
     writeln!(s, "induced flow  {flow}")?;
     writeln!(

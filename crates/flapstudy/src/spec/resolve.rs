@@ -78,10 +78,12 @@ impl StudySpec {
                     "base_model `{}` has actuated wings: their motion is an output of its \
                      [actuation] dynamics, and [kinematics] is only the nominal motion the \
                      first wingbeat starts from, so no response would move with it; vary the \
-                     drive or the wings' dynamics instead (the numbers under [actuation], e.g. \
-                     {})",
+                     drive or the wings' dynamics instead (the numbers under [actuation]{})",
                     self.base_model,
-                    actuation_examples(&base).join(", ")
+                    match actuation_examples(&base) {
+                        e if e.is_empty() => String::new(),
+                        e => format!(", e.g. {}", e.join(", ")),
+                    }
                 )));
             }
             if factors.iter().any(|g| g.path == f.path) {

@@ -50,7 +50,7 @@ impl HoverSettings {
                 "the run flew on the state estimate, and the log (written before the sensors' seed was logged) does not say which noise its sensors had".into(),
             )),
             (other, _) => Err(Error::Embedded(format!(
-                "the hover settings' feedback `{other}` is not one: allowed `true`, `estimated`"
+                "the hover settings' feedback `{other}` is not a feedback: allowed `true`, `estimated`"
             ))),
         }
     }
@@ -106,14 +106,17 @@ pub(super) fn rerun(
                 return false;
             }
             difference = comparer.step(step.out, step.sim);
-            difference.is_none()
+            // Stop once the log's last sample has matched: no step beyond it, as the
+            // simulate re-run takes none (the logged run may have ended at the next one).
+            difference.is_none() && !comparer.done()
         },
     );
     if let Some(m) = difference {
         return Ok(m);
     }
     match outcome {
-        Err(e) => Ok(comparer.stopped(&e.to_string())),
+        Err(e) if !comparer.done() => Ok(comparer.stopped(&e.to_string())),
+        Err(_) => Ok(comparer.finish(s.duration_s, complete)),
         Ok(o) => match o.diverged {
             Some(why) if !comparer.done() => Ok(comparer.stopped(&why)),
             _ => Ok(comparer.finish(s.duration_s, complete)),

@@ -20,7 +20,8 @@ pub enum CheckOutcome {
         /// What differs, with both values.
         detail: String,
     },
-    /// The log cannot be re-run (another command, an unsupported mode, no samples).
+    /// The log cannot be re-run (another command, an unsupported mode, no samples, a hover
+    /// on the state estimate logged before its sensors' seed was).
     NotCheckable {
         /// Why.
         reason: String,
