@@ -2,6 +2,9 @@
 
 mod common;
 
+/// Every built-in vehicle's wing (in this binary to keep the link count down).
+mod forces_vehicles;
+
 use common::{ROBOFLY, flapwing, flapwing_in};
 use serde_json::Value;
 

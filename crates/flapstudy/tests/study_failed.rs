@@ -16,6 +16,9 @@ use flapstudy::{CaseOutcome, Study, StudyError, merge_csv};
 mod support {
     pub mod pinned;
 }
+
+/// A study of an actuated vehicle (in this binary to keep the link count down).
+mod study_actuated;
 use support::pinned::pinned;
 
 const STUDY: &str = r#"

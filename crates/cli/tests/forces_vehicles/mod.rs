@@ -9,9 +9,7 @@
 //! wake capture), so the totals are checked against the terms' sum, and switching the
 //! wake-capture term off on prescribed kinematics removes exactly that term.
 
-mod common;
-
-use common::flapwing;
+use super::common::flapwing;
 use serde_json::Value;
 
 const TERMS: [&str; 4] = ["translational", "rotational", "added_mass", "wake_capture"];
