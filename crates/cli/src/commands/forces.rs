@@ -211,7 +211,8 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
         model: subject.name.clone(),
         source: subject.origin.clone(),
         wing: subject.wing_label.clone(),
-        induced_flow: induced_flow(wing).to_string(),
+        induced_flow: wingforce::InflowModel::of(wing.options().induced_inflow.as_ref())
+            .to_string(),
         periodic_motion: subject.periodic.is_some(),
         reynolds: wing.reynolds(),
         reynolds_definition: "Re = V_ref c_bar / nu",
@@ -231,15 +232,6 @@ pub fn run(args: ForcesArgs) -> anyhow::Result<()> {
         print_json(&report)
     } else {
         print_stdout(&text_report(&report)?)
-    }
-}
-
-/// The induced flow `wing` meets (its `[aero] inflow`).
-fn induced_flow(wing: &Wing) -> wingforce::InflowModel {
-    match wing.options().induced_inflow {
-        None => wingforce::InflowModel::Off,
-        Some(i) if i.dynamic => wingforce::InflowModel::Dynamic,
-        Some(_) => wingforce::InflowModel::Frozen,
     }
 }
 

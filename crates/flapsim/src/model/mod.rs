@@ -77,11 +77,7 @@ impl Vehicle {
 
     /// The induced flow the wings meet (`[aero] inflow`; MODEL.md 4.5).
     pub fn inflow_model(&self) -> wingforce::InflowModel {
-        match self.wings[0].options().induced_inflow {
-            None => wingforce::InflowModel::Off,
-            Some(i) if i.dynamic => wingforce::InflowModel::Dynamic,
-            Some(_) => wingforce::InflowModel::Frozen,
-        }
+        wingforce::InflowModel::of(self.wings[0].options().induced_inflow.as_ref())
     }
 
     /// The vehicle with its wings meeting `model`'s induced flow instead (the comparison

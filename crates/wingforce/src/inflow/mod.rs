@@ -70,6 +70,16 @@ pub enum InflowModel {
 }
 
 impl InflowModel {
+    /// The model of a wing's induced inflow option (`AeroOptions::induced_inflow`): none is
+    /// `Off`, a dynamic one `Dynamic`, else `Frozen`.
+    pub fn of(induced_inflow: Option<&InducedInflow>) -> Self {
+        match induced_inflow {
+            None => Self::Off,
+            Some(i) if i.dynamic => Self::Dynamic,
+            Some(_) => Self::Frozen,
+        }
+    }
+
     /// The name a model file and every report use.
     pub fn name(self) -> &'static str {
         match self {
