@@ -584,6 +584,33 @@ enum FlapwingStatus flapwing_wings_set_inflow(struct FlapwingWings *wings,
                                               struct FlapwingInflow state);
 
 /**
+ * Saves the state of `wings` (time, wing, actuator and inflow states, controls, wind, host
+ * settings, the step memory) into `saved`, a copy of `wings` made with
+ * `flapwing_wings_clone` (of it or of a copy of it), for `flapwing_wings_restore`. A handle
+ * built apart is FLAPWING_INVALID_ARGUMENT and `saved` is unchanged; `saved == wings` does
+ * nothing.
+ *
+ * # Safety
+ * `wings` and `saved` are NULL or live handles; neither is used by another thread during
+ * the call.
+ */
+enum FlapwingStatus flapwing_wings_save(const struct FlapwingWings *wings,
+                                        struct FlapwingWings *saved);
+
+/**
+ * Puts back into `wings` the state saved in `saved` (`flapwing_wings_save`): the steps that
+ * follow repeat, bit for bit, those that followed the save. A handle that is not a copy of
+ * `wings` is FLAPWING_INVALID_ARGUMENT and `wings` is unchanged; `saved == wings` does
+ * nothing.
+ *
+ * # Safety
+ * `wings` and `saved` are NULL or live handles; neither is used by another thread during
+ * the call.
+ */
+enum FlapwingStatus flapwing_wings_restore(struct FlapwingWings *wings,
+                                           const struct FlapwingWings *saved);
+
+/**
  * Says that the host takes the body's gyroscopic term w x I w at the step's start in the body
  * frame, as MuJoCo does for a free joint (its bias force) and a plain semi-implicit Euler loop
  * does, with `inertia_body_kg_m2` its inertia of the body about the centre of mass, body

@@ -31,6 +31,7 @@ mod args;
 mod error;
 mod flight;
 mod inflow;
+mod rewind;
 mod rotation;
 mod types;
 
@@ -46,6 +47,7 @@ pub use flight::{FlapwingTrim, flapwing_wings_body_drag, flapwing_wings_trim};
 pub use inflow::{
     FlapwingInflow, flapwing_wings_inflow, flapwing_wings_inflow_pairs, flapwing_wings_set_inflow,
 };
+pub use rewind::{flapwing_wings_restore, flapwing_wings_save};
 pub use rotation::flapwing_wings_set_gyroscopic_host;
 pub use types::*;
 

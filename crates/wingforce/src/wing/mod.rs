@@ -222,6 +222,14 @@ impl Wing {
         self.cache.inflow_gradient_per_s = gradient_per_s;
     }
 
+    /// Takes `other`'s dynamic-inflow field ([`Self::set_inflow_field`]), exactly: a host
+    /// that puts a wing back to an earlier state whose kinematics are its own (a wing set's
+    /// `restore_state`) copies what changes from step to step, not the whole wing.
+    pub fn copy_inflow_field_from(&mut self, other: &Wing) {
+        self.cache.translational_inflow_s = other.cache.translational_inflow_s;
+        self.cache.inflow_gradient_per_s = other.cache.inflow_gradient_per_s;
+    }
+
     /// The hinge's position in the stroke frame (the stroke plane through the hinge), m.
     pub fn hinge_in_stroke_m(&self) -> Vector3<f64> {
         self.cache.hinge_s

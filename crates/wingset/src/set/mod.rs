@@ -37,6 +37,7 @@ mod limits;
 mod map;
 mod output;
 mod rate_damping;
+mod rewind;
 mod step;
 mod step_kinematics;
 
@@ -60,6 +61,9 @@ const MAX_TABLE_STEPS: u64 = 4096;
 /// Flapping wings as a force element: see the module documentation.
 #[derive(Debug, Clone)]
 pub struct WingSet {
+    /// The build this set is (a copy of): [`WingSet::save_state`] copies state only between
+    /// copies of one build (module `rewind`).
+    origin: u64,
     /// The wings, with the kinematics currently in force.
     wings: Vec<Wing>,
     /// The actuated wings' dynamics (one per wing), or `None` for prescribed kinematics.
@@ -85,8 +89,13 @@ pub struct WingSet {
     /// Each wing's kinematic loads at each step of the wingbeat, `len()` per step (periodic
     /// runs only), valid where `table_gen` holds the current generation: computed the first
     /// time the step comes round and reused every wingbeat until the kinematics change.
+    /// Generations are process-wide tags (`rewind::fresh_tag`), so a state restored to an
+    /// earlier one finds its entries (module `rewind`).
     table: Vec<step_kinematics::StepKinematics>,
     table_gen: Vec<u64>,
+    /// The generation of the kinematics: a fresh tag at every change of the wings'
+    /// kinematics, the control map, the load sampling or the held correction
+    /// (`restart_phase`, `apply_controls`), on which the table and module `rewind` rely.
     generation: u64,
     pending: Option<Controls>,
     controls: Controls,
@@ -270,6 +279,7 @@ impl WingSet {
             None => LoadSampling::StepMean,
         };
         let mut set = Self {
+            origin: rewind::fresh_tag(),
             wings,
             dynamic,
             control_map,
@@ -416,7 +426,7 @@ impl WingSet {
     pub fn set_load_sampling(&mut self, sampling: LoadSampling) {
         if sampling != self.sampling {
             self.sampling = sampling;
-            self.generation += 1;
+            self.generation = rewind::fresh_tag();
             if let Some(d) = &mut self.dynamic {
                 for w in d {
                     w.set_load_sampling(sampling);
@@ -434,7 +444,7 @@ impl WingSet {
             && h.enabled != on
         {
             h.enabled = on;
-            self.generation += 1;
+            self.generation = rewind::fresh_tag();
         }
     }
 
@@ -562,6 +572,11 @@ impl WingSet {
     /// those in force stay.
     fn apply_controls(&mut self, c: &Controls) -> Result<()> {
         let phase = self.phase();
+        if self.control_map.is_some() {
+            // The map changes now, even if the controls are refused below: a new generation
+            // (module `rewind` copies the map only across generations).
+            self.generation = rewind::fresh_tag();
+        }
         let Some(v) = &mut self.control_map else {
             return Ok(());
         };
@@ -598,7 +613,7 @@ impl WingSet {
             Some(per) if self.periodic => 1.0 / per as f64,
             _ => freq_hz * self.dt_s,
         };
-        self.generation += 1;
+        self.generation = rewind::fresh_tag();
         let per = match self.steps_per_wingbeat {
             Some(per) if self.periodic && per <= MAX_TABLE_STEPS && self.dynamic.is_none() => {
                 per as usize
