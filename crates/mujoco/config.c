@@ -107,6 +107,19 @@ int fwmj_read_config(const mjModel *m, int instance, Config *c, char *msg, size_
     c->has_trim = 1;
   }
 
+  const char *rewind = attribute(m, instance, "rewind");
+  if (rewind) {
+    if (strcmp(rewind, "true") == 0) {
+      c->rewind = 1;
+    } else if (strcmp(rewind, "false") != 0) {
+      snprintf(msg, nmsg,
+               "attribute `rewind` = \"%s\"; allowed: \"true\" (the wings go back a step with the "
+               "state: mjd_transitionFD; a save before every step) or \"false\" (the default)",
+               rewind);
+      return -1;
+    }
+  }
+
   for (int i = 0; i < NCONTROL; i++) {
     const char *text = attribute(m, instance, kControls[i].name);
     if (!text) continue;

@@ -19,6 +19,7 @@ enum {
   ATTR_MODEL = 0,
   ATTR_WIND,
   ATTR_TRIM,
+  ATTR_REWIND,
   ATTR_FIRST_CONTROL, /* the controls, in the order of kControls below */
 };
 
@@ -46,6 +47,8 @@ typedef struct Config {
   double wind_world_m_s[3];
   int has_trim;
   double trim_m_s[2];           /* flight condition to trim at: forward speed, climb rate */
+  int rewind;                   /* save the wings before every step, so that a host that sets
+                                 * the state back a step (mjd_transitionFD) has them go back */
   double dt_s;                  /* m->opt.timestep */
 } Config;
 

@@ -40,9 +40,14 @@
  *
  * Plugin state (m->plugin_statenum = 7): the wrench applied in the last step, body frame:
  * force_body_n[3], moment_body_nm[3] (zero before the first step and after a failure), and the
- * wing steps taken, so that MuJoCo's state functions carry the wings' place in time: a state
- * set back or forth by the host (mj_setState, mjd_transitionFD's perturbed steps) leaves the
- * wings where they were, since they cannot go back, and is warned about once per instance.
+ * wing step the state is at (the steps taken before the current mj_step; set at each advance),
+ * so that MuJoCo's state functions carry the wings' place in time. A state set back by the
+ * host (mj_setState; mjd_transitionFD, which steps from a state, sets it back and steps again
+ * from a perturbed one) finds the wings a step ahead: with the attribute rewind="true" the
+ * plugin saves the wings before every step (flapwing_wings_save, about 0.05 us for the fly)
+ * and puts them back (flapwing_wings_restore), so a perturbed step is the same wing step as
+ * the nominal one and the derivatives are those of the flight; without it, or further back
+ * than one step, the wings go on from where they are and the plugin warns once.
  */
 
 #include <errno.h>
@@ -76,6 +81,11 @@ typedef struct Instance {
                                  * cloned at each reset instead of building (and trimming)
                                  * them again, which costs up to seconds (the hummingbird's
                                  * trim); NULL: rebuild */
+  FlapwingWings *saved;         /* with the `rewind` attribute: the wings as they were before
+                                 * the last step (flapwing_wings_save), to go back to when the
+                                 * host sets the state back a step; else NULL */
+  uint64_t saved_steps;         /* the wing steps taken when `saved` was saved */
+  FlapwingControls saved_sent;  /* `sent` then */
   int stepped;                  /* the wings have stepped for the current mj_step */
   uint64_t steps;               /* wing steps since creation */
   int failing;                  /* the last step failed (warned once per run of failures) */
@@ -393,6 +403,16 @@ static void warn_mass_mismatch(const mjModel *m, int instance, const Instance *i
               in->config.model, p.mass_kg, p.mass_kg / body_kg);
 }
 
+/* Frees an instance and all it holds (NULL: nothing). */
+static void plugin_free(Instance *in) {
+  if (!in) return;
+  flapwing_wings_free(in->wings);
+  flapwing_wings_free(in->pristine);
+  flapwing_wings_free(in->saved);
+  fwmj_free_config(&in->config);
+  free(in);
+}
+
 /* Fails (init_failed: the compiler's load error) on a bad configuration. */
 static int plugin_init(const mjModel *m, mjData *d, int instance) {
   char msg[MESSAGE_CHARS];
@@ -445,17 +465,19 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
   warn_mass_mismatch(m, instance, in);
   /* Without the copy a reset rebuilds the wings, as it did before flapwing_wings_clone. */
   if (flapwing_wings_clone(in->wings, &in->pristine) != FLAPWING_OK) in->pristine = NULL;
+  if (in->config.rewind && flapwing_wings_clone(in->wings, &in->saved) != FLAPWING_OK) {
+    char why[MESSAGE_CHARS];
+    snprintf(why, sizeof(why), "%s", flapwing_last_error());
+    plugin_free(in);
+    return init_failed("%s instance %d (body `%s`): attribute `rewind`: copying the wings: %s",
+                       PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, body_id), why);
+  }
   d->plugin_data[instance] = (uintptr_t)in;
   return 0;
 }
 
 static void plugin_destroy(mjData *d, int instance) {
-  Instance *in = (Instance *)d->plugin_data[instance];
-  if (!in) return;
-  flapwing_wings_free(in->wings);
-  flapwing_wings_free(in->pristine);
-  fwmj_free_config(&in->config);
-  free(in);
+  plugin_free((Instance *)d->plugin_data[instance]);
   d->plugin_data[instance] = 0;
 }
 
@@ -468,6 +490,7 @@ static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_da
   in->stepped = 0;
   in->failing = 0;
   in->time_warned = 0;
+  in->saved_steps = UINT64_MAX; /* nothing of this run saved yet */
   memset(&in->wrench, 0, sizeof(in->wrench));
   if (in->wings && in->steps == 0) return; /* still at t = 0 */
   char msg[MESSAGE_CHARS];
@@ -477,7 +500,15 @@ static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_da
   if (in->pristine && flapwing_wings_clone(in->pristine, &in->wings) != FLAPWING_OK) {
     in->wings = NULL;
   }
-  if (!in->wings) in->wings = instance_wings(in, msg, sizeof(msg));
+  if (!in->wings) {
+    in->wings = instance_wings(in, msg, sizeof(msg));
+    /* Rebuilt: `saved` must be a copy of this build (flapwing_wings_save checks). */
+    if (in->wings && in->saved) {
+      flapwing_wings_free(in->saved);
+      in->saved = NULL;
+      if (flapwing_wings_clone(in->wings, &in->saved) != FLAPWING_OK) in->saved = NULL;
+    }
+  }
   in->sent = in->base;
   in->control_failing = 0;
   if (!in->wings) {
@@ -505,8 +536,26 @@ static void plugin_copy(mjData *dest, const mjModel *m, const mjData *src, int i
     state[6] = (mjtNum)to->steps;
     return;
   }
+  /* The copy's rewind slot must be a copy of the same build as its wings: the source's. */
+  FlapwingWings *saved = NULL;
+  if (to->saved && from->saved && flapwing_wings_clone(from->saved, &saved) != FLAPWING_OK) {
+    saved = NULL;
+  }
   flapwing_wings_free(to->wings);
   to->wings = w;
+  if (to->saved && saved) {
+    flapwing_wings_free(to->saved);
+    to->saved = saved;
+    to->saved_steps = from->saved_steps;
+    to->saved_sent = from->saved_sent;
+  } else if (to->saved) {
+    /* No copy of the source's slot: start a slot from the copied wings (the copy can go back
+     * from its next step on). */
+    flapwing_wings_free(to->saved);
+    to->saved = NULL;
+    if (flapwing_wings_clone(w, &to->saved) != FLAPWING_OK) to->saved = NULL;
+    to->saved_steps = UINT64_MAX;
+  }
   to->stepped = from->stepped;
   to->steps = from->steps;
   to->failing = from->failing;
@@ -516,6 +565,39 @@ static void plugin_copy(mjData *dest, const mjModel *m, const mjData *src, int i
   to->time_warned = from->time_warned;
 }
 
+/* The host set the state to wing step `to` (mj_setState, mjd_transitionFD's perturbed steps)
+ * while the wings have taken in->steps: with the `rewind` attribute, one step back is the
+ * saved wings (flapwing_wings_restore: the step repeats bit for bit); anything else is warned
+ * about once and the wings go on from where they are. */
+static void go_back(const mjModel *m, mjData *d, int instance, Instance *in, mjtNum to) {
+  if (in->saved && in->wings && to == (mjtNum)in->saved_steps &&
+      flapwing_wings_restore(in->wings, in->saved) == FLAPWING_OK) {
+    in->steps = in->saved_steps;
+    in->sent = in->saved_sent;
+    return;
+  }
+  if (in->time_warned) return;
+  in->time_warned = 1;
+  if (in->saved) {
+    mju_warning("%s (instance %d, body `%s`, t = %.9g s): the plugin state says wing step %.0f "
+                "and the wings are at step %llu: the host set the state back by more than the one "
+                "step `rewind` keeps (or forward); the wings go on from where they are, so their "
+                "phase no longer follows the body's time (restart with mj_resetData; branch a run "
+                "with mj_copyData, which copies the wings)",
+                PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time,
+                (double)to, (unsigned long long)in->steps);
+  } else {
+    mju_warning("%s (instance %d, body `%s`, t = %.9g s): the plugin state says wing step %.0f "
+                "and the wings are at step %llu: the host set the state to another step "
+                "(mj_setState, mjd_transitionFD); the wings go on from where they are, so their "
+                "phase no longer follows the body's time (the attribute rewind=\"true\" has them "
+                "go back a step with the state, as mjd_transitionFD needs; restart with "
+                "mj_resetData; branch a run with mj_copyData, which copies the wings)",
+                PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time,
+                (double)to, (unsigned long long)in->steps);
+  }
+}
+
 /* Passive forces: the wings' wrench on the body at its centre of mass. */
 static void plugin_compute(const mjModel *m, mjData *d, int instance, int capability_bit) {
   (void)capability_bit;
@@ -523,21 +605,15 @@ static void plugin_compute(const mjModel *m, mjData *d, int instance, int capabi
   if (!in) return;
   if (!in->stepped) {
     mjtNum *state = d->plugin_state + m->plugin_stateadr[instance];
-    if (state[6] != (mjtNum)in->steps && !in->time_warned) {
-      in->time_warned = 1;
-      mju_warning("%s (instance %d, body `%s`, t = %.9g s): the plugin state says %.0f wing steps "
-                  "and the wings have taken %llu: the host set the state to another step "
-                  "(mj_setState, mjd_transitionFD); the wings cannot go back, so their phase no "
-                  "longer follows the body's time (restart with mj_resetData; branch a run with "
-                  "mj_copyData, which copies the wings)",
-                  PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time,
-                  (double)state[6], (unsigned long long)in->steps);
+    if (state[6] != (mjtNum)in->steps) go_back(m, d, instance, in, state[6]);
+    if (in->saved && flapwing_wings_save(in->wings, in->saved) == FLAPWING_OK) {
+      in->saved_steps = in->steps;
+      in->saved_sent = in->sent;
     }
     step_wings(m, d, instance, in);
     in->stepped = 1;
     mju_copy3(state, in->wrench.force_body_n);
     mju_copy3(state + 3, in->wrench.moment_body_nm);
-    state[6] = (mjtNum)in->steps;
   }
   const int b = in->body_id;
   if (in->free_dof >= 0) {
@@ -554,15 +630,18 @@ static void plugin_compute(const mjModel *m, mjData *d, int instance, int capabi
 
 /* After MuJoCo's time integration: the next evaluation belongs to a new step. */
 static void plugin_advance(const mjModel *m, mjData *d, int instance) {
-  (void)m;
   Instance *in = (Instance *)d->plugin_data[instance];
-  if (in) in->stepped = 0;
+  if (!in) return;
+  in->stepped = 0;
+  /* The state is now at the next step: the wing steps taken. */
+  d->plugin_state[m->plugin_stateadr[instance] + 6] = (mjtNum)in->steps;
 }
 
 mjPLUGIN_LIB_INIT(flapwing_wings) {
   kAttributes[ATTR_MODEL] = "model";
   kAttributes[ATTR_WIND] = "wind";
   kAttributes[ATTR_TRIM] = "trim";
+  kAttributes[ATTR_REWIND] = "rewind";
   for (int i = 0; i < NCONTROL; i++) kAttributes[ATTR_FIRST_CONTROL + i] = kControls[i].name;
 
   mjpPlugin plugin;

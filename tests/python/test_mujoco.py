@@ -125,6 +125,18 @@ def test_tethered_wrench_per_step_and_cycle_mean_equal_flapwing(native, fly100):
     assert np.abs(mo - ref["moment_nm"]).max() <= 1e-12 * np.abs(ref["moment_nm"]).max()
 
 
+def _with_model_body(xml, name):
+    """fly.xml's body given the built-in model's mass and inertia, stepped at its own step."""
+    import re
+
+    v = flapwing.Vehicle(name)
+    dt_s = flapwing.WingSet(v).dt_s
+    inertia = np.diag(v.inertia_kg_m2) if np.ndim(v.inertia_kg_m2) == 2 else v.inertia_kg_m2
+    xml = re.sub(r'timestep="[^"]*"', f'timestep="{dt_s!r}"', xml)
+    return xml.replace('mass="1e-6" diaginertia="8.1e-14 3.53e-13 3.53e-13"',
+                       f'mass="{v.mass_kg!r}" diaginertia="{" ".join(repr(float(i)) for i in inertia)}"')
+
+
 @pytest.mark.parametrize("name", ["drosophila", "bumblebee", "robobee_kinematic", "dragonfly",
                                   "robobee", "hummingbird"])
 def test_every_built_in_vehicle_applies_the_wing_sets_wrench(native, name):
@@ -132,16 +144,9 @@ def test_every_built_in_vehicle_applies_the_wing_sets_wrench(native, name):
     the model's own step for one wingbeat: the wrench the plugin applied in each step is the
     one flapwing's WingSet returns for the same body state, bit for bit (the actuated wings'
     dynamics and stops, the four twisted wings of the dragonfly included)."""
-    import re
-
     v = flapwing.Vehicle(name)
     wings = flapwing.WingSet(v)
-    inertia = np.diag(v.inertia_kg_m2) if np.ndim(v.inertia_kg_m2) == 2 else v.inertia_kg_m2
-    xml = plugin.fly_xml(model=name)
-    xml = re.sub(r'timestep="[^"]*"', f'timestep="{wings.dt_s!r}"', xml)
-    xml = xml.replace('mass="1e-6" diaginertia="8.1e-14 3.53e-13 3.53e-13"',
-                      f'mass="{v.mass_kg!r}" diaginertia="{" ".join(repr(float(i)) for i in inertia)}"')
-    m = mujoco.MjModel.from_xml_string(xml)
+    m = mujoco.MjModel.from_xml_string(_with_model_body(plugin.fly_xml(model=name), name))
     m.opt.gravity[:] = 0
     d = mujoco.MjData(m)
     qpos0 = d.qpos.copy()
@@ -411,8 +416,109 @@ def test_a_state_set_to_another_step_is_warned_about(native, capfd):
     mujoco.mjd_transitionFD(m, d, 1e-6, True, np.zeros((nx, nx)), np.zeros((nx, m.nu)), None,
                             None)
     out = "".join(capfd.readouterr())
-    assert "the plugin state says 1 wing steps and the wings have taken 2" in out, out
-    assert out.count("another step") == 1, out
+    assert "the plugin state says wing step 1 and the wings are at step 2" in out, out
+    assert out.count("another step") == 1 and 'rewind="true"' in out, out
+
+
+def _fd_by_copies(m, d, eps):
+    """d x_{k+1} / d x_k by forward differences of whole steps of copies of d (mj_copyData
+    gives each copy the wings as they are: the plugin's `copy` callback), the columns in
+    mjd_transitionFD's order (qpos tangent, qvel); d itself is not stepped."""
+    nv = m.nv
+    x_of = lambda x: np.concatenate([x.qpos.copy(), x.qvel.copy()])  # noqa: E731
+
+    def after(perturb):
+        c = mujoco.MjData(m)
+        mujoco.mj_copyData(c, m, d)
+        perturb(c)
+        mujoco.mj_step(m, c)
+        dq = np.empty(nv)
+        mujoco.mj_differentiatePos(m, dq, 1.0, d_next.qpos, c.qpos)
+        return np.concatenate([dq, c.qvel - d_next.qvel])
+
+    d_next = mujoco.MjData(m)
+    mujoco.mj_copyData(d_next, m, d)
+    mujoco.mj_step(m, d_next)
+    a = np.empty((2 * nv, 2 * nv))
+    for j in range(nv):
+        def pos(c, j=j):
+            v = np.zeros(nv)
+            v[j] = eps
+            mujoco.mj_integratePos(m, c.qpos, v, 1.0)
+        a[:, j] = after(pos) / eps
+    for j in range(nv):
+        def vel(c, j=j):
+            c.qvel[j] += eps
+        a[:, nv + j] = after(vel) / eps
+    del x_of
+    return a
+
+
+@pytest.mark.parametrize("model", ["drosophila", "hummingbird"])
+def test_rewind_gives_mujoco_s_own_linearisation_the_flight_s_derivatives(native, capfd, model):
+    """With rewind="true" the plugin saves the wings before every step and puts them back
+    when the host sets the state back a step, so mjd_transitionFD's perturbed steps are the
+    same wing step as its nominal one: its A matrix equals the forward differences of whole
+    steps of copies of the data (each copy with the source's wings, mj_copyData), and a run
+    that linearises at every step flies bit for bit as one that never does. Without rewind
+    the perturbed steps take the next wing step's loads, and A is off by their change over a
+    step divided by the perturbation. The hummingbird's wings strike their stops: the save
+    carries their hinge states."""
+    xml_on = plugin.fly_xml(model=model, rewind="true")
+    xml_off = plugin.fly_xml(model=model)
+    if model != "drosophila":
+        # The model's own mass, inertia and step on fly.xml's body.
+        xml_on = _with_model_body(xml_on, model)
+        xml_off = _with_model_body(xml_off, model)
+    eps = 1e-6
+    nx = 2 * 6
+    results = {}
+    for name, xml in (("on", xml_on), ("off", xml_off)):
+        m = mujoco.MjModel.from_xml_string(xml)
+        d = mujoco.MjData(m)
+        for _ in range(37):
+            mujoco.mj_step(m, d)
+        capfd.readouterr()
+        a = np.zeros((nx, nx))
+        mujoco.mjd_transitionFD(m, d, eps, False, a, None, None, None)
+        results[name] = (a, _fd_by_copies(m, d, eps), "".join(capfd.readouterr()))
+    a_on, by_copies, out_on = results["on"]
+    assert "another step" not in out_on and "flapwing" not in out_on, out_on
+    scale = np.abs(by_copies).max()
+    assert np.abs(a_on - by_copies).max() <= 1e-12 * scale, np.abs(a_on - by_copies).max() / scale
+    a_off = results["off"][0]
+    assert np.abs(a_off - by_copies).max() > 1e2 * scale, "without rewind A should be off"
+
+    # Linearising at every step changes nothing of the flight (bit for bit).
+    m = mujoco.MjModel.from_xml_string(xml_on)
+    plain, linearised = mujoco.MjData(m), mujoco.MjData(m)
+    a = np.zeros((nx, nx))
+    for _ in range(60):
+        mujoco.mj_step(m, plain)
+        mujoco.mjd_transitionFD(m, linearised, eps, True, a, None, None, None)
+        mujoco.mj_step(m, linearised)
+    assert np.array_equal(plain.qpos, linearised.qpos)
+    assert np.array_equal(plain.qvel, linearised.qvel)
+    assert np.array_equal(plain.plugin_state, linearised.plugin_state)
+
+
+def test_rewind_reaches_back_one_step_and_says_so_beyond(native, capfd):
+    m = mujoco.MjModel.from_xml_string(plugin.fly_xml(rewind="true"))
+    d = mujoco.MjData(m)
+    mujoco.mj_step(m, d)
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    back = np.empty(mujoco.mj_stateSize(m, spec))
+    mujoco.mj_getState(m, d, back, spec)
+    for _ in range(3):
+        mujoco.mj_step(m, d)
+    capfd.readouterr()
+    mujoco.mj_setState(m, d, back, spec)
+    mujoco.mj_step(m, d)
+    out = "".join(capfd.readouterr())
+    assert "more than the one step `rewind` keeps" in out, out
+    for bad in ("yes", "1", "TRUE"):
+        with pytest.raises(ValueError, match=f'attribute `rewind` = "{bad}"; allowed: "true"'):
+            mujoco.MjModel.from_xml_string(plugin.fly_xml(rewind=bad))
 
 
 def test_plugin_on_a_body_without_joints_fails_the_load(native):
