@@ -532,17 +532,113 @@ fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2Stri
   return c ? fail(c, fmi2Discard, "fmi2GetStringStatus: steps are synchronous") : fmi2Error;
 }
 
+/* ---------------------------------------------------------------- FMU state
+ * fmi2GetFMUstate / fmi2SetFMUstate / fmi2FreeFMUstate (canGetAndSetFMUstate): a master that
+ * steps back (a variable-step master rejecting a step, a finite-difference linearisation, an
+ * optimiser's rollouts) gets the FMU back as it was, wings included: the steps that follow
+ * repeat bit for bit. A state holds the instance's values and a copy of its wings; getting
+ * into an existing state saves the wings into its copy (flapwing_wings_save: no table of
+ * kinematic loads, no allocation), setting one restores them (flapwing_wings_restore); wings
+ * rebuilt since (a new parameter value, fmi2Reset) are replaced by a copy of the state's. */
+
+typedef struct {
+  Fmu values;            /* the instance's fields; its `wings`, `model`, `name` unused */
+  char *model;
+  FlapwingWings *wings;  /* NULL if the instance had none */
+} FmuState;
+
+/* `*to` becomes a copy of `from` (NULL: none): saved into when both exist and are copies of
+ * one build, else cloned. 0 on success. */
+static int copy_wings(FlapwingWings **to, const FlapwingWings *from, int restore) {
+  if (!from) {
+    flapwing_wings_free(*to);
+    *to = NULL;
+    return 0;
+  }
+  if (*to) {
+    FlapwingStatus s = restore ? flapwing_wings_restore(*to, from) : flapwing_wings_save(from, *to);
+    if (s == FLAPWING_OK) return 0;
+  }
+  FlapwingWings *w = NULL;
+  if (flapwing_wings_clone(from, &w) != FLAPWING_OK) return -1;
+  flapwing_wings_free(*to);
+  *to = w;
+  return 0;
+}
+
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) {
+  Fmu *f = c;
+  if (!f) return fmi2Error;
+  if (!s) return fail(f, fmi2Error, "fmi2GetFMUstate: the state pointer is NULL");
+  FmuState *st = *s;
+  if (!st) {
+    st = calloc(1, sizeof *st);
+    if (!st) return fail(f, fmi2Error, "fmi2GetFMUstate: out of memory");
+  }
+  char *model = dup_string(f->model);
+  if (!model || copy_wings(&st->wings, f->wings, 0) != 0) {
+    free(model);
+    if (!*s) {
+      flapwing_wings_free(st->wings);
+      free(st);
+    }
+    return fail(f, fmi2Error, "fmi2GetFMUstate: copying the wings: %s",
+                model ? flapwing_last_error() : "out of memory");
+  }
+  free(st->model);
+  st->model = model;
+  st->values = *f;
+  *s = st;
+  return fmi2OK;
+}
+
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) {
+  Fmu *f = c;
+  if (!f) return fmi2Error;
+  const FmuState *st = s;
+  if (!st) return fail(f, fmi2Error, "fmi2SetFMUstate: the state is NULL; allowed: one from fmi2GetFMUstate");
+  char *model = dup_string(st->model);
+  if (!model || copy_wings(&f->wings, st->wings, 1) != 0) {
+    free(model);
+    return fail(f, fmi2Error, "fmi2SetFMUstate: copying the wings: %s",
+                model ? flapwing_last_error() : "out of memory");
+  }
+  /* Everything but what the instance owns (its name, callbacks, wings and model string). */
+  FlapwingWings *wings = f->wings;
+  char *name = f->name;
+  fmi2CallbackLogger logger = f->logger;
+  fmi2ComponentEnvironment env = f->env;
+  fmi2Boolean debug = f->debug_logging;
+  free(f->model);
+  *f = st->values;
+  f->wings = wings;
+  f->model = model;
+  f->name = name;
+  f->logger = logger;
+  f->env = env;
+  f->debug_logging = debug;
+  return fmi2OK;
+}
+
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) {
+  if (!s || !*s) return fmi2OK;
+  FmuState *st = *s;
+  flapwing_wings_free(st->wings);
+  free(st->model);
+  free(st);
+  *s = NULL;
+  (void)c;
+  return fmi2OK;
+}
+
 /* ---------------------------------------------------------------- not supported
- * (the model description says so: no FMU state, no directional derivatives, no input
- * interpolation, maxOutputDerivativeOrder 0) */
+ * (the model description says so: no serialized FMU state, no directional derivatives, no
+ * input interpolation, maxOutputDerivativeOrder 0) */
 
 static fmi2Status unsupported(fmi2Component c, const char *fn) {
   return c ? fail(c, fmi2Error, "%s: not supported by this FMU (see its modelDescription.xml)", fn) : fmi2Error;
 }
 
-fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)s; return unsupported(c, "fmi2GetFMUstate"); }
-fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate s) { (void)s; return unsupported(c, "fmi2SetFMUstate"); }
-fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *s) { (void)s; return unsupported(c, "fmi2FreeFMUstate"); }
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate s, size_t *n) {
   (void)s, (void)n;
   return unsupported(c, "fmi2SerializedFMUstateSize");

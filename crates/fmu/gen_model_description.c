@@ -39,7 +39,7 @@ int main(int argc, char **argv) {
   printf("  variableNamingConvention=\"flat\" numberOfEventIndicators=\"0\">\n");
   printf("  <CoSimulation modelIdentifier=\"%s\" canHandleVariableCommunicationStepSize=\"true\"\n",
          FLAPWING_FMU_MODEL_IDENTIFIER);
-  printf("    canNotUseMemoryManagementFunctions=\"true\" canGetAndSetFMUstate=\"false\"\n");
+  printf("    canNotUseMemoryManagementFunctions=\"true\" canGetAndSetFMUstate=\"true\"\n");
   printf("    canSerializeFMUstate=\"false\" providesDirectionalDerivative=\"false\"/>\n");
   printf("  <UnitDefinitions>\n");
 #define UNIT(name, kg, m, s, A, rad)                                                   \

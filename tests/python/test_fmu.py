@@ -300,3 +300,68 @@ def test_without_trim_the_trim_parameters_are_nan_and_a_bad_condition_is_an_fmi_
     assert e.value.status == 3  # fmi2Error
     errors = [m for s, m in log.messages if s == 3]
     assert errors and "trim at 0 m/s forward, -5 m/s climb" in errors[0], log.messages
+
+
+@pytest.mark.parametrize("model", ["drosophila", "hummingbird"])
+def test_a_state_set_back_repeats_the_steps_that_followed_it(built, model):
+    """fmi2GetFMUstate / fmi2SetFMUstate (canGetAndSetFMUstate): a master that steps back (a
+    rejected step, a finite-difference linearisation, rollouts) gets the FMU as it was, wings
+    included, and the steps that follow repeat bit for bit; also into an existing state (the
+    wings saved into its copy), and after fmi2Reset rebuilt the wings (a copy of the state's
+    replaces them). The hummingbird's wings strike their stops: their hinge states come back."""
+    import ctypes
+
+    from fmpy.fmi2 import FMU2Slave
+
+    md = fmpy.read_model_description(built["fmu"])
+    assert md.coSimulation.canGetAndSetFMUstate and not md.coSimulation.canSerializeFMUstate
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=fmpy.extract(built["fmu"]),
+                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName="back")
+    slave.instantiate()
+
+    def start():
+        slave.setupExperiment(startTime=0.0)
+        slave.enterInitializationMode()
+        slave.setString([vr["model"]], [model])
+        slave.exitInitializationMode()
+        return slave.getReal([vr["element_dt_s"]])[0]
+
+    dt = start()
+    out = [vr[n] for n in FORCE + MOMENT + ["element_steps"]]
+
+    def run(k0, n):
+        rows = []
+        for k in range(k0, k0 + n):
+            # The body moves: every state the wings keep (the step memory too) is exercised.
+            slave.setReal([vr["velocity_world_m_s_x"], vr["angular_velocity_body_rad_s_y"]],
+                          [0.1 * math.sin(0.1 * k), 2.0 * math.cos(0.07 * k)])
+            slave.doStep(k * dt, dt)  # raises on an FMI error
+            rows.append(slave.getReal(out))
+        return np.array(rows)
+
+    first_n = 230 if model == "hummingbird" else 30
+    run(0, first_n)
+    state = slave.getFMUstate()
+    after = run(first_n, 200)
+    slave.setFMUstate(state)
+    assert np.array_equal(run(first_n, 200).view(np.uint64), after.view(np.uint64))
+    # Into the existing state, then back to it after a branch with other inputs.
+    state2 = slave.getFMUstate()
+    run(first_n + 200, 3)
+    slave.fmi2GetFMUstate(slave.component, ctypes.byref(state2))  # into the existing state
+    branch_end = run(first_n + 203, 40)
+    slave.setReal([vr["velocity_world_m_s_z"]], [0.3])
+    run(first_n + 243, 17)
+    slave.setFMUstate(state2)
+    slave.setReal([vr["velocity_world_m_s_z"]], [0.0])
+    assert np.array_equal(run(first_n + 203, 40).view(np.uint64), branch_end.view(np.uint64))
+    # After a reset the wings are rebuilt (another build): the state's copy replaces them.
+    slave.reset()
+    start()
+    slave.setFMUstate(state)
+    assert np.array_equal(run(first_n, 200).view(np.uint64), after.view(np.uint64))
+    slave.freeFMUstate(state)
+    slave.freeFMUstate(state2)
+    slave.terminate()
+    slave.freeInstance()
