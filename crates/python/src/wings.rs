@@ -86,6 +86,28 @@ impl WingSet {
     fn restart_motion(&mut self) {
         self.set.restart_motion();
     }
+    /// A copy in the state this set is in now, which steps as this one would from here, bit
+    /// for bit (`copy.copy`, `copy.deepcopy`).
+    fn __copy__(&self) -> Self {
+        Self {
+            set: self.set.clone(),
+        }
+    }
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.__copy__()
+    }
+    /// Copies this set's state into `saved`, a copy of it (`copy.copy`, made once), for
+    /// `restore_state`: cheaper than a copy per step (no table of kinematic loads, no
+    /// allocation). ValueError if `saved` is not a copy of this set.
+    fn save_state(&self, mut saved: PyRefMut<'_, WingSet>) -> PyResult<()> {
+        self.set.save_state(&mut saved.set).map_err(sim_err)
+    }
+    /// Puts back the state saved in `saved` (`save_state`): the steps that follow repeat
+    /// those that followed the save, bit for bit (a host that steps back: finite differences,
+    /// rollouts). ValueError if `saved` is not a copy of this set.
+    fn restore_state(&mut self, saved: PyRef<'_, WingSet>) -> PyResult<()> {
+        self.set.restore_state(&saved.set).map_err(sim_err)
+    }
     /// After a step: the body-frame moment, N m, to add to it when your integrator takes the
     /// body's gyroscopic term w x I w at the step's start in the body frame (a semi-implicit
     /// Euler loop such as examples/python/wings_in_your_loop.py; MuJoCo's free joint): the

@@ -284,6 +284,15 @@ class WingSet:
         predicted from the last two states `step` was given)."""
     def restart_motion(self) -> None:
         """Forget earlier states: call after moving the body by hand."""
+    def __copy__(self) -> "WingSet":
+        """A copy in the state this set is in now; it steps as this one would, bit for bit."""
+    def __deepcopy__(self, memo: object) -> "WingSet": ...
+    def save_state(self, saved: "WingSet") -> None:
+        """Copy this set's state into `saved`, a copy of it (copy.copy, made once), for
+        restore_state; ValueError if `saved` is not a copy of this set."""
+    def restore_state(self, saved: "WingSet") -> None:
+        """Put back the state saved in `saved`: the steps that follow repeat those that
+        followed the save, bit for bit; ValueError if `saved` is not a copy of this set."""
     def gyroscopic_correction_nm(self, inertia_body_kg_m2: npt.ArrayLike) -> list[float]:
         """After a step: the body-frame moment to add when your integrator takes w x I w at
         the step's start (makes its rates' update the midpoint rule); zeros for step_start."""
