@@ -128,12 +128,27 @@ static char *dup_string(const char *s) {
 static void reset_values(Fmu *f) {
   memcpy(f->real, real_start, sizeof f->real);
   for (int i = 0; i < 3; i++) f->real[VR_force_body_n_x + i] = f->real[VR_moment_body_nm_x + i] = 0.0;
+  for (int i = 0; i < 6; i++) f->real[VR_inflow_pair0_mean_m_s + i] = 0.0;
   f->element_steps = 0;
   f->discarded = fmi2False;
   memset(&f->applied, 0, sizeof f->applied);
   memset(&f->trimmed, 0, sizeof f->trimmed);
   flapwing_wings_free(f->wings);
   f->wings = NULL;
+}
+
+/* The wings' dynamic inflow states into the inflow outputs: pairs 0 and 1 (zero for a pair
+ * the model does not have, or whose wake does not answer). */
+static void inflow_outputs(Fmu *f) {
+  size_t pairs = 0;
+  if (f->wings) flapwing_wings_inflow_pairs(f->wings, &pairs);
+  for (size_t p = 0; p < 2; p++) {
+    FlapwingInflow s = {0};
+    if (p < pairs) flapwing_wings_inflow(f->wings, p, &s);
+    f->real[VR_inflow_pair0_mean_m_s + 3 * p] = s.mean_m_s;
+    f->real[VR_inflow_pair0_fore_m_s + 3 * p] = s.fore_m_s;
+    f->real[VR_inflow_pair0_left_m_s + 3 * p] = s.left_m_s;
+  }
 }
 
 /* A path (contains '/' or ends in ".toml") is a model file; anything else a built-in name. */
@@ -174,6 +189,7 @@ static fmi2Status ensure_wings(Fmu *f) {
     log_msg(f, fmi2OK, "logCalls", "trimmed at %g m/s forward, %g m/s climb: body pitch %.6g rad", u, w,
             t.pitch_rad);
   }
+  inflow_outputs(f);
   return fmi2OK;
 }
 
@@ -492,6 +508,7 @@ fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint, fmi2R
     f->real[VR_force_body_n_x + i] = sum.force_body_n[i] / (double)n;
     f->real[VR_moment_body_nm_x + i] = sum.moment_body_nm[i] / (double)n;
   }
+  inflow_outputs(f);
   return fmi2OK;
 }
 

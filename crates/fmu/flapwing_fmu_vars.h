@@ -61,7 +61,13 @@
   X(trim_velocity_world_m_s_x, 40, "calculatedParameter", "fixed", NAN, "m/s", "With trim: the body's velocity at trim, world x") \
   X(trim_velocity_world_m_s_y, 41, "calculatedParameter", "fixed", NAN, "m/s", "With trim: the body's velocity at trim, world y") \
   X(trim_velocity_world_m_s_z, 42, "calculatedParameter", "fixed", NAN, "m/s", "With trim: the body's velocity at trim, world z") \
-  X(trim_aero_power_w, 43, "calculatedParameter", "fixed", NAN, "W", "With trim: the wings' cycle-mean aerodynamic power at trim")
+  X(trim_aero_power_w, 43, "calculatedParameter", "fixed", NAN, "W", "With trim: the wings' cycle-mean aerodynamic power at trim") \
+  X(inflow_pair0_mean_m_s, 44, "output", "continuous", NAN, "m/s", "Wing pair 0's dynamic inflow (model [aero] inflow = dynamic; 0 otherwise) after the last communication step: mean induced velocity down through its disc") \
+  X(inflow_pair0_fore_m_s, 45, "output", "continuous", NAN, "m/s", "Wing pair 0's dynamic inflow: extra downwash at the disc's front edge") \
+  X(inflow_pair0_left_m_s, 46, "output", "continuous", NAN, "m/s", "Wing pair 0's dynamic inflow: extra downwash at the disc's left edge") \
+  X(inflow_pair1_mean_m_s, 47, "output", "continuous", NAN, "m/s", "Wing pair 1's (a four-winged model's hind pair) dynamic inflow: mean induced velocity (0 without)") \
+  X(inflow_pair1_fore_m_s, 48, "output", "continuous", NAN, "m/s", "Wing pair 1's dynamic inflow: extra downwash at the disc's front edge") \
+  X(inflow_pair1_left_m_s, 49, "output", "continuous", NAN, "m/s", "Wing pair 1's dynamic inflow: extra downwash at the disc's left edge")
 
 /* The one String variable (value reference 0) and the one Integer variable (value reference
  * 0), outside the table because there is only one of each. */

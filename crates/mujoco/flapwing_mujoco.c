@@ -38,10 +38,14 @@
  * drive those fields: their ctrl values (SI) go to the wings when they change and take effect
  * at the next wingbeat, as in flapwing's own hosts.
  *
- * Plugin state (m->plugin_statenum = 7): the wrench applied in the last step, body frame:
- * force_body_n[3], moment_body_nm[3] (zero before the first step and after a failure), and the
- * wing step the state is at (the steps taken before the current mj_step; set at each advance),
- * so that MuJoCo's state functions carry the wings' place in time. A state set back by the
+ * Plugin state (m->plugin_statenum = 7 + 3 per wing pair whose wake answers): the wrench
+ * applied in the last step, body frame: force_body_n[3], moment_body_nm[3] (zero before the
+ * first step and after a failure); the wing step the state is at (the steps taken before the
+ * current mj_step; set at each advance), so that MuJoCo's state functions carry the wings'
+ * place in time; then, for a model with `[aero] inflow = "dynamic"` (none with `trim`, which
+ * freezes the inflow), each pair's dynamic inflow states the step starts from (mean_m_s,
+ * fore_m_s, left_m_s: FlapwingInflow), set at each advance: states of the system, which a
+ * host that changes them (mj_setState) hands to the wings at the next step. A state set back by the
  * host (mj_setState; mjd_transitionFD, which steps from a state, sets it back and steps again
  * from a perturbed one) finds the wings a step ahead: with the attribute rewind="true" the
  * plugin saves the wings before every step (flapwing_wings_save, about 0.05 us for the fly)
@@ -64,7 +68,7 @@
 #include "flapwing.h"
 
 #define PLUGIN_NAME "flapwing.wings"
-#define NSTATE 7
+#define NSTATE 7 /* without the inflow states: 3 per pair after these */
 #define MESSAGE_CHARS 1024
 
 #include "config.h"
@@ -100,6 +104,9 @@ typedef struct Instance {
   FlapwingControls sent;        /* the controls last handed to the wings */
   int control_failing;          /* the last actuator controls were refused (warned once) */
   int time_warned;              /* the plugin state was set to another step (warned once) */
+  size_t inflow_pairs;          /* the wing pairs whose inflow states the plugin state holds
+                                 * (3 each after the first NSTATE: the wings' dynamic inflow) */
+  int inflow_failing;           /* inflow states from the plugin state were refused (warned) */
 } Instance;
 
 /*---------------------------------- the wing set ------------------------------------------*/
@@ -367,10 +374,56 @@ static void step_wings(const mjModel *m, mjData *d, int instance, Instance *in) 
 
 /*---------------------------------- callbacks --------------------------------------------*/
 
+/* The wing pairs whose wake answers (`[aero] inflow = "dynamic"`) in the instance's model,
+ * from a build of its wings at the model's own step (the plugin state must be sized before
+ * init builds them); 0 with the `trim` attribute (the trim freezes the inflow) or a model that
+ * does not build (init then fails with the reason). */
+static size_t inflow_pairs_of(const mjModel *m, int instance) {
+  const char *model = mj_getPluginConfig(m, instance, "model");
+  const char *trim = mj_getPluginConfig(m, instance, "trim");
+  if (!model || !model[0] || (trim && trim[0])) return 0;
+  FlapwingWings *w = NULL;
+  FlapwingStatus st = is_builtin_name(model) ? flapwing_wings_from_builtin(model, 0.0, &w)
+                                             : flapwing_wings_from_file(model, 0.0, &w);
+  size_t n = 0;
+  if (st != FLAPWING_OK || flapwing_wings_inflow_pairs(w, &n) != FLAPWING_OK) n = 0;
+  flapwing_wings_free(w);
+  return n;
+}
+
 static int plugin_nstate(const mjModel *m, int instance) {
-  (void)m;
-  (void)instance;
-  return NSTATE;
+  return NSTATE + 3 * (int)inflow_pairs_of(m, instance);
+}
+
+/* The wings' dynamic inflow states into the plugin state (after the first NSTATE). */
+static void write_inflow(const Instance *in, mjtNum *state) {
+  for (size_t p = 0; p < in->inflow_pairs; p++) {
+    FlapwingInflow f = {0};
+    if (in->wings) flapwing_wings_inflow(in->wings, p, &f);
+    state[NSTATE + 3 * p] = f.mean_m_s;
+    state[NSTATE + 3 * p + 1] = f.fore_m_s;
+    state[NSTATE + 3 * p + 2] = f.left_m_s;
+  }
+}
+
+/* Inflow states the host put into the plugin state (mj_setState; a perturbation) go to the
+ * wings; refused ones (not finite) are warned about once and the wings keep their own. */
+static void apply_inflow(const mjModel *m, mjData *d, int instance, Instance *in,
+                         const mjtNum *state) {
+  for (size_t p = 0; p < in->inflow_pairs && in->wings; p++) {
+    FlapwingInflow now = {0};
+    flapwing_wings_inflow(in->wings, p, &now);
+    const mjtNum *x = state + NSTATE + 3 * p;
+    if (x[0] == now.mean_m_s && x[1] == now.fore_m_s && x[2] == now.left_m_s) continue;
+    FlapwingInflow set = {x[0], x[1], x[2]};
+    if (flapwing_wings_set_inflow(in->wings, p, set) != FLAPWING_OK && !in->inflow_failing) {
+      in->inflow_failing = 1;
+      mju_warning("%s (instance %d, body `%s`, t = %.9g s): the inflow states in the plugin "
+                  "state were refused: %s; the wings keep their own",
+                  PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time,
+                  flapwing_last_error());
+    }
+  }
 }
 
 /* A failed init: mju_error with the reason (see the top of the file), then -1 should a user
@@ -462,6 +515,11 @@ static int plugin_init(const mjModel *m, mjData *d, int instance) {
                        mj_id2name(m, mjOBJ_BODY, body_id), msg);
   }
   in->sent = in->base;
+  size_t pairs = 0;
+  flapwing_wings_inflow_pairs(in->wings, &pairs);
+  const size_t slots = (size_t)(m->plugin_statenum[instance] - NSTATE) / 3;
+  in->inflow_pairs = pairs < slots ? pairs : slots;
+  write_inflow(in, d->plugin_state + m->plugin_stateadr[instance]);
   warn_mass_mismatch(m, instance, in);
   /* Without the copy a reset rebuilds the wings, as it did before flapwing_wings_clone. */
   if (flapwing_wings_clone(in->wings, &in->pristine) != FLAPWING_OK) in->pristine = NULL;
@@ -483,16 +541,19 @@ static void plugin_destroy(mjData *d, int instance) {
 
 /* mj_resetData: the wings restart from t = 0 (rebuilt if they have stepped). */
 static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_data, int instance) {
-  (void)m;
-  mju_zero(plugin_state, NSTATE);
+  mju_zero(plugin_state, m->plugin_statenum[instance]);
   Instance *in = (Instance *)plugin_data;
   if (!in) return;
+  in->inflow_failing = 0;
   in->stepped = 0;
   in->failing = 0;
   in->time_warned = 0;
   in->saved_steps = UINT64_MAX; /* nothing of this run saved yet */
   memset(&in->wrench, 0, sizeof(in->wrench));
-  if (in->wings && in->steps == 0) return; /* still at t = 0 */
+  if (in->wings && in->steps == 0) { /* still at t = 0 */
+    write_inflow(in, plugin_state);
+    return;
+  }
   char msg[MESSAGE_CHARS];
   flapwing_wings_free(in->wings);
   in->steps = 0;
@@ -511,6 +572,7 @@ static void plugin_reset(const mjModel *m, mjtNum *plugin_state, void *plugin_da
   }
   in->sent = in->base;
   in->control_failing = 0;
+  write_inflow(in, plugin_state);
   if (!in->wings) {
     mju_warning("%s instance %d: rebuilding the wings on reset failed: %s; the wings apply no "
                 "force", PLUGIN_NAME, instance, msg);
@@ -534,6 +596,7 @@ static void plugin_copy(mjData *dest, const mjModel *m, const mjData *src, int i
     mju_copy3(state, to->wrench.force_body_n);
     mju_copy3(state + 3, to->wrench.moment_body_nm);
     state[6] = (mjtNum)to->steps;
+    write_inflow(to, state);
     return;
   }
   /* The copy's rewind slot must be a copy of the same build as its wings: the source's. */
@@ -563,6 +626,7 @@ static void plugin_copy(mjData *dest, const mjModel *m, const mjData *src, int i
   to->sent = from->sent;
   to->control_failing = from->control_failing;
   to->time_warned = from->time_warned;
+  to->inflow_failing = from->inflow_failing;
 }
 
 /* The host set the state to wing step `to` (mj_setState, mjd_transitionFD's perturbed steps)
@@ -606,6 +670,7 @@ static void plugin_compute(const mjModel *m, mjData *d, int instance, int capabi
   if (!in->stepped) {
     mjtNum *state = d->plugin_state + m->plugin_stateadr[instance];
     if (state[6] != (mjtNum)in->steps) go_back(m, d, instance, in, state[6]);
+    if (in->inflow_pairs) apply_inflow(m, d, instance, in, state);
     if (in->saved && flapwing_wings_save(in->wings, in->saved) == FLAPWING_OK) {
       in->saved_steps = in->steps;
       in->saved_sent = in->sent;
@@ -633,8 +698,10 @@ static void plugin_advance(const mjModel *m, mjData *d, int instance) {
   Instance *in = (Instance *)d->plugin_data[instance];
   if (!in) return;
   in->stepped = 0;
-  /* The state is now at the next step: the wing steps taken. */
-  d->plugin_state[m->plugin_stateadr[instance] + 6] = (mjtNum)in->steps;
+  /* The state is now at the next step: the wing steps taken and the inflow they start from. */
+  mjtNum *state = d->plugin_state + m->plugin_stateadr[instance];
+  state[6] = (mjtNum)in->steps;
+  if (in->inflow_pairs) write_inflow(in, state);
 }
 
 mjPLUGIN_LIB_INIT(flapwing_wings) {

@@ -365,3 +365,29 @@ def test_a_state_set_back_repeats_the_steps_that_followed_it(built, model):
     slave.freeFMUstate(state2)
     slave.terminate()
     slave.freeInstance()
+
+
+def test_the_inflow_outputs_are_the_wing_sets_inflow_states(built, tmp_path):
+    """Issue #38: the dynamic inflow states are states of the system in every host. The
+    FMU's inflow outputs after each communication step are those of flapwing's WingSet after
+    the same element steps (the body held, the same step), bit for bit; a model whose wake does
+    not answer, and a pair the model does not have, output 0."""
+    import flapwing
+
+    text = (ROOT / "models/drosophila.toml").read_text().replace('inflow = "frozen"',
+                                                                 'inflow = "dynamic"')
+    path = tmp_path / "drosophila_dynamic.toml"
+    path.write_text(text)
+    ref = reference(built, 1, 1)
+    inflow = [f"inflow_pair{p}_{k}_m_s" for p in (0, 1) for k in ("mean", "fore", "left")]
+    result = simulate(built, ref, 1, 40, start_values=tethered_start(ref, model=str(path)),
+                      output=inflow)
+    wings = flapwing.WingSet(str(path), dt_s=ref["dt_s"])
+    w, x, y, z = ref["attitude"]
+    for k in range(40):
+        wings.step([0.0, 0.0, 0.0], [w, x, y, z], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+        got = [result[n][k + 1] for n in inflow]
+        assert got[:3] == list(wings.inflow_states[0]) and got[3:] == [0.0] * 3, k
+    assert result["inflow_pair0_mean_m_s"][-1] > 0  # the air comes down through the disc
+    frozen = simulate(built, ref, 1, 5, output=inflow)
+    assert all((frozen[n] == 0).all() for n in inflow)

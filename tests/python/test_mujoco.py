@@ -454,8 +454,9 @@ def _fd_by_copies(m, d, eps):
     return a
 
 
-@pytest.mark.parametrize("model", ["drosophila", "hummingbird"])
-def test_rewind_gives_mujoco_s_own_linearisation_the_flight_s_derivatives(native, capfd, model):
+@pytest.mark.parametrize("model", ["drosophila", "hummingbird", "dynamic wake"])
+def test_rewind_gives_mujoco_s_own_linearisation_the_flight_s_derivatives(native, capfd, model,
+                                                                           request):
     """With rewind="true" the plugin saves the wings before every step and puts them back
     when the host sets the state back a step, so mjd_transitionFD's perturbed steps are the
     same wing step as its nominal one: its A matrix equals the forward differences of whole
@@ -463,10 +464,12 @@ def test_rewind_gives_mujoco_s_own_linearisation_the_flight_s_derivatives(native
     that linearises at every step flies bit for bit as one that never does. Without rewind
     the perturbed steps take the next wing step's loads, and A is off by their change over a
     step divided by the perturbation. The hummingbird's wings strike their stops: the save
-    carries their hinge states."""
+    carries their hinge states; the fly with its wake answering, its inflow states."""
+    if model == "dynamic wake":
+        model = request.getfixturevalue("dynamic_fly")
     xml_on = plugin.fly_xml(model=model, rewind="true")
     xml_off = plugin.fly_xml(model=model)
-    if model != "drosophila":
+    if model == "hummingbird":
         # The model's own mass, inertia and step on fly.xml's body.
         xml_on = _with_model_body(xml_on, model)
         xml_off = _with_model_body(xml_off, model)
@@ -655,3 +658,52 @@ def test_actuator_controls_drive_the_wings_as_flapwing_does(native):
 def test_an_actuator_naming_no_control_fails_the_load(native):
     with pytest.raises(ValueError, match=r"wings:no_such.*allowed:.*wings:diff_amplitude_rad"):
         with_actuators("wings:no_such")
+
+
+@pytest.fixture(scope="module")
+def dynamic_fly(tmp_path_factory):
+    """The fly with its wake answering (`[aero] inflow = "dynamic"`, issue #38)."""
+    text = (ROOT / "models/drosophila.toml").read_text()
+    assert 'inflow = "frozen"' in text
+    path = tmp_path_factory.mktemp("models") / "drosophila_dynamic.toml"
+    path.write_text(text.replace('inflow = "frozen"', 'inflow = "dynamic"'))
+    return str(path)
+
+
+def test_the_inflow_states_are_plugin_states(native, dynamic_fly):
+    """Issue #38: the pair's dynamic inflow states are states of the system in every host.
+    The plugin state holds them after its first 7 (3 per pair): after each step they are the
+    states flapwing's WingSet has after the same step (tethered body, the same step), bit for
+    bit; set through mj_setState they reach the wings, whose next wrench is WingSet's after
+    set_inflow_states; with `trim` (which freezes the inflow) there are none."""
+    m = mujoco.MjModel.from_xml_string(plugin.fly_xml(model=dynamic_fly))
+    assert m.plugin_statenum[0] == 7 + 3
+    m.opt.gravity[:] = 0
+    d = mujoco.MjData(m)
+    wings = flapwing.WingSet(dynamic_fly, dt_s=m.opt.timestep)
+    assert np.array_equal(d.plugin_state[7:], np.array(wings.inflow_states[0]))
+    qpos0 = d.qpos.copy()
+    mujoco.mj_forward(m, d)
+    pos, quat = d.xipos[1].copy(), d.xquat[1].copy()
+
+    def both_step():
+        mujoco.mj_step(m, d)
+        d.qpos[:], d.qvel[:] = qpos0, 0
+        out = wings.step(pos, quat, [0.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+        return np.concatenate([out["force_body_n"], out["moment_body_nm"]])
+
+    for k in range(150):
+        want = both_step()
+        assert np.array_equal(d.plugin_state[:6], want), k
+        assert np.array_equal(d.plugin_state[7:], np.array(wings.inflow_states[0])), k
+    assert d.plugin_state[7] > 0  # the air comes down through the disc
+    # A host that sets them: the wings take them at the next step.
+    spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    x = np.empty(mujoco.mj_stateSize(m, spec))
+    mujoco.mj_getState(m, d, x, spec)
+    x[-3:] = [0.5, 0.01, -0.02]  # the plugin state comes last in mjSTATE_FULLPHYSICS
+    mujoco.mj_setState(m, d, x, spec)
+    wings.set_inflow_states([(0.5, 0.01, -0.02)])
+    assert np.array_equal(both_step(), d.plugin_state[:6])
+    m_trim = mujoco.MjModel.from_xml_string(plugin.fly_xml(model=dynamic_fly, trim="0 0"))
+    assert m_trim.plugin_statenum[0] == 7
