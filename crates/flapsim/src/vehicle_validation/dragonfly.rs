@@ -192,6 +192,23 @@ impl DragonflyFlight {
         Ok([pair(0)?, pair(1)?])
     }
 
+    /// `v` with every stroke plane level in the body (the body is level in these flights,
+    /// so level in the world too): what the wings' force does when the files' reading of the
+    /// stroke-plane angles (from the horizontal, an estimate) is taken away.
+    pub fn with_level_stroke_planes(v: &Vehicle) -> Vehicle {
+        let mut level = v.clone();
+        for w in &mut level.wings {
+            let mut mount = *w.mount();
+            mount.stroke_plane_tilt_rad = 0.0;
+            *w = wingforce::Wing::builder(w.geometry().clone(), w.kinematics().clone())
+                .mount(mount)
+                .fluid(*w.fluid())
+                .options(w.options().clone())
+                .build();
+        }
+        level
+    }
+
     /// The fore and the hind pair's mean vertical force over the weight, each alone
     /// ([`Self::alone`]).
     pub fn vertical_alone(&self, v: &Vehicle) -> Result<[f64; 2]> {
@@ -301,10 +318,32 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
                     "the paper's own local-circulation calculation gives a load factor of {} with the measured spanwise twist and the wake's unsteady, non-uniform induced flow{twist}",
                     flight.paper_load_factor
                 ),
-                _ => format!(
-                    "the paper's own local-circulation calculation is of the vertical force only (a load factor of {}), so no published horizontal force to compare",
-                    flight.paper_load_factor
-                ),
+                _ => {
+                    // Where the mean force points, and with the stroke planes level.
+                    let direction = |f: &FlightForces| {
+                        (
+                            f.horizontal.hypot(f.vertical),
+                            f.horizontal.atan2(f.vertical).to_degrees(),
+                        )
+                    };
+                    let level = flight
+                        .forces(&DragonflyFlight::with_level_stroke_planes(&v))
+                        .map(|l| {
+                            let (m, a) = direction(&l);
+                            format!(
+                                "with every stroke plane level it is {m:.3} at {a:+.1} deg (horizontal {:+.3})",
+                                l.horizontal
+                            )
+                        })
+                        .unwrap_or_else(|e| format!("with the stroke planes level: {e}"));
+                    let (m, a) = direction(&f);
+                    let need = (-f.body_drag_horizontal).atan2(1.0).to_degrees() + 0.0;
+                    format!(
+                        "the wings' mean force is {m:.3} of the weight at {a:+.1} deg from the vertical (+ forward) {}, where the steady climb needs 1.0 at {need:+.1} deg; its direction follows the stroke planes, which the file reads from the horizontal with the body level (an estimate: the paper's body attitude was not found): {level}; the paper's own local-circulation calculation is of the vertical force only (a load factor of {}), so no published horizontal force to compare",
+                        under(v.inflow_model()),
+                        flight.paper_load_factor
+                    )
+                }
             };
             format!(
                 "{quantity} {value:.3} {}; without Lee et al.'s f_AR f_Ro {}; {}; {interference}; {paper}",
