@@ -62,6 +62,7 @@ typedef struct {
   fmi2Boolean trim;                 /* the Boolean parameter */
   FlapwingControls trimmed;         /* the controls trim found (zero without trim) */
   double start_time_s;
+  size_t inflow_pairs;              /* the wings' pairs whose wake answers (at their build) */
 } Fmu;
 
 static const double real_start[FLAPWING_FMU_N_REALS] = {
@@ -130,6 +131,7 @@ static void reset_values(Fmu *f) {
   for (int i = 0; i < 3; i++) f->real[VR_force_body_n_x + i] = f->real[VR_moment_body_nm_x + i] = 0.0;
   for (int i = 0; i < 6; i++) f->real[VR_inflow_pair0_mean_m_s + i] = 0.0;
   f->element_steps = 0;
+  f->inflow_pairs = 0;
   f->discarded = fmi2False;
   memset(&f->applied, 0, sizeof f->applied);
   memset(&f->trimmed, 0, sizeof f->trimmed);
@@ -140,11 +142,9 @@ static void reset_values(Fmu *f) {
 /* The wings' dynamic inflow states into the inflow outputs: pairs 0 and 1 (zero for a pair
  * the model does not have, or whose wake does not answer). */
 static void inflow_outputs(Fmu *f) {
-  size_t pairs = 0;
-  if (f->wings) flapwing_wings_inflow_pairs(f->wings, &pairs);
   for (size_t p = 0; p < 2; p++) {
     FlapwingInflow s = {0};
-    if (p < pairs) flapwing_wings_inflow(f->wings, p, &s);
+    if (p < f->inflow_pairs && f->wings) flapwing_wings_inflow(f->wings, p, &s);
     f->real[VR_inflow_pair0_mean_m_s + 3 * p] = s.mean_m_s;
     f->real[VR_inflow_pair0_fore_m_s + 3 * p] = s.fore_m_s;
     f->real[VR_inflow_pair0_left_m_s + 3 * p] = s.left_m_s;
@@ -189,6 +189,8 @@ static fmi2Status ensure_wings(Fmu *f) {
     log_msg(f, fmi2OK, "logCalls", "trimmed at %g m/s forward, %g m/s climb: body pitch %.6g rad", u, w,
             t.pitch_rad);
   }
+  f->inflow_pairs = 0;
+  flapwing_wings_inflow_pairs(f->wings, &f->inflow_pairs);
   inflow_outputs(f);
   return fmi2OK;
 }
