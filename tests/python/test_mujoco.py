@@ -491,6 +491,15 @@ def test_rewind_gives_mujoco_s_own_linearisation_the_flight_s_derivatives(native
     assert np.abs(a_on - by_copies).max() <= 1e-12 * scale, np.abs(a_on - by_copies).max() / scale
     a_off = results["off"][0]
     assert np.abs(a_off - by_copies).max() > 1e2 * scale, "without rewind A should be off"
+    # MuJoCo's LQR tutorial calls mj_forward first (the wings then step with it): the same A.
+    m = mujoco.MjModel.from_xml_string(xml_on)
+    d = mujoco.MjData(m)
+    for _ in range(37):
+        mujoco.mj_step(m, d)
+    mujoco.mj_forward(m, d)
+    a = np.zeros((nx, nx))
+    mujoco.mjd_transitionFD(m, d, eps, False, a, None, None, None)
+    assert np.array_equal(a, a_on)
 
     # Linearising at every step changes nothing of the flight (bit for bit).
     m = mujoco.MjModel.from_xml_string(xml_on)
