@@ -216,8 +216,8 @@ def test_a_step_that_is_no_whole_number_of_element_steps_is_an_error(built):
 
 def test_a_c_host_runs_good_and_bad_instances_cleanly(built, tmp_path):
     """crates/fmu/tests/c_host.c loads the FMU's .so with dlopen, as a C master would: a good
-    run, a bad model and a NaN input in turn, each freed; under valgrind when the machine has
-    it (no invalid access, no definite leak)."""
+    run (with an FMU state taken, set back and freed), a bad model and a NaN input in turn,
+    each freed; under valgrind when the machine has it (no invalid access, no definite leak)."""
     fmi2 = pathlib.Path(fmpy.__file__).parent / "c-code"
     host = tmp_path / "c_host"
     subprocess.run([os.environ.get("CC", "gcc"), "-std=c11", "-Wall", "-Wextra", "-Werror",
@@ -234,6 +234,10 @@ def test_a_c_host_runs_good_and_bad_instances_cleanly(built, tmp_path):
     good = [line for line in lines if line.startswith("run 0 steps")][0].split()
     assert good[3:6] == ["50", "status", "0"]  # fz printed with %.17g: exact
     assert float(good[-1]) == reference(built, 2, 50, attitude=(1.0, 0.0, 0.0, 0.0))["wrench"][-1, 2]
+    # An FMU state taken halfway and set back repeats the second half: the same last force.
+    assert "run 0 get 0" in lines and "run 0 set 0" in lines
+    assert f"run 0 again status 0 fz {good[-1]}" in lines, lines
+    assert "run 0 null get 3 set 3" in lines and "run 0 free 0 null" in lines
     assert "run 1 init 3" in lines and any('no built-in model named "no_such_fly"' in x for x in lines)
     assert "run 2 steps 0 status 2 fz 0" in lines
     assert any("velocity_world_m_s[2] = NaN" in x for x in lines)

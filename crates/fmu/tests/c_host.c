@@ -2,6 +2,8 @@
  * machine has it): loads binaries/linux64/flapwing_wings.so with dlopen and runs three
  * instances one after another: a good run, a bad model name and a NaN input, each freed.
  * Prints each FMI status and the last force_body_n_z; the logger prints the FMU's messages.
+ * The good run also takes an FMU state halfway, sets it back at the end and steps the second
+ * half again (the last force again), calls the state functions with NULL, and frees the state.
  * Usage: c_host FMU_SO GUID */
 #include <dlfcn.h>
 #include <math.h>
@@ -33,6 +35,7 @@ int main(int argc, char **argv) {
   LOAD(fmi2Instantiate); LOAD(fmi2SetupExperiment); LOAD(fmi2EnterInitializationMode);
   LOAD(fmi2ExitInitializationMode); LOAD(fmi2DoStep); LOAD(fmi2GetReal); LOAD(fmi2SetReal);
   LOAD(fmi2SetString); LOAD(fmi2Terminate); LOAD(fmi2FreeInstance);
+  LOAD(fmi2GetFMUstate); LOAD(fmi2SetFMUstate); LOAD(fmi2FreeFMUstate);
   const fmi2CallbackFunctions callbacks = {logger, NULL, NULL, NULL, NULL};
   const fmi2ValueReference vr_model = 0, vr_dt = 1, vr_vz = 11, vr_fz = 30;
   for (int run = 0; run < 3; run++) {
@@ -52,10 +55,23 @@ int main(int argc, char **argv) {
       fmi2SetReal(c, &vr_vz, 1, &nan);
     }
     fmi2Status s = fmi2OK;
+    fmi2FMUstate state = NULL;
     int k = 0; /* 50 communication steps of two element steps */
-    for (; k < 50 && s == fmi2OK; k++) s = fmi2DoStep(c, 2.0 * k * dt_s, 2.0 * dt_s, fmi2True);
+    for (; k < 50 && s == fmi2OK; k++) {
+      if (run == 0 && k == 25) printf("run 0 get %d\n", (int)fmi2GetFMUstate(c, &state));
+      s = fmi2DoStep(c, 2.0 * k * dt_s, 2.0 * dt_s, fmi2True);
+    }
     fmi2GetReal(c, &vr_fz, 1, &fz);
     printf("run %d steps %d status %d fz %.17g\n", run, s == fmi2OK ? k : k - 1, (int)s, fz);
+    if (run == 0) {
+      printf("run 0 set %d\n", (int)fmi2SetFMUstate(c, state));
+      for (k = 25; k < 50 && s == fmi2OK; k++) s = fmi2DoStep(c, 2.0 * k * dt_s, 2.0 * dt_s, fmi2True);
+      fmi2GetReal(c, &vr_fz, 1, &fz);
+      printf("run 0 again status %d fz %.17g\n", (int)s, fz);
+      printf("run 0 null get %d set %d\n", (int)fmi2GetFMUstate(c, NULL), (int)fmi2SetFMUstate(c, NULL));
+      const fmi2Status freed = fmi2FreeFMUstate(c, &state);
+      printf("run 0 free %d %s\n", (int)freed, state ? "kept" : "null");
+    }
     fmi2Terminate(c);
     fmi2FreeInstance(c);
   }
