@@ -29,7 +29,7 @@ fn set_of(name: &str) -> WingSet {
 
 fn bench(c: &mut Criterion) {
     let body = body();
-    let mut set = set_of("drosophila");
+    let set = set_of("drosophila");
     let mut saved = set.clone();
     c.bench_function("drosophila_save_state", |b| {
         b.iter(|| black_box(set.save_state(black_box(&mut saved)).is_ok()))

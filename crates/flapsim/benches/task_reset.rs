@@ -46,9 +46,7 @@ fn rounds(name: &str) {
 
 fn bench(_c: &mut Criterion) {
     // The only actuated vehicle that hovers (the RoboBee has no hover trim: no task).
-    for name in ["hummingbird"] {
-        rounds(name);
-    }
+    rounds("hummingbird");
 }
 
 criterion_group!(benches, bench);
