@@ -642,24 +642,19 @@ static void go_back(const mjModel *m, mjData *d, int instance, Instance *in, mjt
   }
   if (in->time_warned) return;
   in->time_warned = 1;
-  if (in->saved) {
-    mju_warning("%s (instance %d, body `%s`, t = %.9g s): the plugin state says wing step %.0f "
-                "and the wings are at step %llu: the host set the state back by more than the one "
-                "step `rewind` keeps (or forward); the wings go on from where they are, so their "
-                "phase no longer follows the body's time (restart with mj_resetData; branch a run "
-                "with mj_copyData, which copies the wings)",
-                PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time,
-                (double)to, (unsigned long long)in->steps);
-  } else {
-    mju_warning("%s (instance %d, body `%s`, t = %.9g s): the plugin state says wing step %.0f "
-                "and the wings are at step %llu: the host set the state to another step "
-                "(mj_setState, mjd_transitionFD); the wings go on from where they are, so their "
-                "phase no longer follows the body's time (the attribute rewind=\"true\" has them "
-                "go back a step with the state, as mjd_transitionFD needs; restart with "
-                "mj_resetData; branch a run with mj_copyData, which copies the wings)",
-                PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time,
-                (double)to, (unsigned long long)in->steps);
-  }
+  const char *why = in->saved
+      ? "the host set the state back by more than the one step `rewind` keeps (or forward)"
+      : "the host set the state to another step (mj_setState, mjd_transitionFD)";
+  const char *advice = in->saved
+      ? ""
+      : "the attribute rewind=\"true\" has them go back a step with the state, as "
+        "mjd_transitionFD needs; ";
+  mju_warning("%s (instance %d, body `%s`, t = %.9g s): the plugin state says wing step %.0f "
+              "and the wings are at step %llu: %s; the wings go on from where they are, so their "
+              "phase no longer follows the body's time (%srestart with mj_resetData; branch a run "
+              "with mj_copyData, which copies the wings)",
+              PLUGIN_NAME, instance, mj_id2name(m, mjOBJ_BODY, in->body_id), d->time, (double)to,
+              (unsigned long long)in->steps, why, advice);
 }
 
 /* Passive forces: the wings' wrench on the body at its centre of mass. */

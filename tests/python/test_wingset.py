@@ -134,3 +134,7 @@ def test_a_copy_and_a_restored_state_step_as_the_original(name):
     assert np.array_equal(wrench(twin.step(*body(n))), wrench(wings.step(*body(n))))
     with pytest.raises(ValueError, match="not a copy of this one"):
         wings.save_state(flapwing.WingSet(name))
+    wings.save_state(wings)  # itself: nothing to do (not a borrow error)
+    wings.restore_state(wings)
+    with pytest.raises(TypeError):
+        wings.save_state("a set")

@@ -16,6 +16,31 @@ fn copy_host(to: &mut FlapwingWings, from: &FlapwingWings) {
     to.gyroscopic_host = from.gyroscopic_host;
 }
 
+/// Copies the state between two handles, copies of one build: `copy` moves the wing set's
+/// state (checked), then the handle's own settings follow.
+///
+/// # Safety
+/// `to` and `from` are NULL or live handles used by no other thread during the call.
+unsafe fn copy_between<E: std::fmt::Display>(
+    function: &str,
+    to: *mut FlapwingWings,
+    from: *const FlapwingWings,
+    copy: impl FnOnce(&mut FlapwingWings, &FlapwingWings) -> Result<(), E>,
+) -> FlapwingStatus {
+    guard(function, || {
+        if std::ptr::eq(to, from) && !to.is_null() {
+            return Ok(());
+        }
+        // SAFETY: forwarded from this function's contract; distinct handles (checked above).
+        let src = unsafe { handle(function, from) }?;
+        // SAFETY: as above.
+        let dst = unsafe { handle_mut(function, to) }?;
+        copy(dst, src).map_err(|e| Failure::invalid(format!("{function}: {e}")))?;
+        copy_host(dst, src);
+        Ok(())
+    })
+}
+
 /// Saves the state of `wings` (time, wing, actuator and inflow states, controls, wind, host
 /// settings, the step memory) into `saved`, a copy of `wings` made with
 /// `flapwing_wings_clone` (of it or of a copy of it), for `flapwing_wings_restore`. A handle
@@ -31,23 +56,11 @@ pub unsafe extern "C" fn flapwing_wings_save(
     saved: *mut FlapwingWings,
 ) -> FlapwingStatus {
     const F: &str = "flapwing_wings_save";
-    guard(F, || {
-        if std::ptr::eq(wings, saved) && !wings.is_null() {
-            return Ok(());
-        }
-        if saved.is_null() {
-            return Err(Failure::null(F, "saved"));
-        }
-        // SAFETY: forwarded from this function's contract; distinct handles (checked above).
-        let from = unsafe { handle(F, wings) }?;
-        // SAFETY: as above.
-        let to = unsafe { handle_mut(F, saved) }?;
-        from.set
-            .save_state(&mut to.set)
-            .map_err(|e| Failure::invalid(format!("{F}: {e}")))?;
-        copy_host(to, from);
-        Ok(())
-    })
+    if saved.is_null() {
+        return guard(F, || Err(Failure::null(F, "saved")));
+    }
+    // SAFETY: forwarded from this function's contract.
+    unsafe { copy_between(F, saved, wings, |to, from| from.set.save_state(&mut to.set)) }
 }
 
 /// Puts back into `wings` the state saved in `saved` (`flapwing_wings_save`): the steps that
@@ -64,21 +77,9 @@ pub unsafe extern "C" fn flapwing_wings_restore(
     saved: *const FlapwingWings,
 ) -> FlapwingStatus {
     const F: &str = "flapwing_wings_restore";
-    guard(F, || {
-        if std::ptr::eq(wings, saved) && !wings.is_null() {
-            return Ok(());
-        }
-        if saved.is_null() {
-            return Err(Failure::null(F, "saved"));
-        }
-        // SAFETY: forwarded from this function's contract; distinct handles (checked above).
-        let to = unsafe { handle_mut(F, wings) }?;
-        // SAFETY: as above.
-        let from = unsafe { handle(F, saved) }?;
-        to.set
-            .restore_state(&from.set)
-            .map_err(|e| Failure::invalid(format!("{F}: {e}")))?;
-        copy_host(to, from);
-        Ok(())
-    })
+    if saved.is_null() {
+        return guard(F, || Err(Failure::null(F, "saved")));
+    }
+    // SAFETY: forwarded from this function's contract.
+    unsafe { copy_between(F, wings, saved, |to, from| to.set.restore_state(&from.set)) }
 }

@@ -98,15 +98,28 @@ impl WingSet {
     }
     /// Copies this set's state into `saved`, a copy of it (`copy.copy`, made once), for
     /// `restore_state`: cheaper than a copy per step (no table of kinematic loads, no
-    /// allocation). ValueError if `saved` is not a copy of this set.
-    fn save_state(&self, mut saved: PyRefMut<'_, WingSet>) -> PyResult<()> {
-        self.set.save_state(&mut saved.set).map_err(sim_err)
+    /// allocation). ValueError if `saved` is not a copy of this set; itself: nothing to do.
+    fn save_state(slf: &Bound<'_, Self>, saved: &Bound<'_, WingSet>) -> PyResult<()> {
+        if slf.is(saved) {
+            return Ok(()); // its own state already
+        }
+        let me = slf.borrow();
+        me.set
+            .save_state(&mut saved.borrow_mut().set)
+            .map_err(sim_err)
     }
     /// Puts back the state saved in `saved` (`save_state`): the steps that follow repeat
     /// those that followed the save, bit for bit (a host that steps back: finite differences,
     /// rollouts). ValueError if `saved` is not a copy of this set.
-    fn restore_state(&mut self, saved: PyRef<'_, WingSet>) -> PyResult<()> {
-        self.set.restore_state(&saved.set).map_err(sim_err)
+    fn restore_state(slf: &Bound<'_, Self>, saved: &Bound<'_, WingSet>) -> PyResult<()> {
+        if slf.is(saved) {
+            return Ok(());
+        }
+        let from = saved.borrow();
+        slf.borrow_mut()
+            .set
+            .restore_state(&from.set)
+            .map_err(sim_err)
     }
     /// After a step: the body-frame moment, N m, to add to it when your integrator takes the
     /// body's gyroscopic term w x I w at the step's start in the body frame (a semi-implicit
