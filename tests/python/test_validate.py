@@ -1,11 +1,13 @@
 """The binary as a Python user drives it: `flapwing validate --json` reproduces every
-published number (the paper's Table 5, MODEL.md section 5, Dickinson et al. 1999, ...)."""
+published number (the paper's Table 5, MODEL.md section 5, Dickinson et al. 1999, ...) and
+the operating points. The vehicles section (seconds of tethered runs) is checked by
+crates/cli/tests/validate/vehicles.rs."""
 
 import json
 
 
 def test_validate_json_all_cases_pass(run_flapwing):
-    doc = json.loads(run_flapwing("validate", "--json").stdout)
+    doc = json.loads(run_flapwing("validate", "--section", "cases,operating-points", "--json").stdout)
     failed = [c["case"] for c in doc["cases"] if not c["pass"]]
     assert failed == [], f"cases that do not reproduce: {failed}"
     # The six published operating points of the built-in insects (issue 17): each passes or

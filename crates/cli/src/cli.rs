@@ -126,6 +126,23 @@ pub struct ValidateArgs {
     /// Print one JSON document on stdout instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Check only these sections (repeat the flag, or separate with commas) [default: all
+    /// three]. The paper's cases take a fraction of a second; the vehicles against measured
+    /// data most of the run's seconds.
+    #[arg(long, value_enum, value_delimiter = ',', value_name = "SECTION")]
+    pub section: Vec<ValidateSection>,
+}
+
+/// A section of `flapwing validate`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ValidateSection {
+    /// The published numbers the aerodynamics reproduces (MODEL.md section 5, the seed
+    /// paper's tables, Dickinson et al. 1999).
+    Cases,
+    /// The built-in insects at their published operating points.
+    OperatingPoints,
+    /// Every built-in vehicle against measured data, under the responsive and the frozen wake.
+    Vehicles,
 }
 
 fn parse_finite(s: &str) -> Result<f64, String> {

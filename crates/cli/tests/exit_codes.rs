@@ -2,8 +2,10 @@
 //! through the real `flapwing` binary. Never 101 (a Rust panic), whatever stdout and stderr
 //! are connected to (a full disk, a closed pipe).
 //!
-//! Not property tests: fixed inputs, about 80 runs of the binary in all (under a second in
-//! release).
+//! Not property tests: fixed inputs, about 80 runs of the binary in all (a few seconds in
+//! release). `validate` runs its paper's cases only (`--section cases`, a fraction of a
+//! second): its output path is the same for every section, and the whole command's exit code
+//! is `tests/validate.rs`'s.
 
 mod common;
 
@@ -159,7 +161,7 @@ fn success_exits_0() {
         "--help",
         "--version",
         "wake-capture --help",
-        "validate",
+        "validate --section cases",
         "wake-capture --re 408 --dtau-a 0.12 --dtau-d 0.03",
         "forces --cycles 1 --steps-per-cycle 50 --json",
         "simulate --duration-s 0.001 --no-log",
@@ -168,8 +170,8 @@ fn success_exits_0() {
         let args = argv(line);
         assert_code(&run(&args), 0, &format!("{args:?}"));
     }
-    let r = run(&["validate", "--json"]);
-    assert_code(&r, 0, "validate --json");
+    let r = run(&["validate", "--section", "cases", "--json"]);
+    assert_code(&r, 0, "validate --section cases --json");
     let v: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
     assert_eq!(v["all_passed"], true, "{}", r.stdout);
 }
@@ -452,8 +454,8 @@ fn full_stdout_exits_1() {
     }
     let dir = tempfile::tempdir().unwrap();
     for (line, has_context) in [
-        ("validate", true),
-        ("validate --json", true),
+        ("validate --section cases", true),
+        ("validate --section cases --json", true),
         ("wake-capture --re 408 --dtau-a 0.12 --dtau-d 0.03", true),
         ("forces --cycles 1 --steps-per-cycle 20", true),
         ("simulate --duration-s 0.001 --no-log", false),
@@ -480,8 +482,8 @@ fn full_stdout_exits_1() {
 fn closed_stdout_is_not_an_error() {
     let dir = tempfile::tempdir().unwrap();
     for args in [
-        &["validate"][..],
-        &["validate", "--json"],
+        &["validate", "--section", "cases"][..],
+        &["validate", "--section", "cases", "--json"],
         &["forces", "--cycles", "1", "--steps-per-cycle", "20"],
     ] {
         let r = run_with(dir.path(), args, Sink::ClosedPipe, Sink::Pipe);
@@ -508,7 +510,7 @@ fn full_stderr_keeps_the_exit_code() {
         ("wake-capture --re nan --dtau-a 0.1 --dtau-d 0.1", 2),
         ("forces --model missing.toml", 2),
         ("simulate --duration-s nan", 2),
-        ("validate", 0),
+        ("validate --section cases", 0),
         ("forces --cycles 1 --steps-per-cycle 20", 0),
         ("simulate --duration-s 0.001 --no-log --model robobee", 0),
     ];

@@ -1,22 +1,45 @@
-//! `flapwing validate`.
+//! `flapwing validate`: the paper's cases and the operating points here, the vehicles section
+//! in `validate/vehicles.rs`. The whole command runs once as text and once as JSON for all
+//! of them (a run takes seconds: most of it the vehicles).
 
 mod common;
+#[path = "validate/vehicles.rs"]
+mod vehicles;
 
-use common::flapwing;
+use std::sync::OnceLock;
+
+use common::{Run, flapwing};
+
+/// `flapwing validate`, run once for every test that reads the text report.
+fn full_text() -> &'static Run {
+    static RUN: OnceLock<Run> = OnceLock::new();
+    RUN.get_or_init(|| {
+        let run = flapwing(&["validate"]);
+        assert_eq!(run.code, 0, "{run:?}");
+        run
+    })
+}
+
+/// `flapwing validate --json`'s document, parsed once.
+fn full_json() -> &'static serde_json::Value {
+    static DOC: OnceLock<serde_json::Value> = OnceLock::new();
+    DOC.get_or_init(|| {
+        let run = flapwing(&["validate", "--json"]);
+        assert_eq!(run.code, 0, "{run:?}");
+        run.json()
+    })
+}
 
 #[test]
 fn every_case_passes_and_exits_0() {
-    let run = flapwing(&["validate"]);
-    assert_eq!(run.code, 0, "{run:?}");
+    let run = full_text();
     assert!(run.stdout.contains("all 28 cases pass"), "{}", run.stdout);
     assert!(!run.stdout.contains("FAIL"));
 }
 
 #[test]
 fn json_rows_all_pass() {
-    let run = flapwing(&["validate", "--json"]);
-    assert_eq!(run.code, 0, "{run:?}");
-    let j = run.json();
+    let j = full_json();
     let cases = j["cases"].as_array().unwrap();
     assert_eq!(cases.len(), 28);
     // 28 reproduction cases and 6 published operating points (issue 17).
@@ -58,5 +81,48 @@ fn json_rows_all_pass() {
         "R_g",
     ] {
         assert!(names.iter().any(|n| n.contains(needle)), "{needle}");
+    }
+}
+
+/// `--section` runs only the sections named: the JSON leaves the others out and the totals
+/// count what ran; the text prints only those tables. An unknown section is bad input naming
+/// the flag and what is allowed.
+#[test]
+fn sections_run_alone() {
+    let run = flapwing(&["validate", "--section", "cases", "--json"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    let j = run.json();
+    assert_eq!(j["cases"].as_array().unwrap().len(), 28);
+    for absent in ["operating_points", "vehicles", "vehicles_passed"] {
+        assert!(j.get(absent).is_none(), "{absent}: {j}");
+    }
+    assert_eq!(j["total"], 28);
+    assert_eq!(j["passed"], 28);
+    assert_eq!(j["all_passed"], true);
+    // The full run's rows, unchanged.
+    assert_eq!(j["cases"], full_json()["cases"]);
+
+    let run = flapwing(&["validate", "--section", "cases,operating-points"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    assert!(run.stdout.contains("all 28 cases pass"), "{}", run.stdout);
+    assert!(
+        !run.stdout
+            .contains("built-in vehicles against measured data"),
+        "{}",
+        run.stdout
+    );
+    let full = &full_text().stdout;
+    assert!(full.starts_with(&run.stdout), "{}", run.stdout);
+
+    let bad = flapwing(&["validate", "--section", "paper"]);
+    bad.assert_bad_input();
+    for needle in [
+        "--section",
+        "paper",
+        "cases",
+        "operating-points",
+        "vehicles",
+    ] {
+        assert!(bad.stderr.contains(needle), "{needle}: {}", bad.stderr);
     }
 }

@@ -18,7 +18,7 @@ use wingforce::{BodyMotion, Term, WakeCaptureModel, Wing, WingModelSpec};
 use flapsim::operating_points::{OperatingPoint, Verdict, operating_points};
 use flapsim::vehicle_validation::{VehicleSection, vehicle_section};
 
-use crate::cli::ValidateArgs;
+use crate::cli::{ValidateArgs, ValidateSection};
 use crate::input::{BUILTIN_ROBOFLY, BUILTIN_ROBOFLY_ORIGIN};
 use crate::output::{print_json, print_stdout};
 
@@ -345,19 +345,25 @@ fn verdict_text(v: Verdict) -> &'static str {
     }
 }
 
-/// The JSON document of this command.
+/// The JSON document of this command: a section not asked for (`--section`) is left out.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 struct Report {
-    cases: Vec<Row>,
-    operating_points: Vec<PointRow>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    cases: Option<Vec<Row>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    operating_points: Option<Vec<PointRow>>,
     /// The built-in vehicles against measured data (issue 24): rows with their verdicts
     /// (`pass` / `MISS` and the miss's cause), what was NOT FOUND, the models' estimates.
-    vehicles: VehicleSection,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vehicles: Option<VehicleSection>,
     /// Vehicle rows that pass and that miss, and the misses among the property rows (a
     /// miss is reported with its cause, not counted in `failed`).
-    vehicles_passed: usize,
-    vehicles_missed: usize,
-    vehicles_property_missed: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vehicles_passed: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vehicles_missed: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vehicles_property_missed: Option<usize>,
     total: usize,
     passed: usize,
     failed: usize,
@@ -366,11 +372,25 @@ struct Report {
 
 /// Runs the command.
 pub fn run(args: ValidateArgs) -> anyhow::Result<()> {
-    let cases = cases()?;
-    let points =
-        operating_points().map_err(|e| anyhow!("the built-in insects' operating points: {e}"))?;
-    let vehicles = vehicle_section()
-        .map_err(|e| anyhow!("the built-in vehicles against measured data: {e}"))?;
+    let wanted = |s: ValidateSection| args.section.is_empty() || args.section.contains(&s);
+    let cases = if wanted(ValidateSection::Cases) {
+        cases()?
+    } else {
+        Vec::new()
+    };
+    let points = if wanted(ValidateSection::OperatingPoints) {
+        operating_points().map_err(|e| anyhow!("the built-in insects' operating points: {e}"))?
+    } else {
+        Vec::new()
+    };
+    let vehicles = if wanted(ValidateSection::Vehicles) {
+        Some(
+            vehicle_section()
+                .map_err(|e| anyhow!("the built-in vehicles against measured data: {e}"))?,
+        )
+    } else {
+        None
+    };
     let failed = cases.iter().filter(|c| !c.passes()).count()
         + points
             .iter()
@@ -378,35 +398,39 @@ pub fn run(args: ValidateArgs) -> anyhow::Result<()> {
             .count();
     if args.json {
         print_json(&Report {
-            cases: cases
-                .iter()
-                .map(|c| Row {
-                    case: c.name.clone(),
-                    source: c.source,
-                    published: c.published,
-                    computed: c.computed,
-                    error: c.error(),
-                    tolerance: c.tolerance(),
-                    rule: c.rule_text(),
-                    pass: c.passes(),
-                })
-                .collect(),
-            operating_points: points
-                .iter()
-                .map(|p| PointRow {
-                    case: p.name.clone(),
-                    source: p.source,
-                    published: p.published,
-                    computed: p.computed,
-                    relative_error: p.relative_error(),
-                    relative_tolerance: p.relative_tolerance,
-                    verdict: verdict_text(p.verdict()),
-                    limitation: p.limitation.clone(),
-                })
-                .collect(),
-            vehicles_passed: vehicles.passed(),
-            vehicles_missed: vehicles.missed(),
-            vehicles_property_missed: vehicles.missed_properties(),
+            cases: wanted(ValidateSection::Cases).then(|| {
+                cases
+                    .iter()
+                    .map(|c| Row {
+                        case: c.name.clone(),
+                        source: c.source,
+                        published: c.published,
+                        computed: c.computed,
+                        error: c.error(),
+                        tolerance: c.tolerance(),
+                        rule: c.rule_text(),
+                        pass: c.passes(),
+                    })
+                    .collect()
+            }),
+            operating_points: wanted(ValidateSection::OperatingPoints).then(|| {
+                points
+                    .iter()
+                    .map(|p| PointRow {
+                        case: p.name.clone(),
+                        source: p.source,
+                        published: p.published,
+                        computed: p.computed,
+                        relative_error: p.relative_error(),
+                        relative_tolerance: p.relative_tolerance,
+                        verdict: verdict_text(p.verdict()),
+                        limitation: p.limitation.clone(),
+                    })
+                    .collect()
+            }),
+            vehicles_passed: vehicles.as_ref().map(VehicleSection::passed),
+            vehicles_missed: vehicles.as_ref().map(VehicleSection::missed),
+            vehicles_property_missed: vehicles.as_ref().map(VehicleSection::missed_properties),
             vehicles: vehicles.clone(),
             total: cases.len() + points.len(),
             passed: cases.len() + points.len() - failed,
@@ -414,9 +438,15 @@ pub fn run(args: ValidateArgs) -> anyhow::Result<()> {
             all_passed: failed == 0,
         })?;
     } else {
-        print_stdout(&table(&cases)?)?;
-        print_stdout(&points_table(&points)?)?;
-        print_stdout(&vehicles_table(&vehicles)?)?;
+        if wanted(ValidateSection::Cases) {
+            print_stdout(&table(&cases)?)?;
+        }
+        if wanted(ValidateSection::OperatingPoints) {
+            print_stdout(&points_table(&points)?)?;
+        }
+        if let Some(vehicles) = &vehicles {
+            print_stdout(&vehicles_table(vehicles)?)?;
+        }
     }
     if failed > 0 {
         return Err(anyhow!(

@@ -2,10 +2,9 @@
 //! data, each row with its source, model and measured values, tolerance and a verdict that
 //! follows from them; a miss carries its measured cause.
 
-mod common;
-
-use common::flapwing;
 use serde_json::Value;
+
+use crate::{full_json, full_text};
 
 /// The built-in vehicles (flapsim::builtin_model).
 const VEHICLES: [&str; 6] = [
@@ -18,9 +17,7 @@ const VEHICLES: [&str; 6] = [
 ];
 
 fn section() -> Value {
-    let run = flapwing(&["validate", "--json"]);
-    assert_eq!(run.code, 0, "{run:?}");
-    run.json()["vehicles"].clone()
+    full_json()["vehicles"].clone()
 }
 
 /// The verdict a row's numbers give under its check.
@@ -162,7 +159,7 @@ fn every_builtin_vehicle_has_rows_with_sources_and_consistent_verdicts() {
             assert!(source.contains("NOT FOUND"), "{r}");
         }
     }
-    let top = flapwing(&["validate", "--json"]).json();
+    let top = full_json();
     assert_eq!(top["vehicles_passed"], passed);
     assert_eq!(top["vehicles_missed"], missed);
     // The bumblebee's nine derivatives are compared term by term with Sun & Xiong's table.
@@ -246,9 +243,7 @@ fn added_mass_share_rows_exist_for_every_vehicle() {
 
 #[test]
 fn text_report_prints_the_section() {
-    let run = flapwing(&["validate"]);
-    assert_eq!(run.code, 0, "{run:?}");
-    let out = &run.stdout;
+    let out = &full_text().stdout;
     assert!(
         out.contains("built-in vehicles against measured data"),
         "{out}"
