@@ -388,7 +388,7 @@ ROBOTS = {
                   ("inertia_diag_kg_m2 =", f"inertia_diag_kg_m2 = [4238.1285e-9, {3970.1646e-9 * 1.2:e}, 2440.9505e-9]")],
         "true": {"stroke_stiffness_nm_rad": 0.013384289 * 1.2, "torque_constant_nm_a": 1.75e-3 * 1.1,
                  "inertia_yy_kg_m2": 3970.1646e-9 * 1.2},
-        "freq_hz": 34.0, "duration_s": "0.2",
+        "freq_hz": 34.0, "duration_s": "0.12",
     },
 }
 

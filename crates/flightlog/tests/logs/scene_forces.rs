@@ -3,7 +3,7 @@
 //! `FORCE_ARROWS_MAX_RATE_HZ` times per second, decoded back and compared with the forces the
 //! simulation produced.
 
-mod common;
+use crate::common;
 
 use common::{force_arrows, mcap_opts, record_model, wingbeats};
 use flapsim::Mode;

@@ -1,7 +1,7 @@
 //! Truncated and damaged logs: never a panic; every complete chunk before the cut is
 //! recovered; what was lost is reported.
 
-mod common;
+use crate::common;
 
 use common::{ORIGIN, mcap_opts, record, wingbeats};
 use flightlog::Error;

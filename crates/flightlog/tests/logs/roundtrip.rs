@@ -1,6 +1,6 @@
 //! Record a short drosophila flight to MCAP and read everything back.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 

@@ -4,7 +4,7 @@
 //! a two-winged layout is the channel list of before; `record` refuses what a step output
 //! cannot hold.
 
-mod common;
+use crate::common;
 
 use common::mcap_opts;
 use flapsim::{Mode, Simulation, Vehicle};

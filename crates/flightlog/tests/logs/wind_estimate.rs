@@ -2,7 +2,7 @@
 //! with the state estimator running on its sensors, recorded with [`Recorder::wind`] and
 //! [`Recorder::estimate`], read back value for value; the re-run check compares the winds.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use std::path::Path;

@@ -1,7 +1,7 @@
 //! The recorder writes MCAP files itself (see `mcap_write.rs`): the `mcap` crate's readers
 //! accept them with every CRC checked, and the summary and indexes agree with the data.
 
-mod common;
+use crate::common;
 
 use flapsim::{Mode, Simulation, Vehicle};
 use flightlog::{Level, LogOptions, Recorder, RunInfo, SimSettings};

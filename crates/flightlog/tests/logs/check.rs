@@ -1,6 +1,6 @@
 //! `replay --check`: a fresh log re-runs bit for bit; an edited model does not.
 
-mod common;
+use crate::common;
 
 use common::{copy_with_metadata, mcap_opts, record, record_mode, wingbeats};
 use flightlog::check::{CheckOutcome, check_log};

@@ -3,7 +3,7 @@
 //! still replay: summary, CSV export, the re-run check and (feature `rerun`) the Rerun
 //! conversion, with the same numbers as today's protobuf logs of the same run.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

@@ -1,7 +1,7 @@
 //! Rerun output: the .rrd decodes with Rerun's own decoder and holds the entities.
 #![cfg(feature = "rerun")]
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 use std::fs::File;
