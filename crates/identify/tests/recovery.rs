@@ -229,7 +229,7 @@ fn a_csv_flight_is_identified() {
         "nominal",
         &log,
         &pitch(5.0),
-        1.0,
+        0.5,
         Some(2000.0),
         7,
     )
@@ -486,9 +486,9 @@ fn the_robobee_hinge_actuator_and_inertia_are_recovered() {
 
 /// The Purdue hummingbird robot (DC motors, a stroke spring, pitch stops): its stroke spring
 /// x 1.2, its motor constant x 1.1 (torque and back-EMF constants together, as the parameter
-/// scales them) and its pitch inertia x 1.2, from a 0.2 s hover (7 wingbeats, 34 frames of its
-/// 200 Hz motion capture). Measured: 21-27 iterations, the rms residual from 10.1 to 1.01 of
-/// the noise.
+/// scales them) and its pitch inertia x 1.2, from a 0.12 s hover (4 wingbeats, 24 frames of
+/// its 200 Hz motion capture). Measured: 10 iterations, 9.7 s, the rms residual from 6.37 to
+/// 1.04 of the noise (from 0.2 s: 21-27 iterations, 10.1 to 1.01, 25 s).
 #[test]
 fn the_hummingbird_stroke_spring_motor_and_inertia_are_recovered() {
     let nominal = flapsim::HUMMINGBIRD_TOML.to_owned();
@@ -504,7 +504,7 @@ fn the_hummingbird_stroke_spring_motor_and_inertia_are_recovered() {
     actuated_recovery(
         &truth,
         &nominal,
-        0.2,
+        0.12,
         "stroke_stiffness_nm_rad,torque_constant_nm_a,inertia_yy_kg_m2",
         &[k, kt, iyy],
     );
@@ -534,7 +534,8 @@ fn the_robobee_hinge_damping_and_wing_inertia_are_recovered() {
 /// (about 0.155) where the wing's periodic motion meets its stops once a wingbeat instead of
 /// twice ([`Param::scan_values`]); from 0.1 the solver stopped there (0.128 [0.079, 0.178] under
 /// the step mean), so the fit starts from its scan's best value, 0.25. Measured at the file's
-/// 400 steps per wingbeat: 0.266 [0.223, 0.310], 32 iterations, 25 s.
+/// 400 steps per wingbeat from a 0.12 s hover: 0.272 [0.183, 0.362], 8 iterations, 11.8 s
+/// (from 0.2 s: 0.266 [0.223, 0.310], 32 iterations, 25-32 s).
 #[test]
 fn the_hummingbird_stop_restitution_is_recovered() {
     let nominal = set_value(flapsim::HUMMINGBIRD_TOML, "restitution", "0.1");
@@ -542,7 +543,7 @@ fn the_hummingbird_stop_restitution_is_recovered() {
     let r = actuated_recovery(
         &truth,
         &nominal,
-        0.2,
+        0.12,
         "stop_restitution,inertia_yy_kg_m2",
         &[0.3, 3970.1646e-9],
     );
