@@ -6,8 +6,8 @@
 //!   IMU errs by far more than the IMU noise its Q carries; every step it is the rigid-body
 //!   integrator's own step; an integrating IMU at 1 kHz propagates within a few times the
 //!   noise.
-//! - Measurements, ignored (`cargo test --release -p flapsim --test estimator_rates --
-//!   --ignored --nocapture`; a few seconds): `propagation_error_against_imu_rate` (point
+//! - Measurements, ignored (`cargo test --release -p flapsim --test vehicle estimator_rates::
+//!   -- --ignored --nocapture`; a few seconds): `propagation_error_against_imu_rate` (point
 //!   samples, the trapezoid on them, an integrating IMU, at 1, 2, 4, 8 kHz and every step;
 //!   `SPAN=0.05` for a longer horizon), `nees_per_block_against_imu_rate` (the filter on a
 //!   true-state hover: mean NEES of position, velocity and attitude and mean NIS, 30 seeds or
@@ -54,7 +54,7 @@ fn step_of(t: f64, dt: f64) -> usize {
 }
 
 #[test]
-#[ignore = "measurement (issue #27): cargo test --release -p flapsim --test estimator_rates -- --ignored --nocapture"]
+#[ignore = "measurement (issue #27): cargo test --release -p flapsim --test vehicle estimator_rates:: -- --ignored --nocapture"]
 fn nees_per_block_against_imu_rate() {
     let (v0, t) = fly();
     let dt = Simulation::new(v0.clone(), Mode::Free).dt_s();

@@ -19,8 +19,10 @@
 //! three drive periods (below).
 
 /// The wake that answers (issue #38; in this binary to keep the suite's link count down).
+#[path = "responsive_wake/mod.rs"]
 mod responsive_wake;
 /// The hover's setup under the step mean (in this binary for the same reason).
+#[path = "trim_setup/mod.rs"]
 mod trim_setup;
 
 use flapsim::wings::FromVehicle;
