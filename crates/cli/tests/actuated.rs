@@ -6,7 +6,7 @@
 //! between 120 and 200 Hz and falls off on both sides. (That set lifts 0.95 of the weight at
 //! its 100 V limit: `flapwing validate`'s vehicles section.)
 
-mod common;
+use crate::common;
 
 use common::{flapwing, flapwing_in};
 

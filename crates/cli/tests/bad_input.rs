@@ -1,7 +1,7 @@
 //! Bad model files and bad flags exit with 2 and a message naming the file and the field;
 //! the binary never panics on them.
 
-mod common;
+use crate::common;
 
 use common::{ROBOFLY, Run, flapwing, flapwing_in};
 

@@ -4,7 +4,7 @@
 //! run for ever, and a truncated log given to `identify`. Each case: the exit code, a
 //! message naming the flag, file and value, and the protected files unchanged by hash.
 
-mod common;
+use crate::common;
 
 use std::hash::{DefaultHasher, Hasher};
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! logs carry every wing (frames, channels, planforms and force arrows) and replay, and it
 //! hovers (trim and stability) from its forward-flight file.
 
-mod common;
+use crate::common;
 
 use common::{flapwing, flapwing_in};
 

@@ -1,7 +1,7 @@
 //! `flapwing trim --speed-m-s`, `stability --speed-m-s`, `hover --speed-m-s` and `flapwing
 //! envelope`, driven through the real binary: outputs, files and bad input.
 
-mod common;
+use crate::common;
 
 use common::{flapwing, flapwing_in};
 

@@ -3,7 +3,7 @@
 //! crates/flapsim/tests/estimator.rs); bad combinations are refused with exit 2 and a message
 //! naming what is missing.
 
-mod common;
+use crate::common;
 
 use common::flapwing_in;
 

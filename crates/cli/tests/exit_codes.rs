@@ -7,7 +7,7 @@
 //! second): its output path is the same for every section, and the whole command's exit code
 //! is `tests/validate.rs`'s.
 
-mod common;
+use crate::common;
 
 use std::io::Read;
 use std::path::Path;

@@ -1,8 +1,9 @@
 //! `flapwing forces`.
 
-mod common;
+use crate::common;
 
 /// Every built-in vehicle's wing (in this binary to keep the link count down).
+#[path = "forces_vehicles/mod.rs"]
 mod forces_vehicles;
 
 use common::{ROBOFLY, flapwing, flapwing_in};

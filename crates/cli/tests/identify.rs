@@ -2,7 +2,7 @@
 //! the fitted model written and loaded by `flapwing trim`; bad inputs and a fit that does
 //! not converge give clear messages and exit codes.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 //! still air) and `/estimate` in `hover --feedback estimated` (the filter's estimate beside
 //! the truth of `/vehicle/state`).
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use std::path::Path;

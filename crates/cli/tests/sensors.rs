@@ -10,7 +10,7 @@
 //! normal samples has relative standard deviation 1 / sqrt(2 (N - 1)). Tolerances are five of
 //! those sigmas.
 
-mod common;
+use crate::common;
 
 use std::collections::HashMap;
 use std::path::Path;

@@ -8,7 +8,7 @@
 //! has one such case, and a copy of the model with fewer periods has more (cheap cases, well
 //! under a second each run).
 
-mod common;
+use crate::common;
 
 use common::flapwing_in;
 

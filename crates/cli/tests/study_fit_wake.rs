@@ -3,7 +3,7 @@
 //! reproduces to its printed 0.0345; eq 18's least-squares S is 0.035349 (the printed
 //! 0.0355 does not follow from Table 4 as printed; see crates/flapsim/tests/study_fit_wake.rs).
 
-mod common;
+use crate::common;
 
 use common::{flapwing, flapwing_in};
 use flapstudy::fit_wake::PAPER_TABLE4_CSV;

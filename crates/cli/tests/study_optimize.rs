@@ -3,7 +3,7 @@
 //! optimum must support the weight, stay inside the box, beat the box centre, and no design
 //! of the shipped 7 x 5 sweep of the same box that supports the weight may beat it.
 
-mod common;
+use crate::common;
 
 use common::flapwing_in;
 

@@ -2,7 +2,7 @@
 //! missing-shard report, `submit` (dry run, no sbatch, a stand-in sbatch) and `status` (files
 //! only, and a stand-in squeue). The real cluster is `scripts/slurm/test_cluster.sh`.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

@@ -2,7 +2,7 @@
 //!
 //! The L18 check compares with the seed paper's Table 2 (shared/seeds/000_94b36197bfdef766.txt).
 
-mod common;
+use crate::common;
 
 use common::{argv, flapwing_in};
 

@@ -2,7 +2,7 @@
 //! in `validate/vehicles.rs`. The whole command runs once as text and once as JSON for all
 //! of them (a run takes seconds: most of it the vehicles).
 
-mod common;
+use crate::common;
 #[path = "validate/vehicles.rs"]
 mod vehicles;
 

@@ -1,6 +1,6 @@
 //! `flapwing wake-capture`.
 
-mod common;
+use crate::common;
 
 use common::{argv, flapwing, sig5};
 

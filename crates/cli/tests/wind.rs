@@ -2,7 +2,7 @@
 //! flags (steady wind, Dryden turbulence, 1 - cosine gusts; flapsim::wind), the same seed
 //! gives the same run, and bad wind input exits 2 naming what is wrong.
 
-mod common;
+use crate::common;
 
 use common::flapwing;
 

@@ -4,7 +4,7 @@
 
 use serde_json::Value;
 
-use crate::{full_json, full_text};
+use super::{full_json, full_text};
 
 /// The built-in vehicles (flapsim::builtin_model).
 const VEHICLES: [&str; 6] = [
