@@ -31,30 +31,16 @@ mod validate;
 mod wake_capture;
 mod wind;
 
-/// Every `.rs` file in tests/ is a module above or a test target in Cargo.toml, and every
-/// folder with a `main.rs` is a test target: with `autotests = false` cargo would not find a
-/// new file by itself.
+#[path = "../../../tests/support/test_files.rs"]
+mod test_files;
+
+/// Every file in this folder runs: see [`test_files::assert_every_test_file_runs`].
 #[test]
 fn every_test_file_is_a_test() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
-    let root = include_str!("cli.rs");
-    let manifest = include_str!("../Cargo.toml");
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
-        let name = path.file_name().unwrap().to_str().unwrap().to_owned();
-        if let Some(stem) = name.strip_suffix(".rs") {
-            let module = root.contains(&format!("\nmod {stem};\n"));
-            let target = manifest.contains(&format!("path = \"tests/{name}\""));
-            assert!(
-                module || target,
-                "tests/{name} is neither a module of tests/cli.rs nor a [[test]]"
-            );
-        } else if path.join("main.rs").is_file() {
-            let target = format!("path = \"tests/{name}/main.rs\"");
-            assert!(
-                manifest.contains(&target),
-                "tests/{name}/main.rs is not a [[test]] in Cargo.toml"
-            );
-        }
-    }
+    test_files::assert_every_test_file_runs(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests"),
+        "cli.rs",
+        include_str!("cli.rs"),
+        Some(include_str!("../Cargo.toml")),
+    );
 }

@@ -2,7 +2,7 @@
 
 use crate::common;
 
-/// Every built-in vehicle's wing (in this binary to keep the link count down).
+/// Every built-in vehicle's wing.
 #[path = "forces_vehicles/mod.rs"]
 mod forces_vehicles;
 

@@ -1,7 +1,7 @@
 //! `flapwing fit-wake` on the seed paper's Table 4 (shared/seeds/000_94b36197bfdef766.txt,
 //! section 7-1 and Table 4): eq 19's printed coefficients and S reproduce; eq 17's S
 //! reproduces to its printed 0.0345; eq 18's least-squares S is 0.035349 (the printed
-//! 0.0355 does not follow from Table 4 as printed; see crates/flapsim/tests/study_fit_wake.rs).
+//! 0.0355 does not follow from Table 4 as printed; see crates/flapstudy/tests/study_fit_wake.rs).
 
 use crate::common;
 

@@ -114,6 +114,15 @@ fn sections_run_alone() {
     let full = &full_text().stdout;
     assert!(full.starts_with(&run.stdout), "{}", run.stdout);
 
+    let run = flapwing(&["validate", "--section", "operating-points", "--json"]);
+    assert_eq!(run.code, 0, "{run:?}");
+    let j = run.json();
+    assert_eq!(j["operating_points"], full_json()["operating_points"]);
+    for absent in ["cases", "vehicles", "vehicles_passed", "vehicles_missed"] {
+        assert!(j.get(absent).is_none(), "{absent}: {j}");
+    }
+    assert_eq!(j["total"], 6);
+
     let bad = flapwing(&["validate", "--section", "paper"]);
     bad.assert_bad_input();
     for needle in [

@@ -18,10 +18,10 @@
 //! from 200); the first-order scheme from 200, 2.02 and 2.06). Actuated wings: the RoboBee over
 //! three drive periods (below).
 
-/// The wake that answers (issue #38; in this binary to keep the suite's link count down).
+/// The wake that answers (issue #38).
 #[path = "responsive_wake/mod.rs"]
 mod responsive_wake;
-/// The hover's setup under the step mean (in this binary for the same reason).
+/// The hover's setup under the step mean.
 #[path = "trim_setup/mod.rs"]
 mod trim_setup;
 

@@ -27,30 +27,16 @@ mod task;
 mod wind;
 mod wing_inertia;
 
-/// Every `.rs` file in tests/ is a module above, and every folder with a `main.rs` is a test
-/// target in Cargo.toml: with `autotests = false` cargo would not find a new file by itself.
+#[path = "../../../tests/support/test_files.rs"]
+mod test_files;
+
+/// Every file in this folder runs: see [`test_files::assert_every_test_file_runs`].
 #[test]
 fn every_test_file_is_a_module() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests");
-    let root = include_str!("vehicle.rs");
-    let manifest = include_str!("../Cargo.toml");
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
-        let name = path.file_name().unwrap().to_str().unwrap().to_owned();
-        if let Some(stem) = name.strip_suffix(".rs") {
-            if stem != "vehicle" {
-                let declared = format!("\nmod {stem};\n");
-                assert!(
-                    root.contains(&declared),
-                    "tests/{name} is not a module of tests/vehicle.rs"
-                );
-            }
-        } else if path.join("main.rs").is_file() {
-            let target = format!("path = \"tests/{name}/main.rs\"");
-            assert!(
-                manifest.contains(&target),
-                "tests/{name}/main.rs is not a [[test]] in Cargo.toml"
-            );
-        }
-    }
+    test_files::assert_every_test_file_runs(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests"),
+        "vehicle.rs",
+        include_str!("vehicle.rs"),
+        Some(include_str!("../Cargo.toml")),
+    );
 }
