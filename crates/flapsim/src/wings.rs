@@ -54,6 +54,7 @@ impl FromVehicle for WingSet {
                     .map(|d| {
                         let mut w = DynamicWing::new(a.dynamics.clone(), *d)?;
                         w.set_strikes_in_their_step(vehicle.sim.strikes_in_their_step);
+                        w.set_loads_at_every_stage(vehicle.sim.actuated_loads_at_every_stage);
                         Ok(w)
                     })
                     .collect::<wingset::Result<Vec<_>>>()?,

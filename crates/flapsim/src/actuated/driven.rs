@@ -52,6 +52,7 @@ impl DrivenPair {
             let mut w = DynamicWing::new(act.dynamics.clone(), drive)?;
             w.set_load_sampling(sampling);
             w.set_strikes_in_their_step(vehicle.sim.strikes_in_their_step);
+            w.set_loads_at_every_stage(vehicle.sim.actuated_loads_at_every_stage);
             Ok(w)
         };
         Ok(Self {

@@ -134,6 +134,13 @@ pub struct SimSpec {
     /// `actuated::dynamics` (`strike.rs`).
     #[serde(skip)]
     pub strikes_in_their_step: bool,
+    /// An actuated wing on inelastic hinge stops with its aerodynamic loads taken afresh at
+    /// every Runge-Kutta stage, as before 2026-12-07: a log written before the loads were
+    /// taken at each segment's ends and interpolated between them (no `actuated_stage_loads`
+    /// metadata) re-runs with it. Not a model-file field. See wingset's `actuated::contact`
+    /// (wings without stops take their loads at every stage either way).
+    #[serde(skip)]
+    pub actuated_loads_at_every_stage: bool,
     /// rapier solver iterations (substeps) per step.
     pub solver_iterations: usize,
     /// Add a ground plane at z = 0 and a contact sphere on the body (take-off and landing).
@@ -155,6 +162,7 @@ impl Default for SimSpec {
             load_sampling: None,
             rotation_at_step_start: false,
             strikes_in_their_step: false,
+            actuated_loads_at_every_stage: false,
             solver_iterations: 1,
             ground: false,
             wing_mass_kg: 0.0,

@@ -40,8 +40,9 @@ use crate::json::Json;
 use crate::options::SimSettings;
 use crate::read::read_log;
 use crate::schema::{
-    ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT,
-    STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, TOPIC_STATE, TOPIC_WIND,
+    ACTUATED_STAGE_LOADS_INTERPOLATED, ACTUATED_STAGE_LOADS_KEY, ACTUATED_STEP_MEAN_KEY,
+    ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT, STRIKE_IMPULSE_KEY,
+    STRIKE_IMPULSE_SHARED, TOPIC_STATE, TOPIC_WIND,
 };
 use compare::{Comparer, logged_values};
 pub use outcome::CheckOutcome;
@@ -118,6 +119,9 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
     // A run logged before the strikes were shared between steps reported each in its step.
     spec.sim.strikes_in_their_step =
         md.get(STRIKE_IMPULSE_KEY).map(String::as_str) != Some(STRIKE_IMPULSE_SHARED);
+    // A run logged before the stops' stage loads were interpolated took them at every stage.
+    spec.sim.actuated_loads_at_every_stage = md.get(ACTUATED_STAGE_LOADS_KEY).map(String::as_str)
+        != Some(ACTUATED_STAGE_LOADS_INTERPOLATED);
     let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let settings_rate = match &run {

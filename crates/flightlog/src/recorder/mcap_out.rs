@@ -18,9 +18,10 @@ use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY,
-    BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING,
-    STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, WingLayout, channel_id,
+    self, ACTUATED_STAGE_LOADS_INTERPOLATED, ACTUATED_STAGE_LOADS_KEY, ACTUATED_STEP_MEAN_KEY,
+    ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING,
+    OPTIONAL_CHANNELS, SCHEMA_ENCODING, STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, WingLayout,
+    channel_id,
 };
 use crate::writer::{Flushed, Writer};
 
@@ -146,6 +147,10 @@ fn run_metadata(
         (
             STRIKE_IMPULSE_KEY.to_owned(),
             STRIKE_IMPULSE_SHARED.to_owned(),
+        ),
+        (
+            ACTUATED_STAGE_LOADS_KEY.to_owned(),
+            ACTUATED_STAGE_LOADS_INTERPOLATED.to_owned(),
         ),
         ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
     ])

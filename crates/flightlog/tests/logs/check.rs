@@ -309,3 +309,18 @@ fn a_log_of_before_the_strikes_were_shared_matches() {
         "shared_with_next_step",
     );
 }
+
+/// A hummingbird log since its stops' stage loads were interpolated between each segment's
+/// ends (wingset's `actuated::contact`): a log without the `actuated_stage_loads` metadata
+/// re-runs with the loads taken afresh at every Runge-Kutta stage. The two differ at the
+/// scheme's second-order error.
+#[test]
+fn a_log_of_before_the_stage_loads_were_interpolated_matches() {
+    a_log_from_before_matches(
+        flapsim::HUMMINGBIRD_TOML,
+        3.0,
+        |spec| spec.sim.actuated_loads_at_every_stage = true,
+        "actuated_stage_loads",
+        "interpolated_between_segment_ends",
+    );
+}

@@ -62,8 +62,14 @@ impl Wing {
     /// angular accelerations, so a dynamic wing that learns its accelerations after the
     /// strip loop keeps it).
     pub fn with_kinematic_terms(forces: &WingForces, k: &KinematicLoads) -> WingForces {
+        Self::with_translational(&forces.terms[0], k)
+    }
+
+    /// [`Self::with_kinematic_terms`] given only the translational term (the one term the
+    /// kinematics alone do not decide): the same loads, bit for bit.
+    pub fn with_translational(translational: &TermForce, k: &KinematicLoads) -> WingForces {
         let mut terms = k.terms;
-        terms[0] = forces.terms[0];
+        terms[0] = *translational;
         let mut total = TermForce::default();
         for t in &terms {
             total.add(t);

@@ -21,6 +21,29 @@ pub(in crate::actuated) struct Held {
     pub(in crate::actuated) locked: bool,
 }
 
+impl Held {
+    /// The loads a fraction `s` of the way from `self` to `to` (generalized forces and added
+    /// inertia linear in `s`; the flags are `self`'s): the loads of a segment whose two ends
+    /// were evaluated, at a time within it (`actuated::contact`).
+    pub(in crate::actuated) fn lerp(&self, to: &Held, s: f64) -> Held {
+        let l = |a: f64, b: f64| a + s * (b - a);
+        Held {
+            q: [l(self.q[0], to.q[0]), l(self.q[1], to.q[1])],
+            added: [
+                [
+                    l(self.added[0][0], to.added[0][0]),
+                    l(self.added[0][1], to.added[0][1]),
+                ],
+                [
+                    l(self.added[1][0], to.added[1][0]),
+                    l(self.added[1][1], to.added[1][1]),
+                ],
+            ],
+            ..*self
+        }
+    }
+}
+
 impl DynamicWing {
     /// Mechanical energy (kinetic plus the springs', the stops' contact springs included),
     /// J: conserved without aerodynamics, damping, drive and stop strikes (or with

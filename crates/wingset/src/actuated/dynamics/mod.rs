@@ -69,9 +69,13 @@
 //! error that slides with where in the step the strike falls (measured: the hummingbird's
 //! M_u changed sign between step sizes; `flapsim/tests/strike_loads.rs`). With stops,
 //! therefore:
-//! - the aerodynamic loads are taken afresh at every Runge-Kutta stage of a sub-step (or
-//!   segment) clear of a compliant stop or on an inelastic one, and at the start of every
-//!   contact step near or in a compliant one;
+//! - the aerodynamic loads are taken afresh at every Runge-Kutta stage of a sub-step clear
+//!   of a compliant stop, and at the start of every contact step near or in one; on an
+//!   inelastic stop, at the two ends of each segment (the sub-step split at touches and
+//!   releases; the end's on the state the segment's path reaches with its start's loads
+//!   held) and linear in time between them (`actuated::contact`: second order, as the body's
+//!   step is, for two evaluations per segment where every stage took four; logs written
+//!   before 2026-12-07 re-run with the loads at every stage);
 //! - a step reports its mean loads: the trapezoidal mean over the states the integrator
 //!   passed (sub-step ends; the touch with the accelerations on both of its sides; near a
 //!   compliant stop the contact steps and the clamp's onset; an inelastic stop's release),
@@ -96,7 +100,8 @@
 //!
 //! Without stops and at the step-start sampling a step reports its start, as before. A vehicle with compliant stops costs
 //! about 3.5x more per step than before the mean loads (`flapwing validate`: 11.4 s against
-//! 3.2 s); the hummingbird's inelastic stops cost 5.1x a prescribed step (docs/speed.md).
+//! 3.2 s); the hummingbird's inelastic stops cost 2.5x a prescribed step in wall time since
+//! their segments' loads are interpolated (3.2x before; docs/speed.md, row 8).
 //!
 //! Neglected: the body's own acceleration and rotation in the wing's equations (the wing
 //! reacts on the body, the body does not shake the wing), the actuator's reaction other
@@ -112,5 +117,5 @@ mod wing;
 pub(super) use equations::Held;
 pub use model::{Hinge, Stroke, WingDynamics, WingInertia};
 pub use step::MAX_PENETRATION_RAD;
-pub(super) use step::Reheld;
+pub(super) use step::{Nodes, Reheld};
 pub use wing::{ActuatedWingOutput, DynamicWing, WingState, WingStep};

@@ -5,7 +5,7 @@
 use std::cell::Cell;
 
 use nalgebra::Matrix3;
-use wingforce::{AxisMoments, BodyMotion, StrokePhase, Wing, WingForces, WingFrame};
+use wingforce::{AxisMoments, BodyMotion, StrokePhase, TermForce, Wing, WingForces, WingFrame};
 
 use super::super::actuator::ActuatorState;
 use super::equations::Held;
@@ -22,8 +22,16 @@ pub const MAX_PENETRATION_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0;
 /// The aerodynamic loads at a time and integrator state (phi, theta, phi_dot, theta_dot).
 pub(in crate::actuated) type Reheld<'a> = &'a dyn Fn(f64, &[f64; 4]) -> Held;
 
+/// What [`DynamicWing::report`] needs of an aerodynamic evaluation besides the held loads:
+/// its translational term (the others follow from the motion alone,
+/// [`Wing::with_translational`]) and the wing's frame.
+pub(super) type Aero = (TermForce, WingFrame);
+
+/// The states a step passed: (time, state, the touch's left-side flag).
+pub(in crate::actuated) type Nodes = Vec<(f64, [f64; 4], bool)>;
+
 /// Loads the integrator took: where ([`DynamicWing::aero_at`]'s arguments) and what.
-type Loads = (StepStart, Held, Option<(WingForces, WingFrame)>);
+type Loads = (StepStart, Held, Option<Aero>);
 
 /// The state, time and stroke phase at a step's start (what its report describes).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,7 +52,7 @@ impl DynamicWing {
 
     /// Aerodynamic loads at the current state with zero accelerations (so the added-mass
     /// term holds only its velocity part), and the added inertia.
-    fn aero_held(&self, wing: &Wing, body: &BodyMotion) -> (Held, Option<(WingForces, WingFrame)>) {
+    fn aero_held(&self, wing: &Wing, body: &BodyMotion) -> (Held, Option<Aero>) {
         let at = StepStart {
             state: self.state,
             t_s: self.t_s,
@@ -60,7 +68,7 @@ impl DynamicWing {
         wing: &Wing,
         body: &BodyMotion,
         at: &StepStart,
-    ) -> (Held, Option<(WingForces, WingFrame)>) {
+    ) -> (Held, Option<Aero>) {
         if !self.model.aero {
             return (Held::default(), None);
         }
@@ -77,7 +85,7 @@ impl DynamicWing {
                 free: false,
                 locked: false,
             },
-            Some((f, frame)),
+            Some((f.terms[0], frame)),
         )
     }
 
@@ -100,9 +108,10 @@ impl DynamicWing {
         // With stops, or sampled at the midpoint (second order), a step reports its mean
         // loads over the step (below).
         let stops = self.model.hinge.contact.is_some() || self.sampling.is_second_order();
+        let inelastic = self.model.hinge.contact.is_some_and(|c| c.is_inelastic());
         let mut out = None;
         let mut frame_start = None;
-        let mut nodes = Vec::new();
+        let mut nodes = Nodes::new();
         if stops {
             nodes.push((self.t_s, self.y(), false));
         }
@@ -112,6 +121,9 @@ impl DynamicWing {
         let mut start_loads = None;
         let mut moved: Vec<(WingStep, f64)> = Vec::new();
         let last_loads: Cell<Option<Loads>> = Cell::new(None);
+        // On an inelastic stop: the state whose loads the last sub-step took at its end
+        // (`actuated::contact`), those of the step's last node.
+        let mut predicted_end = None;
         let mut next_reference = None;
         // Stroke reversals the step was split at (the step mean without stops): time and the
         // stroke phase that starts there.
@@ -122,12 +134,17 @@ impl DynamicWing {
             let (held, aero) = self.aero_held(wing, body);
             let y0 = self.y();
             let t0 = self.t_s;
-            let k1a = self.accelerations(t0, &y0, &held);
+            // An inelastic stop's segments take their own (`actuated::contact`).
+            let k1a = match inelastic {
+                true => None,
+                false => Some(self.accelerations(t0, &y0, &held)),
+            };
             if sub == 0 {
                 frame_start = aero.as_ref().map(|(_, frame)| *frame);
                 if stops {
                     start_loads = Some((held, aero));
                 } else {
+                    let k1a = k1a.unwrap_or_else(|| self.accelerations(t0, &y0, &held));
                     out = Some(self.report(wing, &held, aero, k1a, &start));
                 }
             }
@@ -152,7 +169,16 @@ impl DynamicWing {
                 }
                 held
             };
-            let y = self.advance(t0, &y0, h, &held, k1a, &mut nodes, &reheld)?;
+            let y = self.advance(
+                t0,
+                &y0,
+                h,
+                &held,
+                k1a,
+                &mut nodes,
+                &reheld,
+                &mut predicted_end,
+            )?;
             // The step mean without stops: a stroke reversal inside the sub-step splits it
             // (see `reversal_within`), each part integrated with its own half stroke's loads.
             let split = match split_reversals {
@@ -163,7 +189,7 @@ impl DynamicWing {
                 Some((tau, after)) if tau < h => {
                     nodes.pop();
                     let t_rev = t0 + tau;
-                    let ya = self.rk4(t0, &y0, tau, &held, Some(k1a), Some(&reheld)).0;
+                    let ya = self.rk4(t0, &y0, tau, &held, k1a, Some(&reheld)).0;
                     nodes.push((t_rev, ya, true));
                     nodes.push((t_rev, ya, false));
                     let reheld_after = |t_s: f64, y: &[f64; 4]| {
@@ -296,47 +322,62 @@ impl DynamicWing {
                 ],
                 false,
             );
-            // Each node's loads and accelerations (the strike's spike resolved by the
-            // contact steps), the accelerations then shifted by one constant so that their
-            // mean is the step's change of rate: the impulse the body receives stays exact.
             let kept = quadrature_nodes(&nodes);
-            let span_s = kept.last().map_or(0.0, |n| n.0) - kept[0].0;
-            let mut points = Vec::with_capacity(kept.len());
-            let mut mean_acc = [0.0; 2];
-            for (k, (t_s, y, free)) in kept.iter().enumerate() {
-                let before = if k > 0 { t_s - kept[k - 1].0 } else { 0.0 };
-                let after = kept.get(k + 1).map_or(0.0, |n| n.0 - t_s);
-                let w = 0.5 * (before + after) / span_s;
-                if w > 0.0 {
-                    let at = at(*t_s, y, *free);
-                    let (held, aero) = match (k, last_loads.get()) {
-                        (0, _) => start_loads.expect("the first sub-step's loads"),
-                        (_, Some((last, held, aero))) if last == at => (held, aero),
-                        _ => self.aero_at(wing, body, &at),
-                    };
-                    let a = self.accelerations(
-                        *t_s,
-                        y,
-                        &Held {
-                            free: *free,
-                            ..held
-                        },
-                    );
-                    mean_acc[0] += w * a[0];
-                    mean_acc[1] += w * a[1];
-                    points.push((at, held, aero, a, w));
+            // A node's loads: the first sub-step's start, the loads the integrator took there,
+            // or afresh.
+            let node_loads = |k: usize, at: &StepStart| match (k, last_loads.get()) {
+                (0, _) => start_loads.expect("the first sub-step's loads"),
+                (_, Some((last, held, aero))) if last == *at => (held, aero),
+                // The end's loads on the state the last segment's path predicted there
+                // (those its integration took; `actuated::contact`).
+                (_, Some((last, held, aero)))
+                    if k + 1 == kept.len()
+                        && last.t_s == at.t_s
+                        && last.phase == at.phase
+                        && predicted_end.map(|y| WingState::from_y(&y)) == Some(last.state) =>
+                {
+                    (held, aero)
                 }
-            }
-            let shift = [acc[0] - mean_acc[0], acc[1] - mean_acc[1]];
-            // The report's motion (angles, actuator, stroke phase) is the mid-step one; its
-            // loads are the nodes' weighted sum.
-            let mut mean = self
-                .report(wing, &Held::default(), None, acc, &mid)
-                .scaled(0.0);
-            for (at, held, aero, a, w) in points {
-                let a = [a[0] + shift[0], a[1] + shift[1]];
-                mean.add_scaled(&self.report(wing, &held, aero, a, &at), w);
-            }
+                _ => self.aero_at(wing, body, at),
+            };
+            let mut mean = {
+                // Each node's loads and accelerations (the strike's spike resolved by the
+                // contact steps), the accelerations then shifted by one constant so that
+                // their mean is the step's change of rate: the impulse the body receives
+                // stays exact.
+                let span_s = kept.last().map_or(0.0, |n| n.0) - kept[0].0;
+                let mut points = Vec::with_capacity(kept.len());
+                let mut mean_acc = [0.0; 2];
+                for (k, (t_s, y, free)) in kept.iter().enumerate() {
+                    let before = if k > 0 { t_s - kept[k - 1].0 } else { 0.0 };
+                    let after = kept.get(k + 1).map_or(0.0, |n| n.0 - t_s);
+                    let w = 0.5 * (before + after) / span_s;
+                    if w > 0.0 {
+                        let at = at(*t_s, y, *free);
+                        let (held, aero) = node_loads(k, &at);
+                        let a = self.accelerations(
+                            *t_s,
+                            y,
+                            &Held {
+                                free: *free,
+                                ..held
+                            },
+                        );
+                        mean_acc[0] += w * a[0];
+                        mean_acc[1] += w * a[1];
+                        points.push((at, held, aero, a, w));
+                    }
+                }
+                let shift = [acc[0] - mean_acc[0], acc[1] - mean_acc[1]];
+                // The report's motion (angles, actuator, stroke phase) is the mid-step one;
+                // its loads are the nodes' weighted sum.
+                let mut mean = self.motion(acc, &mid);
+                for (at, held, aero, a, w) in points {
+                    let a = [a[0] + shift[0], a[1] + shift[1]];
+                    mean.add_scaled(&self.report(wing, &held, aero, a, &at), w);
+                }
+                mean
+            };
             for (at, jump) in strikes {
                 if self.strikes_in_their_step {
                     // As before 2026-12-06 (`super::strike`), operation for operation.
@@ -495,12 +536,42 @@ impl DynamicWing {
         Ok(())
     }
 
+    /// The motion at `at` with the accelerations `acc` (angles, actuator and stroke phase)
+    /// and no loads: what [`Self::report`] gives there with every load zero.
+    fn motion(&self, acc: [f64; 2], at: &StepStart) -> WingStep {
+        let a = self.angles_at(&at.state, at.t_s, acc);
+        WingStep {
+            forces: WingForces {
+                terms: Default::default(),
+                total: Default::default(),
+                angles: a,
+                phase: at.phase,
+            },
+            aero_axis: AxisMoments::default(),
+            hinge_moment_nm: 0.0,
+            inertial_force_n: Default::default(),
+            inertial_moment_hinge_nm: Default::default(),
+            actuator: self.actuator_state(&a, at.t_s),
+            angles: a,
+        }
+    }
+
+    /// The actuator's state at angles `a` and time `t_s` (none with a prescribed stroke).
+    fn actuator_state(&self, a: &wingforce::WingAngles, t_s: f64) -> ActuatorState {
+        match &self.model.stroke {
+            Stroke::Driven {
+                actuator, rest_rad, ..
+            } => actuator.state(a.phi - rest_rad, a.phi_dot, self.drive.voltage_v(t_s)),
+            Stroke::Prescribed(_) => ActuatorState::default(),
+        }
+    }
+
     /// The loads at the step's start `at`, with the accelerations `acc`.
     pub(super) fn report(
         &self,
         wing: &Wing,
         held: &Held,
-        aero: Option<(WingForces, WingFrame)>,
+        aero: Option<Aero>,
         acc: [f64; 2],
         at: &StepStart,
     ) -> WingStep {
@@ -510,7 +581,7 @@ impl DynamicWing {
         let (forces, aero_axis) = match aero {
             Some((f, _)) => {
                 let k = wing.kinematic_loads_in(&a, &at.phase, &frame);
-                let f = Wing::with_kinematic_terms(&f, &k);
+                let f = Wing::with_translational(&f, &k);
                 (f, wing.axis_moments(&frame, &f.total))
             }
             None => (
@@ -554,12 +625,7 @@ impl DynamicWing {
         let dh =
             i_h * frame.alpha + frame.omega.cross(&(i_h * frame.omega)) + ja * a.phi_ddot * k_phi;
         let r = wing.body_from_stroke();
-        let actuator = match &self.model.stroke {
-            Stroke::Driven {
-                actuator, rest_rad, ..
-            } => actuator.state(a.phi - rest_rad, a.phi_dot, self.drive.voltage_v(at.t_s)),
-            Stroke::Prescribed(_) => ActuatorState::default(),
-        };
+        let actuator = self.actuator_state(&a, at.t_s);
         WingStep {
             forces,
             aero_axis,
@@ -578,12 +644,12 @@ impl DynamicWing {
 /// (with the node before it, so that the loads between two kept nodes vary smoothly and
 /// little). A wing resting in a stop passes many contact steps in which little changes;
 /// a strike's collapse of the pitch rate keeps every one of them.
-fn quadrature_nodes(nodes: &[(f64, [f64; 4], bool)]) -> Vec<(f64, [f64; 4], bool)> {
+fn quadrature_nodes(nodes: &[(f64, [f64; 4], bool)]) -> Nodes {
     let scale = nodes
         .iter()
         .fold(0.0f64, |m, n| m.max(n.1[2].abs()).max(n.1[3].abs()));
     let tol = NODE_RATE_FRACTION * scale;
-    let mut kept: Vec<(f64, [f64; 4], bool)> = Vec::with_capacity(nodes.len());
+    let mut kept = Nodes::with_capacity(nodes.len());
     for (k, n) in nodes.iter().enumerate() {
         let Some(last) = kept.last().copied() else {
             kept.push(*n);

@@ -142,7 +142,8 @@ pub struct DynamicWing {
     pub(super) samples: Vec<(f64, f64)>,
     pub(super) period_index: i64,
     /// What a step reports ([`LoadSampling`]): with `Midpoint` (or hinge stops) the
-    /// aerodynamic loads are taken afresh at every Runge-Kutta stage and the step reports
+    /// aerodynamic loads are taken afresh at every Runge-Kutta stage (on inelastic stops, at
+    /// each segment's ends and linear between them, `actuated::contact`) and the step reports
     /// its mean loads; with `StepStart` (no stops) they are held and reported at its start.
     pub(super) sampling: LoadSampling,
     /// The share of the last step's strikes' impulses the next step reports
@@ -151,6 +152,10 @@ pub struct DynamicWing {
     /// Whether a strike's impulse is reported whole in its step, as before 2026-12-06
     /// ([`DynamicWing::set_strikes_in_their_step`]).
     pub(super) strikes_in_their_step: bool,
+    /// Whether, on an inelastic stop, the aerodynamic loads are taken afresh at every
+    /// Runge-Kutta stage, as before 2026-12-07
+    /// ([`DynamicWing::set_loads_at_every_stage`]).
+    pub(super) loads_at_every_stage: bool,
 }
 
 impl DynamicWing {
@@ -162,6 +167,19 @@ impl DynamicWing {
     /// What a step reports.
     pub fn load_sampling(&self) -> LoadSampling {
         self.sampling
+    }
+
+    /// Takes a wing on inelastic hinge stops through its sub-steps with the aerodynamic
+    /// loads evaluated afresh at every Runge-Kutta stage, as before 2026-12-07 (a log written
+    /// before then re-runs so), or, by default, at the two ends of each segment between
+    /// events and linear in time between them (`actuated::contact`).
+    pub fn set_loads_at_every_stage(&mut self, every_stage: bool) {
+        self.loads_at_every_stage = every_stage;
+    }
+
+    /// See [`Self::set_loads_at_every_stage`].
+    pub fn loads_at_every_stage(&self) -> bool {
+        self.loads_at_every_stage
     }
 
     /// A wing at rest at the springs' rest angles (or on its prescribed stroke at t = 0).
@@ -192,6 +210,7 @@ impl DynamicWing {
             sampling: LoadSampling::StepStart,
             carried_strike: None,
             strikes_in_their_step: false,
+            loads_at_every_stage: false,
         };
         w.set_drive(drive)?;
         Ok(w)
