@@ -15,7 +15,7 @@
 //! against Floquet"). The stops are inelastic (restitution 0, as the robot's reference
 //! simulator has them: a constraint, `flapsim::actuated::stop`): the strike is an impulse at
 //! the touch, found within the step. With the wing's loads taken afresh at every
-//! Runge-Kutta stage (since 2026-12-07: at each segment's two ends and linear between them,
+//! Runge-Kutta stage (since 2026-12-07: at each segment's start and the sub-step's end, linear between,
 //! the last test), the step's report the trapezoidal mean over the states the integrator
 //! passed (the touch taken on both sides of the rates' jump, the release), and the
 //! impulse's reaction taken where the wing struck (shared over the step as a constant, it
@@ -132,7 +132,7 @@ fn the_one_wingbeat_map_follows_the_strikes_in_time() {
 
 /// The hummingbird flown open loop from its model's initial state for 30 wingbeats at
 /// `steps_per_wingbeat`, the loads on its stops taken at every Runge-Kutta stage
-/// (`every_stage`, as before 2026-12-07) or at each segment's two ends and interpolated.
+/// (`every_stage`, as before 2026-12-07) or at each segment's start and the sub-step's end and interpolated.
 fn open_loop(steps_per_wingbeat: usize, every_stage: bool) -> flapsim::State {
     let mut spec = flapsim::VehicleSpec::from_toml(flapsim::HUMMINGBIRD_TOML, "hummingbird")
         .expect("built-in");

@@ -358,7 +358,7 @@ pub const STRIKE_IMPULSE_SHARED: &str = "shared_with_next_step";
 
 /// The metadata key that says how the logged run's actuated wings on inelastic hinge stops
 /// took their aerodynamic loads within a step, and its value since they take them at each
-/// segment's two ends and linear in time between them (wingset's `actuated::contact`,
+/// segment's start and the sub-step's end and linear in time between them (wingset's `actuated::contact`,
 /// 2026-12-07). A log without it re-runs with the loads taken afresh at every Runge-Kutta
 /// stage (`SimSpec::actuated_loads_at_every_stage`).
 pub const ACTUATED_STAGE_LOADS_KEY: &str = "actuated_stage_loads";

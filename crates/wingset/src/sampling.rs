@@ -33,7 +33,8 @@
 //!   and the attitude the set integrates itself from the rates by the trapezoidal rule (the
 //!   loads are handed back in the host's frame, so a host's first-order attitude does not
 //!   turn them). Actuated wings take their aerodynamic loads afresh at every Runge-Kutta
-//!   stage (on inelastic hinge stops, at each segment's two ends and linear between them)
+//!   stage (on inelastic hinge stops, at each segment's start and the sub-step's end and linear
+//!   between them)
 //!   and report the step's trapezoidal mean over their integrator's nodes (under
 //!   `StepMean`, a step without hinge stops is split at a stroke reversal inside it: see
 //!   `actuated::dynamics`). The first

@@ -136,7 +136,7 @@ pub struct SimSpec {
     pub strikes_in_their_step: bool,
     /// An actuated wing on inelastic hinge stops with its aerodynamic loads taken afresh at
     /// every Runge-Kutta stage, as before 2026-12-07: a log written before the loads were
-    /// taken at each segment's ends and interpolated between them (no `actuated_stage_loads`
+    /// taken at each segment's start and the sub-step's end and interpolated between them (no `actuated_stage_loads`
     /// metadata) re-runs with it. Not a model-file field. See wingset's `actuated::contact`
     /// (wings without stops take their loads at every stage either way).
     #[serde(skip)]

@@ -14,7 +14,9 @@ impl DynamicWing {
     /// Runge-Kutta step with the loads `held` at its start and `reheld` at its later stages;
     /// near or in a stop, contact steps short enough for the contact, each with the loads
     /// `reheld` at its start and split where the wing touches a stop (see [`super::stop`]).
-    /// Without stops the loads are held over the sub-step.
+    /// Without stops the loads are held over the sub-step under the step-start sampling and
+    /// taken afresh at every stage under a second-order one. `k1a`: the accelerations at
+    /// (t0, y0) when known; `predicted_end`: see [`Self::advance_inelastic`].
     /// Every state it passes after (t0, y0), the end included, is pushed on `nodes` with its
     /// time: the points between which the motion is smooth (a strike's touch and release
     /// splits, the contact steps that resolve it), for the step's mean loads; a node's flag
@@ -151,7 +153,8 @@ impl DynamicWing {
     /// release are searched on. Held loads put an O(h^2) error in the predicted rates, so the
     /// end's loads, and with them the loads over the segment, are second-order accurate, as
     /// the body's step is; two evaluations per segment where the loads at every stage took
-    /// four, and the release's search takes none (it took two per iteration). The end's
+    /// four, and the release's search takes none (it took four per iteration: three stages
+    /// and the holding moment's). The end's
     /// state is written to `predicted_end` when the last segment reaches the sub-step's end:
     /// the step's mean loads take its loads as their last node's
     /// (`dynamics::step`). With [`DynamicWing::loads_at_every_stage`] (logs written
@@ -190,6 +193,11 @@ impl DynamicWing {
                     nodes.push((t, y, true));
                     y = self.strike(&y, &loads);
                     nodes.push((t, y, false));
+                    // The rates jumped: the segment's loads are the struck wing's (with the
+                    // loads at every stage, its stages took them afresh).
+                    if !every_stage {
+                        loads = reheld(t, &y);
+                    }
                 }
             }
             let rem = end - t;

@@ -26,7 +26,8 @@ impl Held {
     /// inertia linear in `s`; the flags are `self`'s): the loads of a segment whose two ends
     /// were evaluated, at a time within it (`actuated::contact`).
     pub(in crate::actuated) fn lerp(&self, to: &Held, s: f64) -> Held {
-        let l = |a: f64, b: f64| a + s * (b - a);
+        // Exactly `self`'s at s = 0 and `to`'s at s = 1.
+        let l = |a: f64, b: f64| (1.0 - s) * a + s * b;
         Held {
             q: [l(self.q[0], to.q[0]), l(self.q[1], to.q[1])],
             added: [

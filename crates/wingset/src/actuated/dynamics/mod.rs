@@ -71,9 +71,9 @@
 //! therefore:
 //! - the aerodynamic loads are taken afresh at every Runge-Kutta stage of a sub-step clear
 //!   of a compliant stop, and at the start of every contact step near or in one; on an
-//!   inelastic stop, at the two ends of each segment (the sub-step split at touches and
-//!   releases; the end's on the state the segment's path reaches with its start's loads
-//!   held) and linear in time between them (`actuated::contact`: second order, as the body's
+//!   inelastic stop, at each segment's start (the sub-step split at touches and releases)
+//!   and at the sub-step's end (on the state the segment's path reaches with its start's
+//!   loads held) and linear in time between them (`actuated::contact`: second order, as the body's
 //!   step is, for two evaluations per segment where every stage took four; logs written
 //!   before 2026-12-07 re-run with the loads at every stage);
 //! - a step reports its mean loads: the trapezoidal mean over the states the integrator

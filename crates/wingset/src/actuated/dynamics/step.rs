@@ -116,8 +116,8 @@ impl DynamicWing {
             nodes.push((self.t_s, self.y(), false));
         }
         // With stops: the loads at the step's start (its first quadrature node) and the
-        // last loads the integrator took (the step's end when it ended resting on a stop),
-        // each computed once.
+        // last loads the integrator took (on an inelastic stop, the sub-step's end's, on the
+        // state its last segment's path predicted: `predicted_end`), each computed once.
         let mut start_loads = None;
         let mut moved: Vec<(WingStep, f64)> = Vec::new();
         let last_loads: Cell<Option<Loads>> = Cell::new(None);

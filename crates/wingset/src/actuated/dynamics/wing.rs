@@ -143,7 +143,7 @@ pub struct DynamicWing {
     pub(super) period_index: i64,
     /// What a step reports ([`LoadSampling`]): with `Midpoint` (or hinge stops) the
     /// aerodynamic loads are taken afresh at every Runge-Kutta stage (on inelastic stops, at
-    /// each segment's ends and linear between them, `actuated::contact`) and the step reports
+    /// each segment's start and the sub-step's end and linear between them, `actuated::contact`) and the step reports
     /// its mean loads; with `StepStart` (no stops) they are held and reported at its start.
     pub(super) sampling: LoadSampling,
     /// The share of the last step's strikes' impulses the next step reports
@@ -171,8 +171,8 @@ impl DynamicWing {
 
     /// Takes a wing on inelastic hinge stops through its sub-steps with the aerodynamic
     /// loads evaluated afresh at every Runge-Kutta stage, as before 2026-12-07 (a log written
-    /// before then re-runs so), or, by default, at the two ends of each segment between
-    /// events and linear in time between them (`actuated::contact`).
+    /// before then re-runs so), or, by default, at each segment's start and the sub-step's
+    /// end and linear in time between them (`actuated::contact`).
     pub fn set_loads_at_every_stage(&mut self, every_stage: bool) {
         self.loads_at_every_stage = every_stage;
     }
