@@ -4,6 +4,7 @@
 
 use wingforce::WingAngles;
 
+use super::memo::{self, SolveKey, Solved};
 use super::model::{Hinge, Stroke};
 use super::wing::{DynamicWing, WingState};
 
@@ -121,21 +122,49 @@ impl DynamicWing {
         held: &Held,
     ) -> Option<f64> {
         let s = self.on_inelastic_stop(y, held)?;
-        Some(-s * self.solve(t, y, held).2)
+        Some(-s * self.solve_memo(t, y, held).2)
     }
 
-    /// Accelerations at time t for y = (phi, theta, phi_dot, theta_dot).
+    /// Accelerations at time t for y = (phi, theta, phi_dot, theta_dot), from the memo of
+    /// the states a step comes back to ([`SolveMemo`]).
     pub(in crate::actuated) fn accelerations(&self, t: f64, y: &[f64; 4], held: &Held) -> [f64; 2] {
-        let (free, phi_ddot_held, m_s) = self.solve(t, y, held);
+        self.accelerations_from(self.solve_memo(t, y, held), y, held)
+    }
+
+    /// [`Self::accelerations`] without the memo: a Runge-Kutta step's later stages, at
+    /// states no other call asks for.
+    pub(in crate::actuated) fn stage_accelerations(
+        &self,
+        t: f64,
+        y: &[f64; 4],
+        held: &Held,
+    ) -> [f64; 2] {
+        self.accelerations_from(self.solve(t, y, held), y, held)
+    }
+
+    fn accelerations_from(&self, solved: Solved, y: &[f64; 4], held: &Held) -> [f64; 2] {
+        let (free, phi_ddot_held, m_s) = solved;
         match self.on_inelastic_stop(y, held) {
             Some(s) if held.locked || s * m_s <= 0.0 => [phi_ddot_held, 0.0],
             _ => free,
         }
     }
 
+    /// [`Self::solve`] through the memo: the last two distinct arguments and their results.
+    fn solve_memo(&self, t: f64, y: &[f64; 4], held: &Held) -> Solved {
+        let free_matters = self.model.hinge.contact.is_some_and(|c| !c.is_inelastic());
+        let key = SolveKey::new(self.memo, t, y, held, free_matters);
+        memo::solved(key, || self.solve(t, y, held))
+    }
+
+    /// The drive's voltage at `t_s`, V (through the memo).
+    pub(in crate::actuated) fn voltage_v(&self, t_s: f64) -> f64 {
+        memo::voltage_v(self.memo, t_s, || self.drive.voltage_v(t_s))
+    }
+
     /// The accelerations of the free equations, the stroke acceleration with the pitch held
     /// (theta_ddot = 0) and the pitch moment M_s that holding takes, N m.
-    fn solve(&self, t: f64, y: &[f64; 4], held: &Held) -> ([f64; 2], f64, f64) {
+    fn solve(&self, t: f64, y: &[f64; 4], held: &Held) -> Solved {
         let [phi, theta, mut pd, td] = *y;
         let prescribed = match &self.model.stroke {
             Stroke::Prescribed(k) => {
@@ -168,7 +197,7 @@ impl DynamicWing {
                 rest_rad,
             } => {
                 let r = actuator.reflected();
-                let q_phi = held.q[0] + r.torque_per_volt_nm_v * self.drive.voltage_v(t)
+                let q_phi = held.q[0] + r.torque_per_volt_nm_v * self.voltage_v(t)
                     - (r.stiffness_nm_rad + flexure_nm_rad) * (phi - rest_rad)
                     - (r.damping_nm_s_rad + damping_nm_s_rad) * pd
                     + 2.0 * b * st * ct * pd * td

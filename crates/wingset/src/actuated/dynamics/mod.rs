@@ -108,6 +108,7 @@
 //! than its reflected inertia about the stroke axis, and gravity on the wing.
 
 mod equations;
+mod memo;
 mod model;
 mod reversal;
 mod step;

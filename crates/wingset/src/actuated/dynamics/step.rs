@@ -470,16 +470,16 @@ impl DynamicWing {
         let k1 = deriv(k1a.unwrap_or_else(|| self.accelerations(t0, y0, held)), y0);
         let y2 = add(y0, &k1, 0.5 * h);
         let k2 = deriv(
-            self.accelerations(t0 + 0.5 * h, &y2, &at(t0 + 0.5 * h, &y2)),
+            self.stage_accelerations(t0 + 0.5 * h, &y2, &at(t0 + 0.5 * h, &y2)),
             &y2,
         );
         let y3 = add(y0, &k2, 0.5 * h);
         let k3 = deriv(
-            self.accelerations(t0 + 0.5 * h, &y3, &at(t0 + 0.5 * h, &y3)),
+            self.stage_accelerations(t0 + 0.5 * h, &y3, &at(t0 + 0.5 * h, &y3)),
             &y3,
         );
         let y4 = add(y0, &k3, h);
-        let k4 = deriv(self.accelerations(t0 + h, &y4, &at(t0 + h, &y4)), &y4);
+        let k4 = deriv(self.stage_accelerations(t0 + h, &y4, &at(t0 + h, &y4)), &y4);
         let mut y = [0.0; 4];
         for i in 0..4 {
             y[i] = y0[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
@@ -561,7 +561,7 @@ impl DynamicWing {
         match &self.model.stroke {
             Stroke::Driven {
                 actuator, rest_rad, ..
-            } => actuator.state(a.phi - rest_rad, a.phi_dot, self.drive.voltage_v(t_s)),
+            } => actuator.state(a.phi - rest_rad, a.phi_dot, self.voltage_v(t_s)),
             Stroke::Prescribed(_) => ActuatorState::default(),
         }
     }

@@ -8,6 +8,7 @@ use wingforce::{AxisMoments, TermForce, WingAngles, WingForces};
 
 use super::super::actuator::ActuatorState;
 use super::super::drive::Drive;
+use super::memo::WingKey;
 use super::model::{Stroke, WingDynamics};
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;
@@ -156,6 +157,9 @@ pub struct DynamicWing {
     /// Runge-Kutta stage, as before 2026-12-07
     /// ([`DynamicWing::set_loads_at_every_stage`]).
     pub(super) loads_at_every_stage: bool,
+    /// The key of this wing's model and drive in the memo of what a step asks for more than
+    /// once (`memo`; a run is the same without it).
+    pub(super) memo: WingKey,
 }
 
 impl DynamicWing {
@@ -211,6 +215,7 @@ impl DynamicWing {
             carried_strike: None,
             strikes_in_their_step: false,
             loads_at_every_stage: false,
+            memo: WingKey::fresh(),
         };
         w.set_drive(drive)?;
         Ok(w)
@@ -233,6 +238,7 @@ impl DynamicWing {
             }
         }
         self.drive = drive;
+        self.memo = WingKey::fresh();
         Ok(())
     }
 

@@ -1,0 +1,146 @@
+//! What a step of a [`DynamicWing`] asks for more than once, kept so that it is computed
+//! once: the equations' solution at a state and the drive's voltage at a time.
+//!
+//! A step on an inelastic stop solves the equations at its start for the holding moment, for
+//! the first Runge-Kutta stage and for the first quadrature node, and at its end for the
+//! holding moment, for the last node and for that node's report: the same arguments, bit for
+//! bit, five to seven times (callgrind on the hummingbird: 11.3 solutions per wing and step,
+//! about 0.42 k instructions each). The Runge-Kutta stages between them are solved at
+//! states no other call asks for and do not go through the memo
+//! ([`DynamicWing::stage_accelerations`]), so the two entries hold the step's ends. The
+//! drive's voltage is asked for at the three times of a Runge-Kutta step (its start, middle
+//! and end) over and over, one sine each.
+//!
+//! Both memos compare their arguments bit for bit and hold the results the computation gave,
+//! so a run is the same with or without them. They are kept per thread (a wing set moves
+//! between threads and is read from several at once: a cell in the wing would make it
+//! neither) and keyed by the wing's [`WingKey`], which stands for its model and its drive,
+//! the inputs besides the arguments (the model cannot change after a wing is built, and a
+//! new drive takes a new key, `DynamicWing::set_drive`).
+
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::equations::Held;
+
+/// The free accelerations, the stroke acceleration with the pitch held and the holding
+/// moment ([`DynamicWing::solve`]).
+pub(in crate::actuated) type Solved = ([f64; 2], f64, f64);
+
+/// A wing's model and drive, by a number drawn when the wing was built or its drive set
+/// (copies keep it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(in crate::actuated) struct WingKey(u64);
+
+impl WingKey {
+    /// A number no other wing or drive in this process has had.
+    pub(in crate::actuated) fn fresh() -> Self {
+        static NEXT: AtomicU64 = AtomicU64::new(0);
+        Self(NEXT.fetch_add(1, Ordering::Relaxed))
+    }
+}
+
+/// The arguments of a solution, as bits: the time, the state, the held loads, the wing's
+/// key and the `free` flag. The `locked` flag does not enter a solution; nor does `free`
+/// where the hinge's stops are inelastic or absent (an inelastic stop is a constraint the
+/// integrator keeps: its moment is zero, as no stop's).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(in crate::actuated) struct SolveKey([u64; 13]);
+
+impl SolveKey {
+    pub(in crate::actuated) fn new(
+        wing: WingKey,
+        t: f64,
+        y: &[f64; 4],
+        held: &Held,
+        free_matters: bool,
+    ) -> Self {
+        let a = &held.added;
+        let b = f64::to_bits;
+        Self([
+            b(t),
+            b(y[0]),
+            b(y[1]),
+            b(y[2]),
+            b(y[3]),
+            b(held.q[0]),
+            b(held.q[1]),
+            b(a[0][0]),
+            b(a[0][1]),
+            b(a[1][0]),
+            b(a[1][1]),
+            wing.0,
+            u64::from(held.free && free_matters),
+        ])
+    }
+
+    /// No arguments' key (no wing is numbered u64::MAX).
+    const NONE: Self = Self([u64::MAX; 13]);
+
+    /// Word by word, the state first (the time is often the same).
+    #[inline(always)]
+    fn matches(&self, other: &Self) -> bool {
+        let (a, b) = (&self.0, &other.0);
+        a[1] == b[1] && a[2] == b[2] && a[3] == b[3] && a[4] == b[4] && a == b
+    }
+}
+
+/// The entries of one thread, each list with the slot the next new entry replaces.
+struct Entries {
+    solved_keys: [SolveKey; 2],
+    solved: [Solved; 2],
+    next_solved: usize,
+    /// (wing, time's bits) and V.
+    voltage_keys: [(u64, u64); 3],
+    voltages: [f64; 3],
+    next_voltage: usize,
+}
+
+thread_local! {
+    static ENTRIES: RefCell<Entries> = const {
+        RefCell::new(Entries {
+            solved_keys: [SolveKey::NONE; 2],
+            solved: [([0.0; 2], 0.0, 0.0); 2],
+            next_solved: 0,
+            voltage_keys: [(u64::MAX, 0); 3],
+            voltages: [0.0; 3],
+            next_voltage: 0,
+        })
+    };
+}
+
+/// The solution for `key`, computed by `solve` unless held.
+pub(in crate::actuated) fn solved(key: SolveKey, solve: impl FnOnce() -> Solved) -> Solved {
+    let held = ENTRIES.with_borrow(|e| {
+        (0..2)
+            .find(|&i| e.solved_keys[i].matches(&key))
+            .map(|i| e.solved[i])
+    });
+    if let Some(s) = held {
+        return s;
+    }
+    let s = solve();
+    ENTRIES.with_borrow_mut(|e| {
+        let i = e.next_solved;
+        e.solved_keys[i] = key;
+        e.solved[i] = s;
+        e.next_solved = (i + 1) % 2;
+    });
+    s
+}
+
+/// The voltage of `wing`'s drive at `t_s`, V, computed by `voltage` unless held.
+pub(in crate::actuated) fn voltage_v(wing: WingKey, t_s: f64, voltage: impl FnOnce() -> f64) -> f64 {
+    let key = (wing.0, t_s.to_bits());
+    ENTRIES.with_borrow_mut(|e| {
+        if let Some(i) = (0..3).find(|&i| e.voltage_keys[i] == key) {
+            return e.voltages[i];
+        }
+        let v = voltage();
+        let i = e.next_voltage;
+        e.voltage_keys[i] = key;
+        e.voltages[i] = v;
+        e.next_voltage = (i + 1) % 3;
+        v
+    })
+}
