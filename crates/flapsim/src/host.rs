@@ -208,8 +208,18 @@ pub struct RapierWings {
 }
 
 impl RapierWings {
-    /// Attaches `wings` to `body`, which must be in `bodies` and dynamic.
-    pub fn attach(bodies: &RigidBodySet, body: RigidBodyHandle, wings: WingSet) -> Result<Self> {
+    /// Attaches `wings` to `body`, which must be in `bodies` and dynamic. Under a
+    /// second-order sampling the host moves the body by the trapezoidal rule
+    /// ([`RapierWings::after_step`]), so the wings share a stop strike's impulse between
+    /// steps for that pose (wingset's `actuated::StrikeShare::TrapezoidalPose`).
+    pub fn attach(
+        bodies: &RigidBodySet,
+        body: RigidBodyHandle,
+        mut wings: WingSet,
+    ) -> Result<Self> {
+        if wings.load_sampling().is_second_order() {
+            wings.set_strike_share(wingset::actuated::StrikeShare::TrapezoidalPose);
+        }
         match bodies.get(body) {
             None => Err(Error::Input(format!(
                 "rapier host: body handle {:?} is not in the rigid-body set; allowed: a handle returned by RigidBodySet::insert that was not removed",

@@ -173,7 +173,9 @@ impl Simulation {
     /// [`Simulation::new`], with the wing set's objections (a vehicle assembled by hand with
     /// a bad drive) as an error.
     pub fn try_new(vehicle: Vehicle, mode: Mode) -> Result<Self> {
-        let wings = WingSet::from_vehicle_sized(&vehicle)?;
+        let mut wings = WingSet::from_vehicle_sized(&vehicle)?;
+        // This host moves the body by the trapezoidal rule under a second-order sampling.
+        wings.set_strike_share(vehicle.strike_share());
         let dt_s = wings.dt_s();
         let mut world = PhysicsWorld::new();
         world.gravity = Vector::new(0.0, 0.0, -vehicle.gravity_m_s2);

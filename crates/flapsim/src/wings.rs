@@ -53,8 +53,11 @@ impl FromVehicle for WingSet {
                     .iter()
                     .map(|d| {
                         let mut w = DynamicWing::new(a.dynamics.clone(), *d)?;
-                        w.set_strikes_in_their_step(vehicle.sim.strikes_in_their_step);
-                        w.set_loads_at_every_stage(vehicle.sim.actuated_loads_at_every_stage);
+                        // Hosts of their own (the C ABI, MuJoCo, Python) move the body
+                        // semi-implicitly unless a replay says otherwise; flapsim's set
+                        // theirs (`Vehicle::strike_share`).
+                        w.set_strike_share(vehicle.sim.strike_share.unwrap_or_default());
+                        w.set_stage_loads(vehicle.sim.actuated_stage_loads);
                         Ok(w)
                     })
                     .collect::<wingset::Result<Vec<_>>>()?,

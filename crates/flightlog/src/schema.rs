@@ -348,19 +348,27 @@ pub const BODY_ROTATION_KEY: &str = "body_rotation";
 /// See [`BODY_ROTATION_KEY`].
 pub const BODY_ROTATION_MIDPOINT: &str = "midpoint";
 
-/// The metadata key that says where the logged run's actuated wings reported a hinge stop's
-/// strike, and its value since a strike's impulse is shared between the step it falls in and
-/// the next (wingset's `actuated::dynamics`, `strike.rs`, 2026-12-06). A log without it
-/// re-runs with the whole impulse in its step (`SimSpec::strikes_in_their_step`).
+/// The metadata key that says how the logged run's actuated wings shared a hinge stop's
+/// strike between the body step it falls in and the next (wingset's `actuated::StrikeShare`),
+/// and its values: [`STRIKE_IMPULSE_SHARED`] for the semi-implicit pose's hat (2026-12-06),
+/// [`STRIKE_IMPULSE_SHARED_TRAPEZOIDAL`] for the trapezoidal pose's (2026-12-07, what
+/// flapsim's hosts use under a second-order sampling). A log without it re-runs with the
+/// whole impulse in its step.
 pub const STRIKE_IMPULSE_KEY: &str = "strike_impulse";
 /// See [`STRIKE_IMPULSE_KEY`].
 pub const STRIKE_IMPULSE_SHARED: &str = "shared_with_next_step";
+/// See [`STRIKE_IMPULSE_KEY`].
+pub const STRIKE_IMPULSE_SHARED_TRAPEZOIDAL: &str = "shared_for_the_trapezoidal_pose";
 
 /// The metadata key that says how the logged run's actuated wings on inelastic hinge stops
-/// took their aerodynamic loads within a step, and its value since they take them at each
-/// segment's start and the sub-step's end and linear in time between them (wingset's `actuated::contact`,
-/// 2026-12-07). A log without it re-runs with the loads taken afresh at every Runge-Kutta
-/// stage (`SimSpec::actuated_loads_at_every_stage`).
+/// took their aerodynamic loads within a step (wingset's `actuated::StageLoads`), and its
+/// values: [`ACTUATED_STAGE_LOADS_CARRIED`] since the end's loads are carried to the next
+/// step's start (`actuated::dynamics::carry`, 2026-12-07), [`ACTUATED_STAGE_LOADS_INTERPOLATED`]
+/// for the loads at each segment's start and the sub-step's end and linear in time between
+/// them (`actuated::contact`, 2026-12-07, before the carry). A log without it re-runs with
+/// the loads taken afresh at every Runge-Kutta stage.
 pub const ACTUATED_STAGE_LOADS_KEY: &str = "actuated_stage_loads";
 /// See [`ACTUATED_STAGE_LOADS_KEY`].
 pub const ACTUATED_STAGE_LOADS_INTERPOLATED: &str = "interpolated_between_segment_ends";
+/// See [`ACTUATED_STAGE_LOADS_KEY`].
+pub const ACTUATED_STAGE_LOADS_CARRIED: &str = "carried_from_each_step_end";

@@ -51,8 +51,8 @@ impl DrivenPair {
         let wing = |drive: Drive| -> Result<DynamicWing> {
             let mut w = DynamicWing::new(act.dynamics.clone(), drive)?;
             w.set_load_sampling(sampling);
-            w.set_strikes_in_their_step(vehicle.sim.strikes_in_their_step);
-            w.set_loads_at_every_stage(vehicle.sim.actuated_loads_at_every_stage);
+            w.set_strike_share(vehicle.strike_share());
+            w.set_stage_loads(vehicle.sim.actuated_stage_loads);
             Ok(w)
         };
         Ok(Self {

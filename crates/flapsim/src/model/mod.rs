@@ -308,6 +308,20 @@ impl Vehicle {
         })
     }
 
+    /// How flapsim's hosts share an actuated wing's stop strike between body steps
+    /// (wingset's `actuated::StrikeShare`): the model's replay setting, else by their pose
+    /// update, the trapezoidal rule under a second-order sampling
+    /// ([`crate::host::trapezoid_pose`]) and rapier's semi-implicit Euler otherwise.
+    pub fn strike_share(&self) -> wingset::actuated::StrikeShare {
+        use wingset::actuated::StrikeShare;
+        self.sim
+            .strike_share
+            .unwrap_or(match self.load_sampling().is_second_order() {
+                true => StrikeShare::TrapezoidalPose,
+                false => StrikeShare::SemiImplicitPose,
+            })
+    }
+
     /// Wingbeat frequency now, Hz (both wings share it): the drive frequency of an
     /// actuated vehicle.
     pub fn freq_hz(&self) -> f64 {

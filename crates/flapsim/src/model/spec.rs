@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 use wingforce::{AeroSpec, FluidSpec, KinematicsSpec, WingSpec};
+use wingset::actuated::{StageLoads, StrikeShare};
 
 use crate::actuated::spec::ActuationSpec;
 
@@ -128,19 +129,22 @@ pub struct SimSpec {
     /// model-file field. See [`crate::host::midpoint_torque_world`].
     #[serde(skip)]
     pub rotation_at_step_start: bool,
-    /// An actuated wing's stop strike reported whole in the body step it falls in, as before
-    /// 2026-12-06: a log written before the strikes were shared between steps (no
-    /// `strike_impulse` metadata) re-runs with it. Not a model-file field. See wingset's
-    /// `actuated::dynamics` (`strike.rs`).
+    /// How an actuated wing's stop strike is shared between the body step it falls in and
+    /// the next (wingset's `actuated::StrikeShare`): `None`, by the host (flapsim's moves the
+    /// body by the trapezoidal rule under a second-order sampling,
+    /// [`crate::Vehicle::strike_share`]); a log re-runs with the rule its `strike_impulse`
+    /// metadata names (whole in its step without it, as before 2026-12-06). Not a
+    /// model-file field.
     #[serde(skip)]
-    pub strikes_in_their_step: bool,
-    /// An actuated wing on inelastic hinge stops with its aerodynamic loads taken afresh at
-    /// every Runge-Kutta stage, as before 2026-12-07: a log written before the loads were
-    /// taken at each segment's start and the sub-step's end and interpolated between them (no `actuated_stage_loads`
-    /// metadata) re-runs with it. Not a model-file field. See wingset's `actuated::contact`
-    /// (wings without stops take their loads at every stage either way).
+    pub strike_share: Option<StrikeShare>,
+    /// How an actuated wing on inelastic hinge stops takes its aerodynamic loads within a
+    /// step (wingset's `actuated::StageLoads`): carried from each step's end to the next
+    /// step's start since 2026-12-07; a log re-runs with the way its `actuated_stage_loads`
+    /// metadata names (afresh at every Runge-Kutta stage without it, as before 2026-12-07).
+    /// Not a model-file field. Wings without stops take their loads at every stage either
+    /// way.
     #[serde(skip)]
-    pub actuated_loads_at_every_stage: bool,
+    pub actuated_stage_loads: StageLoads,
     /// rapier solver iterations (substeps) per step.
     pub solver_iterations: usize,
     /// Add a ground plane at z = 0 and a contact sphere on the body (take-off and landing).
@@ -161,8 +165,8 @@ impl Default for SimSpec {
             accurate_steps_per_wingbeat: None,
             load_sampling: None,
             rotation_at_step_start: false,
-            strikes_in_their_step: false,
-            actuated_loads_at_every_stage: false,
+            strike_share: None,
+            actuated_stage_loads: StageLoads::default(),
             solver_iterations: 1,
             ground: false,
             wing_mass_kg: 0.0,

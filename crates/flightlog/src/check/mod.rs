@@ -40,9 +40,10 @@ use crate::json::Json;
 use crate::options::SimSettings;
 use crate::read::read_log;
 use crate::schema::{
-    ACTUATED_STAGE_LOADS_INTERPOLATED, ACTUATED_STAGE_LOADS_KEY, ACTUATED_STEP_MEAN_KEY,
-    ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT, STRIKE_IMPULSE_KEY,
-    STRIKE_IMPULSE_SHARED, TOPIC_STATE, TOPIC_WIND,
+    ACTUATED_STAGE_LOADS_CARRIED, ACTUATED_STAGE_LOADS_INTERPOLATED, ACTUATED_STAGE_LOADS_KEY,
+    ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT,
+    STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, STRIKE_IMPULSE_SHARED_TRAPEZOIDAL, TOPIC_STATE,
+    TOPIC_WIND,
 };
 use compare::{Comparer, logged_values};
 pub use outcome::CheckOutcome;
@@ -117,11 +118,9 @@ pub fn check_log(path: impl AsRef<Path>) -> Result<CheckOutcome> {
     spec.sim.rotation_at_step_start =
         md.get(BODY_ROTATION_KEY).map(String::as_str) != Some(BODY_ROTATION_MIDPOINT);
     // A run logged before the strikes were shared between steps reported each in its step.
-    spec.sim.strikes_in_their_step =
-        md.get(STRIKE_IMPULSE_KEY).map(String::as_str) != Some(STRIKE_IMPULSE_SHARED);
+    spec.sim.strike_share = Some(logged_strike_share(md)?);
     // A run logged before the stops' stage loads were interpolated took them at every stage.
-    spec.sim.actuated_loads_at_every_stage = md.get(ACTUATED_STAGE_LOADS_KEY).map(String::as_str)
-        != Some(ACTUATED_STAGE_LOADS_INTERPOLATED);
+    spec.sim.actuated_stage_loads = logged_stage_loads(md)?;
     let vehicle = spec.build(origin).map_err(embedded)?;
     // The rate the recorder actually used (it writes it itself), else the settings'.
     let settings_rate = match &run {
@@ -296,6 +295,38 @@ fn logged_load_sampling(
 /// written before the forms existed, when eq 7-8 was the only form) the paper's form, unless
 /// the embedded model switched the term off. `from_model` is what the embedded model file
 /// resolves to today.
+/// How the logged run's actuated wings shared a strike between steps
+/// ([`STRIKE_IMPULSE_KEY`]).
+fn logged_strike_share(
+    md: &std::collections::BTreeMap<String, String>,
+) -> Result<flapsim::actuated::dynamics::StrikeShare> {
+    use flapsim::actuated::dynamics::StrikeShare;
+    match md.get(STRIKE_IMPULSE_KEY).map(String::as_str) {
+        None => Ok(StrikeShare::WholeInStep),
+        Some(STRIKE_IMPULSE_SHARED) => Ok(StrikeShare::SemiImplicitPose),
+        Some(STRIKE_IMPULSE_SHARED_TRAPEZOIDAL) => Ok(StrikeShare::TrapezoidalPose),
+        Some(other) => Err(Error::Embedded(format!(
+            "the log's `{STRIKE_IMPULSE_KEY}` metadata `{other}` is not a way of sharing a strike: allowed \"{STRIKE_IMPULSE_SHARED}\", \"{STRIKE_IMPULSE_SHARED_TRAPEZOIDAL}\" (none: whole in its step)"
+        ))),
+    }
+}
+
+/// How the logged run's wings on inelastic stops took their loads within a step
+/// ([`ACTUATED_STAGE_LOADS_KEY`]).
+fn logged_stage_loads(
+    md: &std::collections::BTreeMap<String, String>,
+) -> Result<flapsim::actuated::dynamics::StageLoads> {
+    use flapsim::actuated::dynamics::StageLoads;
+    match md.get(ACTUATED_STAGE_LOADS_KEY).map(String::as_str) {
+        None => Ok(StageLoads::EveryStage),
+        Some(ACTUATED_STAGE_LOADS_INTERPOLATED) => Ok(StageLoads::Interpolated),
+        Some(ACTUATED_STAGE_LOADS_CARRIED) => Ok(StageLoads::Carried),
+        Some(other) => Err(Error::Embedded(format!(
+            "the log's `{ACTUATED_STAGE_LOADS_KEY}` metadata `{other}` is not a way of taking the loads: allowed \"{ACTUATED_STAGE_LOADS_INTERPOLATED}\", \"{ACTUATED_STAGE_LOADS_CARRIED}\" (none: at every stage)"
+        ))),
+    }
+}
+
 fn logged_added_mass_form(
     md: &std::collections::BTreeMap<String, String>,
     from_model: wingforce::AddedMassForm,

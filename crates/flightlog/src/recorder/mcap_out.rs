@@ -18,9 +18,10 @@ use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, ACTUATED_STAGE_LOADS_INTERPOLATED, ACTUATED_STAGE_LOADS_KEY, ACTUATED_STEP_MEAN_KEY,
-    ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING,
-    OPTIONAL_CHANNELS, SCHEMA_ENCODING, STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, WingLayout,
+    self, ACTUATED_STAGE_LOADS_CARRIED, ACTUATED_STAGE_LOADS_INTERPOLATED,
+    ACTUATED_STAGE_LOADS_KEY, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY,
+    BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING,
+    STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, STRIKE_IMPULSE_SHARED_TRAPEZOIDAL, WingLayout,
     channel_id,
 };
 use crate::writer::{Flushed, Writer};
@@ -107,7 +108,7 @@ fn run_metadata(
     vehicle: &Vehicle,
     log_rate_hz: Option<f64>,
 ) -> BTreeMap<String, String> {
-    BTreeMap::from([
+    let mut md = BTreeMap::from([
         ("version".to_owned(), env!("CARGO_PKG_VERSION").to_owned()),
         ("command".to_owned(), info.command.clone()),
         ("command_line".to_owned(), info.command_line.clone()),
@@ -144,16 +145,30 @@ fn run_metadata(
             BODY_ROTATION_KEY.to_owned(),
             BODY_ROTATION_MIDPOINT.to_owned(),
         ),
-        (
-            STRIKE_IMPULSE_KEY.to_owned(),
-            STRIKE_IMPULSE_SHARED.to_owned(),
-        ),
-        (
-            ACTUATED_STAGE_LOADS_KEY.to_owned(),
-            ACTUATED_STAGE_LOADS_INTERPOLATED.to_owned(),
-        ),
         ("wing_frame".to_owned(), schema::wing_frame_doc().to_owned()),
-    ])
+    ]);
+    // How the run's actuated wings shared strikes and took their stops' loads (none: as
+    // before either was written).
+    use flapsim::actuated::dynamics::{StageLoads, StrikeShare};
+    let share = match vehicle.strike_share() {
+        StrikeShare::WholeInStep => None,
+        StrikeShare::SemiImplicitPose => Some(STRIKE_IMPULSE_SHARED),
+        StrikeShare::TrapezoidalPose => Some(STRIKE_IMPULSE_SHARED_TRAPEZOIDAL),
+    };
+    let stage_loads = match vehicle.sim.actuated_stage_loads {
+        StageLoads::EveryStage => None,
+        StageLoads::Interpolated => Some(ACTUATED_STAGE_LOADS_INTERPOLATED),
+        StageLoads::Carried => Some(ACTUATED_STAGE_LOADS_CARRIED),
+    };
+    for (key, value) in [
+        (STRIKE_IMPULSE_KEY, share),
+        (ACTUATED_STAGE_LOADS_KEY, stage_loads),
+    ] {
+        if let Some(v) = value {
+            md.insert(key.to_owned(), v.to_owned());
+        }
+    }
+    md
 }
 
 /// Creates the file and writes its start: header, the `flapwing` metadata, the model

@@ -230,6 +230,15 @@ impl Wing {
         self.cache.inflow_gradient_per_s = other.cache.inflow_gradient_per_s;
     }
 
+    /// The dynamic-inflow field in use ([`Self::set_inflow_field`]): the downwash at the
+    /// hinge as a stroke-frame vector, m/s, and its gradient over the stroke plane, 1/s.
+    pub fn inflow_field(&self) -> (Vector3<f64>, nalgebra::Vector2<f64>) {
+        (
+            self.cache.translational_inflow_s,
+            self.cache.inflow_gradient_per_s,
+        )
+    }
+
     /// The hinge's position in the stroke frame (the stroke plane through the hinge), m.
     pub fn hinge_in_stroke_m(&self) -> Vector3<f64> {
         self.cache.hinge_s

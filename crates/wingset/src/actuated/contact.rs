@@ -2,7 +2,7 @@
 //! which also states how the steps are chosen and split): the part of
 //! [`DynamicWing`]'s sub-step that only a hinge with stops takes.
 
-use super::dynamics::{DynamicWing, Held, Nodes, Reheld, Stroke};
+use super::dynamics::{DynamicWing, Held, Nodes, Reheld, StageLoads, Stroke};
 use super::stop::{MAX_CONTACT_STEPS, StopContact, hermite_root, illinois_root};
 
 /// Most segments (touches and releases) of one sub-step on an inelastic stop.
@@ -157,8 +157,8 @@ impl DynamicWing {
     /// and the holding moment's). The end's
     /// state is written to `predicted_end` when the last segment reaches the sub-step's end:
     /// the step's mean loads take its loads as their last node's
-    /// (`dynamics::step`). With [`DynamicWing::loads_at_every_stage`] (logs written
-    /// before 2026-12-07) the loads are taken afresh at every stage instead.
+    /// (`dynamics::step`). With [`StageLoads::EveryStage`] (logs written before
+    /// 2026-12-07) the loads are taken afresh at every stage instead.
     #[allow(clippy::too_many_arguments)]
     fn advance_inelastic(
         &self,
@@ -175,7 +175,7 @@ impl DynamicWing {
         let end = t0 + h;
         let (mut t, mut y) = (t0, *y0);
         let mut loads = *held;
-        let every_stage = self.loads_at_every_stage();
+        let every_stage = self.stage_loads() == StageLoads::EveryStage;
         *predicted_end = None;
         // After the wing leaves a stop, the next segment is free even where round-off
         // leaves the holding moment a hair above zero.

@@ -26,6 +26,7 @@ pub mod stop;
 pub use actuator::{Actuator, ActuatorState, DcMotor, Piezo, Reflected};
 pub use drive::Drive;
 pub use dynamics::{
-    ActuatedWingOutput, DynamicWing, Hinge, Stroke, WingDynamics, WingInertia, WingState, WingStep,
+    ActuatedWingOutput, DynamicWing, Hinge, StageLoads, StrikeShare, Stroke, WingDynamics,
+    WingInertia, WingState, WingStep,
 };
 pub use stop::StopContact;

@@ -6,7 +6,7 @@
 use wingforce::Wing;
 
 use super::{PairInflows, StepMemory, WingSet};
-use crate::actuated::{Drive, DynamicWing};
+use crate::actuated::{Drive, DynamicWing, StrikeShare};
 use crate::error::{Error, Result};
 
 impl WingSet {
@@ -32,9 +32,13 @@ impl WingSet {
     /// Forgets the body states of earlier steps: the host moved the body other than by
     /// integrating the set's loads (a reset, a disturbance set by hand), so the next step
     /// takes the body's state at its start ([`LoadSampling::Midpoint`] predicts the
-    /// midpoint from the last two states otherwise).
+    /// midpoint from the last two states otherwise), and actuated wings take their loads
+    /// afresh (`wingset::actuated::StageLoads::Carried`).
     pub fn restart_motion(&mut self) {
         self.prev_body = None;
+        for w in self.dynamic.iter_mut().flatten() {
+            w.forget_carry();
+        }
         if let Some(i) = &mut self.inflow {
             i.restart();
         }
@@ -85,9 +89,19 @@ impl WingSet {
             mine.restart();
         }
         if let Some(d) = &mut self.dynamic {
+            // The set's own ways of taking the stops' loads and sharing strikes stay.
+            let own = d.first().map(|w| (w.stage_loads(), w.strike_share_rule()));
             d.clone_from_slice(dynamic);
             for w in d.iter_mut() {
                 w.set_load_sampling(self.sampling);
+                // Their last step's end was taken at another body's motion.
+                w.forget_carry();
+                if let Some((stage_loads, share)) = own {
+                    if w.stage_loads() != stage_loads {
+                        w.set_stage_loads(stage_loads);
+                    }
+                    w.set_strike_share(share);
+                }
             }
             for (w, settled) in self.wings.iter_mut().zip(wings) {
                 w.set_stroke_reference(settled.stroke_reference().cloned());
@@ -103,6 +117,16 @@ impl WingSet {
             }
         }
         self.restart_motion();
+    }
+
+    /// How the actuated wings share a stop strike's impulse between the body's steps: by the
+    /// host's pose ([`StrikeShare`]; a host that moves the body by the trapezoidal rule, as
+    /// flapsim's do under a second-order sampling, sets [`StrikeShare::TrapezoidalPose`]).
+    /// Nothing for prescribed kinematics.
+    pub fn set_strike_share(&mut self, share: StrikeShare) {
+        for w in self.dynamic.iter_mut().flatten() {
+            w.set_strike_share(share);
+        }
     }
 
     /// The drives of the actuated wings now.

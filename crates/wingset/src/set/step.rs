@@ -84,7 +84,7 @@ impl WingSet {
         // allocates nothing) and put back whatever the outcome.
         let mut out = std::mem::take(&mut self.out);
         let r = match self.dynamic {
-            Some(_) => self.actuated_into(&sampled, &mut out),
+            Some(_) => self.actuated_into(body, &sampled, &mut out),
             None => Ok(()),
         }
         .and_then(|()| self.finish(body, &sampled, &mut out))
@@ -235,7 +235,7 @@ impl WingSet {
         if self.dynamic.is_some() {
             let mut copy = self.clone();
             // A state the step would reject still gets its loads reported as far as known.
-            let _ = copy.actuated_into(body, &mut out);
+            let _ = copy.actuated_into(given, body, &mut out);
             self.finish(given, body, &mut out)?;
             in_step_frame(&mut out, &self.wings, given, body);
             return Ok(out);
@@ -468,12 +468,29 @@ impl PrescribedLoads<'_> {
 }
 
 impl WingSet {
-    /// The loads of actuated wings, advancing their dynamics by one step. The inertial
-    /// reaction of the wings and actuators is reported in `wing_inertia`, apart from the
-    /// aerodynamic terms, and both enter `total`.
-    fn actuated_into(&mut self, body: &State, out: &mut WingSetOutput) -> Result<()> {
+    /// The loads of actuated wings, advancing their dynamics by one step from the body's
+    /// state `given` at its start, whose midpoint is `body` ([`Self::sample_state`]). The
+    /// inertial reaction of the wings and actuators is reported in `wing_inertia`, apart
+    /// from the aerodynamic terms, and both enter `total`. Each wing is handed the body's
+    /// motion at the step's start, its midpoint and its end, the end's extrapolated linearly
+    /// from the other two (second order, as the midpoint's prediction is): where a wing
+    /// carries its loads from step to step it takes each at its own time's motion
+    /// (`wingset::actuated::StageLoads::Carried`).
+    fn actuated_into(
+        &mut self,
+        given: &State,
+        body: &State,
+        out: &mut WingSetOutput,
+    ) -> Result<()> {
         let motion = self.motion(body);
+        // The start in the set's own attitude (that of the midpoint's prediction, second
+        // order), not the host's (first order: `attitude_estimate`).
+        let given = &State {
+            world_from_body: self.attitude_estimate(given),
+            ..*given
+        };
         let winds = self.wing_winds_world_m_s.as_deref();
+        let wind = &self.wind_world_m_s;
         let (t_s, step, dt_s) = (self.time_s(), self.step, self.dt_s);
         let freq_hz = self.freq_hz();
         let Some(dynamic) = &mut self.dynamic else {
@@ -488,12 +505,17 @@ impl WingSet {
             out.actuated.resize(n, ActuatedWingOutput::default());
         }
         for i in 0..n {
-            let motion_i = match winds {
-                Some(w) => air_motion(body, &w[i]),
-                None => motion,
+            let (start_i, motion_i) = match winds {
+                Some(w) => (air_motion(given, &w[i]), air_motion(body, &w[i])),
+                None => (air_motion(given, wind), motion),
+            };
+            let end_i = BodyMotion {
+                velocity_m_s: 2.0 * motion_i.velocity_m_s - start_i.velocity_m_s,
+                angular_velocity_rad_s: 2.0 * motion_i.angular_velocity_rad_s
+                    - start_i.angular_velocity_rad_s,
             };
             let s = dynamic[i]
-                .step(&mut self.wings[i], &motion_i, dt_s)
+                .step_moving(&mut self.wings[i], [&start_i, &motion_i, &end_i], dt_s)
                 .map_err(|e| match e {
                     Error::Diverged { reason, .. } => Error::Diverged { t_s, step, reason },
                     e => e,

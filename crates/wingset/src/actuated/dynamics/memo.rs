@@ -130,7 +130,11 @@ pub(in crate::actuated) fn solved(key: SolveKey, solve: impl FnOnce() -> Solved)
 }
 
 /// The voltage of `wing`'s drive at `t_s`, V, computed by `voltage` unless held.
-pub(in crate::actuated) fn voltage_v(wing: WingKey, t_s: f64, voltage: impl FnOnce() -> f64) -> f64 {
+pub(in crate::actuated) fn voltage_v(
+    wing: WingKey,
+    t_s: f64,
+    voltage: impl FnOnce() -> f64,
+) -> f64 {
     let key = (wing.0, t_s.to_bits());
     ENTRIES.with_borrow_mut(|e| {
         if let Some(i) = (0..3).find(|&i| e.voltage_keys[i] == key) {

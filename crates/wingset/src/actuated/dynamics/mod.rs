@@ -107,6 +107,7 @@
 //! reacts on the body, the body does not shake the wing), the actuator's reaction other
 //! than its reflected inertia about the stroke axis, and gravity on the wing.
 
+mod carry;
 mod equations;
 mod memo;
 mod model;
@@ -115,8 +116,10 @@ mod step;
 mod strike;
 mod wing;
 
+pub use carry::StageLoads;
 pub(super) use equations::Held;
 pub use model::{Hinge, Stroke, WingDynamics, WingInertia};
 pub use step::MAX_PENETRATION_RAD;
 pub(super) use step::{Nodes, Reheld};
+pub use strike::StrikeShare;
 pub use wing::{ActuatedWingOutput, DynamicWing, WingState, WingStep};

@@ -70,7 +70,18 @@ impl DynamicWing {
 
     /// Collects the stroke-rate profile of each drive period and, at its end, measures the
     /// stroke reference (peak rate, dtau_A, dtau_D by the half-peak rule) the wing takes up.
-    pub(super) fn track_period(&mut self, wing: &Wing) -> Option<StrokeReference> {
+    /// `within`: (t, phi_dot) samples inside the step besides its end, in time order: both
+    /// sides of a jump of the rate (an inelastic strike moves the stroke with the pitch) and
+    /// of a stroke reversal the step was split at. Sampled at the steps' ends alone, a
+    /// profile with a jump puts the half-peak crossing and the reversal anywhere within the
+    /// step that holds it: an O(h) error in dtau_A and dtau_D, and so in the wake-capture
+    /// term from the next period on (measured on the hummingbird: its tethered two-wingbeat
+    /// mean force converged at first order, its one-wingbeat mean at second).
+    pub(super) fn track_period(
+        &mut self,
+        wing: &Wing,
+        within: &[(f64, f64)],
+    ) -> Option<StrokeReference> {
         let f = self.drive.freq_hz;
         // Under the step mean, a step that ends within round-off of a period's end ends
         // that period, so that its stroke reference is taken up from the next step on,
@@ -85,6 +96,16 @@ impl DynamicWing {
         let period = (self.t_s * f + eps).floor() as i64;
         let pd = self.angles([0.0; 2]).phi_dot;
         let mut reference = None;
+        // The samples within the step that fall before the period's end belong to it.
+        let before = within
+            .iter()
+            .take_while(|(t, _)| ((t * f + eps).floor() as i64) < period)
+            .count();
+        let (old, new) = match period != self.period_index {
+            true => within.split_at(before),
+            false => (within, &within[within.len()..]),
+        };
+        self.samples.extend_from_slice(old);
         if period != self.period_index {
             if self.model.aero {
                 // Under the step mean, a sign change of the rate is a reversal only after a
@@ -101,6 +122,7 @@ impl DynamicWing {
             self.samples.clear();
             self.period_index = period;
         }
+        self.samples.extend_from_slice(new);
         self.samples.push((self.t_s, pd));
         reference
     }

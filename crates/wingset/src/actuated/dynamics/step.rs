@@ -8,8 +8,10 @@ use nalgebra::Matrix3;
 use wingforce::{AxisMoments, BodyMotion, StrokePhase, TermForce, Wing, WingForces, WingFrame};
 
 use super::super::actuator::ActuatorState;
+use super::carry::{Carry, StageLoads, motion_between};
 use super::equations::Held;
 use super::model::Stroke;
+use super::strike::StrikeShare;
 use super::wing::{DynamicWing, WingState, WingStep};
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;
@@ -98,6 +100,20 @@ impl DynamicWing {
     /// step's start. A pitch past the hinge's break limit (or, with contact stops, a wing
     /// pressed implausibly deep into a stop) or a non-finite state is an error.
     pub fn step(&mut self, wing: &mut Wing, body: &BodyMotion, dt_s: f64) -> Result<WingStep> {
+        self.step_moving(wing, [body, body, body], dt_s)
+    }
+
+    /// [`Self::step`] with the body's motion at the step's start, its midpoint and its end
+    /// (`motions`): the loads are taken at the midpoint's motion, or, on inelastic stops
+    /// whose loads are carried from step to step ([`StageLoads::Carried`], `carry`), each
+    /// at the motion of its own time (linear between the start's and the end's).
+    pub fn step_moving(
+        &mut self,
+        wing: &mut Wing,
+        motions: [&BodyMotion; 3],
+        dt_s: f64,
+    ) -> Result<WingStep> {
+        let [start_motion, body, end_motion] = motions;
         let n = self.model.substeps.max(1);
         let h = dt_s / n as f64;
         let start = StepStart {
@@ -109,6 +125,20 @@ impl DynamicWing {
         // loads over the step (below).
         let stops = self.model.hinge.contact.is_some() || self.sampling.is_second_order();
         let inelastic = self.model.hinge.contact.is_some_and(|c| c.is_inelastic());
+        // The end's loads (and a smooth step's report) handed from step to step (`carry`).
+        let carrying = self.stage_loads == StageLoads::Carried
+            && inelastic
+            && self.sampling.is_second_order()
+            && n == 1;
+        let motion_at = |t_s: f64| match carrying {
+            true => motion_between(start_motion, end_motion, (t_s - start.t_s) / dt_s),
+            false => *body,
+        };
+        let carried = match carrying {
+            true => self.carry.take().filter(|c| c.is_start(&start, dt_s, wing)),
+            false => None,
+        };
+        let carried_report = carried.as_ref().and_then(|c| c.report);
         let mut out = None;
         let mut frame_start = None;
         let mut nodes = Nodes::new();
@@ -119,7 +149,10 @@ impl DynamicWing {
         // last loads the integrator took (on an inelastic stop, the sub-step's end's, on the
         // state its last segment's path predicted: `predicted_end`), each computed once.
         let mut start_loads = None;
-        let mut moved: Vec<(WingStep, f64)> = Vec::new();
+        // The end node's state, loads and (a smooth step's) report, for the next step
+        // (`carry`).
+        let mut end_node = None;
+        let mut moved: Vec<(WingStep, [f64; 3])> = Vec::new();
         let last_loads: Cell<Option<Loads>> = Cell::new(None);
         // On an inelastic stop: the state whose loads the last sub-step took at its end
         // (`actuated::contact`), those of the step's last node.
@@ -127,11 +160,15 @@ impl DynamicWing {
         let mut next_reference = None;
         // Stroke reversals the step was split at (the step mean without stops): time and the
         // stroke phase that starts there.
-        let split_reversals =
-            self.sampling == LoadSampling::StepMean && self.model.hinge.contact.is_none();
+        // (With inelastic stops whose loads are carried, too: `carry`.)
+        let split_reversals = self.sampling == LoadSampling::StepMean
+            && (self.model.hinge.contact.is_none() || carrying);
         let mut reversals: Vec<(f64, StrokePhase)> = Vec::new();
         for sub in 0..n {
-            let (held, aero) = self.aero_held(wing, body);
+            let (held, aero) = match (sub, &carried) {
+                (0, Some(c)) => (c.held, c.aero),
+                _ => self.aero_held(wing, &motion_at(self.t_s)),
+            };
             let y0 = self.y();
             let t0 = self.t_s;
             // An inelastic stop's segments take their own (`actuated::contact`).
@@ -140,7 +177,10 @@ impl DynamicWing {
                 false => Some(self.accelerations(t0, &y0, &held)),
             };
             if sub == 0 {
-                frame_start = aero.as_ref().map(|(_, frame)| *frame);
+                frame_start = match &carried {
+                    Some(c) => c.frame,
+                    None => aero.as_ref().map(|(_, frame)| *frame),
+                };
                 if stops {
                     start_loads = Some((held, aero));
                 } else {
@@ -163,12 +203,13 @@ impl DynamicWing {
                         ..phase0
                     },
                 };
-                let (held, aero) = self.aero_at(wing, body, &at);
+                let (held, aero) = self.aero_at(wing, &motion_at(t_s), &at);
                 if stops {
                     last_loads.set(Some((at, held, aero)));
                 }
                 held
             };
+            let nodes_before = nodes.len();
             let y = self.advance(
                 t0,
                 &y0,
@@ -179,6 +220,23 @@ impl DynamicWing {
                 &reheld,
                 &mut predicted_end,
             )?;
+            // The loads of the half stroke that starts at a reversal at `t_rev` (`after`).
+            let reheld_from = |t_rev: f64, after: StrokePhase| {
+                let (this, wing, last_loads, motion_at) = (&*self, &*wing, &last_loads, &motion_at);
+                move |t_s: f64, y: &[f64; 4]| {
+                    let at = StepStart {
+                        state: WingState::from_y(y),
+                        t_s,
+                        phase: StrokePhase {
+                            t_star: (t_s - t_rev) * freq_hz,
+                            ..after
+                        },
+                    };
+                    let (held, aero) = this.aero_at(wing, &motion_at(t_s), &at);
+                    last_loads.set(Some((at, held, aero)));
+                    held
+                }
+            };
             // The step mean without stops: a stroke reversal inside the sub-step splits it
             // (see `reversal_within`), each part integrated with its own half stroke's loads.
             let split = match split_reversals {
@@ -186,25 +244,47 @@ impl DynamicWing {
                 false => None,
             };
             let y = match split {
+                // On inelastic stops each part is advanced with its segments (strikes and
+                // releases), the reversal's node taken on both sides.
+                Some((tau, after)) if tau < h && inelastic => {
+                    nodes.truncate(nodes_before);
+                    let t_rev = t0 + tau;
+                    let ya = self.advance(
+                        t0,
+                        &y0,
+                        tau,
+                        &held,
+                        k1a,
+                        &mut nodes,
+                        &reheld,
+                        &mut predicted_end,
+                    )?;
+                    if let Some(left) = nodes.last_mut() {
+                        left.2 = true;
+                    }
+                    nodes.push((t_rev, ya, false));
+                    let reheld_after = reheld_from(t_rev, after);
+                    let held_after = reheld_after(t_rev, &ya);
+                    let y = self.advance(
+                        t_rev,
+                        &ya,
+                        h - tau,
+                        &held_after,
+                        None,
+                        &mut nodes,
+                        &reheld_after,
+                        &mut predicted_end,
+                    )?;
+                    reversals.push((t_rev, after));
+                    y
+                }
                 Some((tau, after)) if tau < h => {
                     nodes.pop();
                     let t_rev = t0 + tau;
                     let ya = self.rk4(t0, &y0, tau, &held, k1a, Some(&reheld)).0;
                     nodes.push((t_rev, ya, true));
                     nodes.push((t_rev, ya, false));
-                    let reheld_after = |t_s: f64, y: &[f64; 4]| {
-                        let at = StepStart {
-                            state: WingState::from_y(y),
-                            t_s,
-                            phase: StrokePhase {
-                                t_star: (t_s - t_rev) * freq_hz,
-                                ..after
-                            },
-                        };
-                        let (held, aero) = self.aero_at(wing, body, &at);
-                        last_loads.set(Some((at, held, aero)));
-                        held
-                    };
+                    let reheld_after = reheld_from(t_rev, after);
                     let held_after = reheld_after(t_rev, &ya);
                     let k1b = self.accelerations(t_rev, &ya, &held_after);
                     let y = self
@@ -242,7 +322,20 @@ impl DynamicWing {
             } else {
                 self.track_reversal(pd_old, t0, h);
             }
-            if let Some(r) = self.track_period(wing) {
+            // Carried: the rate on both sides of each jump and reversal within the sub-step.
+            let mut within: Vec<(f64, f64)> = Vec::new();
+            if carrying {
+                for k in (nodes_before.max(1))..nodes.len() {
+                    let (a, b) = (&nodes[k - 1], &nodes[k]);
+                    if a.2 && a.0 == b.0 && a.0 < self.t_s {
+                        let rate = |y: &[f64; 4]| {
+                            self.angles_at(&WingState::from_y(y), a.0, [0.0; 2]).phi_dot
+                        };
+                        within.extend([(a.0, rate(&a.1)), (b.0, rate(&b.1))]);
+                    }
+                }
+            }
+            if let Some(r) = self.track_period(wing, &within) {
                 if stops {
                     // Taken up after the step's mean loads, which are those the integrator
                     // used over the step (the period's reference).
@@ -338,7 +431,7 @@ impl DynamicWing {
                 {
                     (held, aero)
                 }
-                _ => self.aero_at(wing, body, at),
+                _ => self.aero_at(wing, &motion_at(at.t_s), at),
             };
             let mut mean = {
                 // Each node's loads and accelerations (the strike's spike resolved by the
@@ -355,11 +448,14 @@ impl DynamicWing {
                     if w > 0.0 {
                         let at = at(*t_s, y, *free);
                         let (held, aero) = node_loads(k, &at);
+                        // A reversal's left side is no touch: on inelastic stops its
+                        // accelerations are the stops' (elsewhere the flag changes nothing).
+                        let at_reversal = inelastic && reversals.iter().any(|r| r.0 == *t_s);
                         let a = self.accelerations(
                             *t_s,
                             y,
                             &Held {
-                                free: *free,
+                                free: *free && !at_reversal,
                                 ..held
                             },
                         );
@@ -368,20 +464,38 @@ impl DynamicWing {
                         points.push((at, held, aero, a, w));
                     }
                 }
-                let shift = [acc[0] - mean_acc[0], acc[1] - mean_acc[1]];
+                // A smooth step whose loads are carried takes each node's report at its own
+                // accelerations, so that its end's is the next step's start's (`carry`).
+                let smooth = carrying
+                    && points.len() == 2
+                    && kept.len() == 2
+                    && strikes.is_empty()
+                    && reversals.is_empty();
+                let shift = match smooth {
+                    true => [0.0; 2],
+                    false => [acc[0] - mean_acc[0], acc[1] - mean_acc[1]],
+                };
                 // The report's motion (angles, actuator, stroke phase) is the mid-step one;
                 // its loads are the nodes' weighted sum.
                 let mut mean = self.motion(acc, &mid);
-                for (at, held, aero, a, w) in points {
+                let last = points.len().saturating_sub(1);
+                for (k, (node, held, aero, a, w)) in points.into_iter().enumerate() {
                     let a = [a[0] + shift[0], a[1] + shift[1]];
-                    mean.add_scaled(&self.report(wing, &held, aero, a, &at), w);
+                    let report = match (k, carried_report) {
+                        (0, Some(r)) if smooth => r,
+                        _ => self.report(wing, &held, aero, a, &node),
+                    };
+                    mean.add_scaled(&report, w);
+                    if carrying && k == last {
+                        end_node = Some((node, held, aero, smooth.then_some(report)));
+                    }
                 }
                 mean
             };
             for (at, jump) in strikes {
-                if self.strikes_in_their_step {
+                if self.strike_share == StrikeShare::WholeInStep {
                     // As before 2026-12-06 (`super::strike`), operation for operation.
-                    let held = self.aero_at(wing, body, &at).0;
+                    let held = self.aero_at(wing, &motion_at(at.t_s), &at).0;
                     let per_s = [jump[0] / dt_s, jump[1] / dt_s];
                     mean.add_scaled(&self.report(wing, &held, None, per_s, &at), 1.0);
                     mean.add_scaled(&self.report(wing, &held, None, [0.0; 2], &at), -1.0);
@@ -390,23 +504,38 @@ impl DynamicWing {
                     continue;
                 }
                 // The impulse (its fluid part is in the added mass's change of impulse
-                // over the step, below): this step reports its hat share, the next the rest.
-                let (inertial, loads) = self.strike_loads(wing, body, &at, jump, dt_s);
+                // over the step, below): this step reports its share, the next steps the
+                // rest (`super::strike`).
+                let (inertial, loads) =
+                    self.strike_loads(wing, &motion_at(at.t_s), &at, jump, dt_s);
                 mean.add_scaled(&inertial, 1.0);
-                let rest = 1.0 - Self::strike_share(start.t_s, at.t_s, dt_s);
-                if rest > 0.0 {
-                    moved.push((loads, rest));
+                let shares = self.strike_shares(start.t_s, at.t_s, dt_s);
+                if shares[1] != 0.0 || shares[2] != 0.0 {
+                    moved.push((loads, shares));
                 }
             }
             out = Some(mean);
             if next_reference.is_some() {
                 wing.set_stroke_reference(next_reference);
+                // The wing's loads move with its stroke reference: the end's are stale.
+                end_node = None;
             }
         }
         let mut out = out.expect("at least one sub-step");
         // The strikes' shares for the next step (`super::strike`), taken out after the added
         // mass's change of impulse (which holds the fluid's part), and those carried in.
         let carried = self.carried_strike.take();
+        self.carried_strike = self.carried_strike_after.take();
+        let end_frame =
+            frame_start.map(|_| WingFrame::new(&self.angles([0.0; 2]), wing.mount().side));
+        self.carry = end_node.map(|(at, held, aero, report)| Carry {
+            at,
+            held,
+            aero,
+            frame: end_frame,
+            report,
+            inflow: wing.inflow_field(),
+        });
         if let Some(start) = frame_start {
             // The impulse-form added mass is -dP/dt of the fluid's impulse. Held over the
             // step, its value at the step's start would hand the body an impulse that differs
@@ -415,7 +544,7 @@ impl DynamicWing {
             // the built-in vehicles at 100 steps per wingbeat). The force over the step is
             // therefore the change of P across it: the fluid's momentum is conserved step
             // by step and the cycle mean is zero to the motion's periodicity.
-            let end = WingFrame::new(&self.angles([0.0; 2]), wing.mount().side);
+            let end = end_frame.unwrap_or(start);
             let i = wingforce::Term::AddedMass as usize;
             let downstroke = out.forces.phase.downstroke;
             if let Some(t) =
@@ -427,9 +556,9 @@ impl DynamicWing {
                 out.forces.terms[i] = t;
             }
         }
-        for (loads, rest) in moved {
-            out.add_scaled(&loads, -rest);
-            self.carry_strike(&loads, rest);
+        for (loads, [_, next, after]) in moved {
+            out.add_scaled(&loads, -(next + after));
+            self.carry_strike(&loads, [next, after]);
         }
         if let Some(c) = carried {
             out.add_scaled(&c, 1.0);

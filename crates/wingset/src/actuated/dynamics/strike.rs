@@ -24,11 +24,46 @@
 //! the map is continuous in the strike's time, with the exact slope. Measured: the
 //! hummingbird's exponents +0.595, +0.595, +0.595, +0.596 and +0.596 1/s at 200, 400, 800,
 //! 1600 and 3200 steps per wingbeat, and the jump at 3200 gone (`flapsim/tests/strike_loads.rs`).
+//!
+//! That hat is exact for a host whose pose takes dt v_{k+1} (semi-implicit Euler). A host that
+//! moves the body by the trapezoidal rule, dt (v_k + v_{k+1})/2 (flapsim's hosts under a
+//! second-order sampling: `flapsim::host::trapezoid_pose`), moves it by (a + 1/2) dt J/m for
+//! shares (a, 1 - a) over two steps, and with the semi-implicit hat its pose was off by
+//! dt J / (2 m) at every strike, a first-order error: measured on the hummingbird's free
+//! flight over two wingbeats, its position error halved with the step (1.7e-5, 8.8e-6,
+//! 4.4e-6, 2.0e-6 and 8.7e-7 m at 100 to 1600 steps per wingbeat, against 6400). Shares
+//! (a, b, c) over the strike's step and the two after move such a host's body by
+//! (5a + 3b + c) dt J / (2 m) by the third step's end, where the exact motion moves it by
+//! (3 dt - tau) J / m; with a + b + c = 1 and the shares continuous in the strike's time
+//! (a strike at a step's end shared as one at the next step's start: s = tau/dt at 1 gives
+//! (0, a, b) at 0), they are (3/2 - 3/2 s, 2 s - 1/2, -s/2): exact from the third step's end
+//! on, and the one-wingbeat map stays continuous. (Two steps cannot be both exact and
+//! continuous for this pose: (3/2 - s, s - 1/2) is exact but jumps where s wraps, which
+//! left the hummingbird's Floquet exponents scattered at fine steps, +0.598 at 3200 and
+//! +0.580 at 6400 steps per wingbeat.) Measured with the three-step hats: the position error
+//! over two wingbeats falls 4x a halving.
+//!
 //! The share carried is the wing's state between steps ([`DynamicWing::carried_strike`]);
-//! logs written before it re-run with the whole impulse in its step
-//! ([`DynamicWing::set_strikes_in_their_step`]).
+//! logs name the rule they were written with ([`StrikeShare`]).
 
 use wingforce::{BodyMotion, Term, Wing, WingFrame};
+
+/// How a strike's impulse is shared between the body step it falls in and the next (the
+/// module documentation). Logs name it (`flightlog`'s `strike_impulse`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StrikeShare {
+    /// Whole in its step (logs written before 2026-12-06).
+    WholeInStep,
+    /// 1 - tau/dt in its step and tau/dt in the next: exact for a host that moves the body
+    /// by dt v_{k+1} (semi-implicit Euler: MuJoCo's, rapier's own). The default: a wing
+    /// set does not know its host.
+    #[default]
+    SemiImplicitPose,
+    /// 3/2 (1 - tau/dt) in its step, 2 tau/dt - 1/2 in the next and -tau/(2 dt) in the one
+    /// after: exact for a host that moves the body by dt (v_k + v_{k+1})/2 (flapsim's hosts
+    /// under a second-order sampling), and continuous in the strike's time.
+    TrapezoidalPose,
+}
 
 use super::step::StepStart;
 use super::wing::{DynamicWing, WingState, WingStep};
@@ -77,23 +112,40 @@ impl DynamicWing {
         (inertial, all)
     }
 
-    /// The share of a strike's impulse at `t_s` that the step from `start_s` of `dt_s`
-    /// reports: 1 - tau/dt (the module's hat), the rest going to the next step.
-    pub(super) fn strike_share(start_s: f64, t_s: f64, dt_s: f64) -> f64 {
-        (1.0 - (t_s - start_s) / dt_s).clamp(0.0, 1.0)
-    }
-
-    /// Adds `w` times `loads` to the share carried into the next step's report.
-    pub(super) fn carry_strike(&mut self, loads: &WingStep, w: f64) {
-        match &mut self.carried_strike {
-            Some(c) => c.add_scaled(loads, w),
-            None => self.carried_strike = Some(loads.scaled(w)),
+    /// The shares of a strike's impulse at `t_s` that the step from `start_s` of `dt_s`
+    /// and the next two report (the module's hats for the host's pose, [`StrikeShare`]).
+    pub(super) fn strike_shares(&self, start_s: f64, t_s: f64, dt_s: f64) -> [f64; 3] {
+        let s = ((t_s - start_s) / dt_s).clamp(0.0, 1.0);
+        match self.strike_share {
+            StrikeShare::TrapezoidalPose => [1.5 - 1.5 * s, 2.0 * s - 0.5, -0.5 * s],
+            StrikeShare::WholeInStep | StrikeShare::SemiImplicitPose => [1.0 - s, s, 0.0],
         }
     }
 
-    /// Reports a strike's impulse whole in the step it falls in, as before 2026-12-06 (a log
-    /// written before then re-runs so; see the module), or shares it with the next step.
-    pub fn set_strikes_in_their_step(&mut self, whole: bool) {
-        self.strikes_in_their_step = whole;
+    /// Adds `w[0]` times `loads` to the share carried into the next step's report and
+    /// `w[1]` times them to the one after.
+    pub(super) fn carry_strike(&mut self, loads: &WingStep, w: [f64; 2]) {
+        for (slot, w) in [&mut self.carried_strike, &mut self.carried_strike_after]
+            .into_iter()
+            .zip(w)
+        {
+            if w == 0.0 {
+                continue;
+            }
+            match slot {
+                Some(c) => c.add_scaled(loads, w),
+                None => *slot = Some(loads.scaled(w)),
+            }
+        }
+    }
+
+    /// How a strike's impulse is shared among the body's steps ([`StrikeShare`]; the module).
+    pub fn set_strike_share(&mut self, share: StrikeShare) {
+        self.strike_share = share;
+    }
+
+    /// See [`Self::set_strike_share`].
+    pub fn strike_share_rule(&self) -> StrikeShare {
+        self.strike_share
     }
 }

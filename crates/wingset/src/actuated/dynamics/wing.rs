@@ -8,8 +8,10 @@ use wingforce::{AxisMoments, TermForce, WingAngles, WingForces};
 
 use super::super::actuator::ActuatorState;
 use super::super::drive::Drive;
+use super::carry::{Carry, StageLoads};
 use super::memo::WingKey;
 use super::model::{Stroke, WingDynamics};
+use super::strike::StrikeShare;
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;
 
@@ -150,13 +152,16 @@ pub struct DynamicWing {
     /// The share of the last step's strikes' impulses the next step reports
     /// ([`super::strike`]).
     pub(super) carried_strike: Option<WingStep>,
-    /// Whether a strike's impulse is reported whole in its step, as before 2026-12-06
-    /// ([`DynamicWing::set_strikes_in_their_step`]).
-    pub(super) strikes_in_their_step: bool,
-    /// Whether, on an inelastic stop, the aerodynamic loads are taken afresh at every
-    /// Runge-Kutta stage, as before 2026-12-07
-    /// ([`DynamicWing::set_loads_at_every_stage`]).
-    pub(super) loads_at_every_stage: bool,
+    /// The share the step after the next reports ([`StrikeShare::TrapezoidalPose`]).
+    pub(super) carried_strike_after: Option<WingStep>,
+    /// How a strike's impulse is shared among the body's steps
+    /// ([`DynamicWing::set_strike_share`]).
+    pub(super) strike_share: StrikeShare,
+    /// How, on an inelastic stop, the aerodynamic loads are taken within a step
+    /// ([`DynamicWing::set_stage_loads`]).
+    pub(super) stage_loads: StageLoads,
+    /// What the last step hands this one (`carry`), under [`StageLoads::Carried`].
+    pub(super) carry: Option<Carry>,
     /// The key of this wing's model and drive in the memo of what a step asks for more than
     /// once (`memo`; a run is the same without it).
     pub(super) memo: WingKey,
@@ -173,17 +178,23 @@ impl DynamicWing {
         self.sampling
     }
 
-    /// Takes a wing on inelastic hinge stops through its sub-steps with the aerodynamic
-    /// loads evaluated afresh at every Runge-Kutta stage, as before 2026-12-07 (a log written
-    /// before then re-runs so), or, by default, at each segment's start and the sub-step's
-    /// end and linear in time between them (`actuated::contact`).
-    pub fn set_loads_at_every_stage(&mut self, every_stage: bool) {
-        self.loads_at_every_stage = every_stage;
+    /// How a wing on inelastic hinge stops takes its aerodynamic loads within a step
+    /// ([`StageLoads`]): by default carried from each step's end to the next step's start
+    /// (`carry`); a log written before re-runs with its own.
+    pub fn set_stage_loads(&mut self, stage_loads: StageLoads) {
+        self.stage_loads = stage_loads;
+        self.carry = None;
     }
 
-    /// See [`Self::set_loads_at_every_stage`].
-    pub fn loads_at_every_stage(&self) -> bool {
-        self.loads_at_every_stage
+    /// See [`Self::set_stage_loads`].
+    pub fn stage_loads(&self) -> StageLoads {
+        self.stage_loads
+    }
+
+    /// Forgets what the last step handed the next (`carry`): the body was moved other than
+    /// by the loads the steps reported (the wing set's `restart_motion`).
+    pub fn forget_carry(&mut self) {
+        self.carry = None;
     }
 
     /// A wing at rest at the springs' rest angles (or on its prescribed stroke at t = 0).
@@ -213,8 +224,10 @@ impl DynamicWing {
             // actuated vehicles' default, `flapsim::Vehicle::load_sampling`).
             sampling: LoadSampling::StepStart,
             carried_strike: None,
-            strikes_in_their_step: false,
-            loads_at_every_stage: false,
+            carried_strike_after: None,
+            strike_share: StrikeShare::default(),
+            stage_loads: StageLoads::default(),
+            carry: None,
             memo: WingKey::fresh(),
         };
         w.set_drive(drive)?;
@@ -239,12 +252,14 @@ impl DynamicWing {
         }
         self.drive = drive;
         self.memo = WingKey::fresh();
+        self.carry = None;
         Ok(())
     }
 
     /// Sets the state (angles and rates) directly.
     pub fn set_state(&mut self, state: WingState) {
         self.state = state;
+        self.carry = None;
     }
 
     /// The state now.
