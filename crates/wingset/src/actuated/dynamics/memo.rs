@@ -85,10 +85,14 @@ impl SolveKey {
     }
 }
 
+/// How many solutions a thread keeps: a step's two ends for each of a pair's two wings (the
+/// right wing's step between the left wing's end and its next start).
+const SOLVED: usize = 4;
+
 /// The entries of one thread, each list with the slot the next new entry replaces.
 struct Entries {
-    solved_keys: [SolveKey; 2],
-    solved: [Solved; 2],
+    solved_keys: [SolveKey; SOLVED],
+    solved: [Solved; SOLVED],
     next_solved: usize,
     /// (wing, time's bits) and V.
     voltage_keys: [(u64, u64); 3],
@@ -99,8 +103,8 @@ struct Entries {
 thread_local! {
     static ENTRIES: RefCell<Entries> = const {
         RefCell::new(Entries {
-            solved_keys: [SolveKey::NONE; 2],
-            solved: [([0.0; 2], 0.0, 0.0); 2],
+            solved_keys: [SolveKey::NONE; SOLVED],
+            solved: [([0.0; 2], 0.0, 0.0); SOLVED],
             next_solved: 0,
             voltage_keys: [(u64::MAX, 0); 3],
             voltages: [0.0; 3],
@@ -112,7 +116,7 @@ thread_local! {
 /// The solution for `key`, computed by `solve` unless held.
 pub(in crate::actuated) fn solved(key: SolveKey, solve: impl FnOnce() -> Solved) -> Solved {
     let held = ENTRIES.with_borrow(|e| {
-        (0..2)
+        (0..SOLVED)
             .find(|&i| e.solved_keys[i].matches(&key))
             .map(|i| e.solved[i])
     });
@@ -124,7 +128,7 @@ pub(in crate::actuated) fn solved(key: SolveKey, solve: impl FnOnce() -> Solved)
         let i = e.next_solved;
         e.solved_keys[i] = key;
         e.solved[i] = s;
-        e.next_solved = (i + 1) % 2;
+        e.next_solved = (i + 1) % SOLVED;
     });
     s
 }

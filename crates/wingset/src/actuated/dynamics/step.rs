@@ -138,7 +138,7 @@ impl DynamicWing {
             true => self.carry.take().filter(|c| c.is_start(&start, dt_s, wing)),
             false => None,
         };
-        let carried_report = carried.as_ref().and_then(|c| c.report);
+        let carried_report = carried.as_ref().and_then(|c| c.report.as_ref());
         let mut out = None;
         let mut frame_start = None;
         let mut nodes = Nodes::new();
@@ -152,6 +152,8 @@ impl DynamicWing {
         // The end node's state, loads and (a smooth step's) report, for the next step
         // (`carry`).
         let mut end_node = None;
+        // The last node's state, time and frame, where a report took it.
+        let mut end_report_frame: Option<(StepStart, WingFrame)> = None;
         let mut moved: Vec<(WingStep, [f64; 3])> = Vec::new();
         let last_loads: Cell<Option<Loads>> = Cell::new(None);
         // On an inelastic stop: the state whose loads the last sub-step took at its end
@@ -481,13 +483,28 @@ impl DynamicWing {
                 let last = points.len().saturating_sub(1);
                 for (k, (node, held, aero, a, w)) in points.into_iter().enumerate() {
                     let a = [a[0] + shift[0], a[1] + shift[1]];
+                    let fresh;
                     let report = match (k, carried_report) {
                         (0, Some(r)) if smooth => r,
-                        _ => self.report(wing, &held, aero, a, &node),
+                        _ => {
+                            let (r, frame) = self.report_framed(wing, &held, aero, a, &node);
+                            if k == last {
+                                end_report_frame = Some((node, frame));
+                            }
+                            fresh = r;
+                            &fresh
+                        }
                     };
-                    mean.add_scaled(&report, w);
+                    mean.add_scaled(report, w);
                     if carrying && k == last {
-                        end_node = Some((node, held, aero, smooth.then_some(report)));
+                        end_node = Some(Carry {
+                            at: node,
+                            held,
+                            aero,
+                            frame: None,
+                            report: smooth.then_some(*report),
+                            inflow: wing.inflow_field(),
+                        });
                     }
                 }
                 mean
@@ -525,17 +542,20 @@ impl DynamicWing {
         // The strikes' shares for the next step (`super::strike`), taken out after the added
         // mass's change of impulse (which holds the fluid's part), and those carried in.
         let carried = self.carried_strike.take();
-        self.carried_strike = self.carried_strike_after.take();
-        let end_frame =
-            frame_start.map(|_| WingFrame::new(&self.angles([0.0; 2]), wing.mount().side));
-        self.carry = end_node.map(|(at, held, aero, report)| Carry {
-            at,
-            held,
-            aero,
-            frame: end_frame,
-            report,
-            inflow: wing.inflow_field(),
+        if self.carried_strike_after.is_some() {
+            self.carried_strike = self.carried_strike_after.take();
+        }
+        // The wing's frame at the step's end (the added mass's impulse takes its axes and
+        // angular velocity, not its angular acceleration): the last node's report's, where
+        // that node is the end.
+        let end_frame = frame_start.map(|_| match end_report_frame {
+            Some((at, frame)) if at.t_s == self.t_s && at.state == self.state => frame,
+            _ => WingFrame::new(&self.angles([0.0; 2]), wing.mount().side),
         });
+        if let Some(c) = &mut end_node {
+            c.frame = end_frame;
+        }
+        self.carry = end_node;
         if let Some(start) = frame_start {
             // The impulse-form added mass is -dP/dt of the fluid's impulse. Held over the
             // step, its value at the step's start would hand the body an impulse that differs
@@ -704,6 +724,19 @@ impl DynamicWing {
         acc: [f64; 2],
         at: &StepStart,
     ) -> WingStep {
+        self.report_framed(wing, held, aero, acc, at).0
+    }
+
+    /// [`Self::report`] and the wing's frame at `at` (with the accelerations: its axes and
+    /// angular velocity are those of the frame without them, bit for bit).
+    pub(super) fn report_framed(
+        &self,
+        wing: &Wing,
+        held: &Held,
+        aero: Option<Aero>,
+        acc: [f64; 2],
+        at: &StepStart,
+    ) -> (WingStep, WingFrame) {
         let a = self.angles_at(&at.state, at.t_s, acc);
         let side = wing.mount().side;
         let frame = WingFrame::new(&a, side);
@@ -755,7 +788,7 @@ impl DynamicWing {
             i_h * frame.alpha + frame.omega.cross(&(i_h * frame.omega)) + ja * a.phi_ddot * k_phi;
         let r = wing.body_from_stroke();
         let actuator = self.actuator_state(&a, at.t_s);
-        WingStep {
+        let step = WingStep {
             forces,
             aero_axis,
             hinge_moment_nm: hinge_moment,
@@ -763,7 +796,8 @@ impl DynamicWing {
             inertial_moment_hinge_nm: r * (-dh),
             actuator,
             angles: a,
-        }
+        };
+        (step, frame)
     }
 }
 

@@ -115,10 +115,16 @@ impl DynamicWing {
     /// The shares of a strike's impulse at `t_s` that the step from `start_s` of `dt_s`
     /// and the next two report (the module's hats for the host's pose, [`StrikeShare`]).
     pub(super) fn strike_shares(&self, start_s: f64, t_s: f64, dt_s: f64) -> [f64; 3] {
-        let s = ((t_s - start_s) / dt_s).clamp(0.0, 1.0);
         match self.strike_share {
-            StrikeShare::TrapezoidalPose => [1.5 - 1.5 * s, 2.0 * s - 0.5, -0.5 * s],
-            StrikeShare::WholeInStep | StrikeShare::SemiImplicitPose => [1.0 - s, s, 0.0],
+            StrikeShare::TrapezoidalPose => {
+                let s = ((t_s - start_s) / dt_s).clamp(0.0, 1.0);
+                [1.5 - 1.5 * s, 2.0 * s - 0.5, -0.5 * s]
+            }
+            // As written before the trapezoid's (logs re-run bit for bit).
+            StrikeShare::WholeInStep | StrikeShare::SemiImplicitPose => {
+                let a = (1.0 - (t_s - start_s) / dt_s).clamp(0.0, 1.0);
+                [a, 1.0 - a, 0.0]
+            }
         }
     }
 
