@@ -3,6 +3,7 @@
 use crate::common;
 
 use common::{copy_with_metadata, mcap_opts, record, record_mode, wingbeats};
+use flapsim::actuated::dynamics::{StageLoads, StrikeShare};
 use flightlog::check::{CheckOutcome, check_log};
 
 #[test]
@@ -221,16 +222,17 @@ fn an_actuated_step_mean_log_of_before_the_reversal_split_matches() {
 }
 
 /// A log written since a stepping change, keyed by metadata `key` = `value`, re-runs bit for
-/// bit, and one written before it still does: the old log is made as it was, a run of `toml`
-/// over `wingbeats` with the old stepping (`old` sets it on the spec), without the key. The
-/// two steppings differ on the run, so the new log relabelled as old (the key removed)
-/// mismatches.
+/// bit, and one written before it still does: the old log is a run of `toml` over
+/// `wingbeats` with the old stepping (`old` sets it on the spec), its metadata made as the
+/// recorder wrote it then (`old_metadata`: without the key, or with the value it had).
+/// The two steppings differ on the run, so the new log relabelled as old mismatches.
 fn a_log_from_before_matches(
     toml: &str,
     wingbeats: f64,
     old: fn(&mut flapsim::VehicleSpec),
     key: &str,
     value: &str,
+    old_metadata: fn(&mut std::collections::BTreeMap<String, String>),
 ) {
     let dir = tempfile::tempdir().unwrap();
     let write = |path: &std::path::Path, before: bool| {
@@ -263,16 +265,15 @@ fn a_log_from_before_matches(
     let before = dir.path().join("before.mcap");
     write(&before, true);
     let old_log = dir.path().join("old.mcap");
-    copy_with_metadata(&before, &old_log, |md| {
-        assert_eq!(md.remove(key).as_deref(), Some(value));
-    });
+    copy_with_metadata(&before, &old_log, old_metadata);
     assert!(matches!(
         check_log(&old_log).unwrap(),
         CheckOutcome::Match { .. }
     ));
     let relabelled = dir.path().join("relabelled.mcap");
     copy_with_metadata(&new, &relabelled, |md| {
-        md.remove(key);
+        assert_eq!(md.get(key).map(String::as_str), Some(value));
+        old_metadata(md);
     });
     assert!(matches!(
         check_log(&relabelled).unwrap(),
@@ -292,35 +293,69 @@ fn a_log_of_before_the_midpoint_rotation_matches() {
         |spec| spec.sim.rotation_at_step_start = true,
         "body_rotation",
         "midpoint",
+        |md| {
+            md.remove("body_rotation");
+        },
     );
 }
 
-/// A hummingbird log since its stops' strikes were shared between steps (wingset's
-/// `actuated::dynamics`, `strike.rs`): a log without the `strike_impulse` metadata re-runs
-/// with each strike's impulse whole in its step. The two differ (the body moves by the
-/// impulse's share a step later).
+/// A hummingbird log since its stops' strikes were shared between steps for flapsim's
+/// trapezoidal pose (wingset's `actuated::dynamics`, `strike.rs`, 2026-12-07): a log without
+/// the `strike_impulse` metadata re-runs with each strike's impulse whole in its step. The
+/// two differ (the body moves by the impulse's share a step later).
 #[test]
 fn a_log_of_before_the_strikes_were_shared_matches() {
     a_log_from_before_matches(
         flapsim::HUMMINGBIRD_TOML,
         3.0,
-        |spec| spec.sim.strikes_in_their_step = true,
+        |spec| spec.sim.strike_share = Some(StrikeShare::WholeInStep),
         "strike_impulse",
-        "shared_with_next_step",
+        "shared_for_the_trapezoidal_pose",
+        |md| {
+            md.remove("strike_impulse");
+        },
     );
 }
 
-/// A hummingbird log since its stops' stage loads were interpolated between each segment's
-/// ends (wingset's `actuated::contact`): a log without the `actuated_stage_loads` metadata
-/// re-runs with the loads taken afresh at every Runge-Kutta stage. The two differ at the
-/// scheme's second-order error.
+/// A hummingbird log since its stops' loads are carried from each step's end to the next
+/// step's start (wingset's `actuated::dynamics::carry`): a log without the
+/// `actuated_stage_loads` metadata re-runs with the loads taken afresh at every Runge-Kutta
+/// stage. The two differ at the scheme's second-order error.
 #[test]
 fn a_log_of_before_the_stage_loads_were_interpolated_matches() {
     a_log_from_before_matches(
         flapsim::HUMMINGBIRD_TOML,
         3.0,
-        |spec| spec.sim.actuated_loads_at_every_stage = true,
+        |spec| spec.sim.actuated_stage_loads = StageLoads::EveryStage,
         "actuated_stage_loads",
-        "interpolated_between_segment_ends",
+        "carried_from_each_step_end",
+        |md| {
+            md.remove("actuated_stage_loads");
+        },
+    );
+}
+
+/// A hummingbird log of the morning of 2026-12-07, its stops' loads interpolated within
+/// each step and its strikes shared for a semi-implicit pose (`actuated_stage_loads` =
+/// `interpolated_between_segment_ends`, `strike_impulse` = `shared_with_next_step`), re-runs
+/// as it was written; the carried loads and the trapezoid's shares differ from it.
+#[test]
+fn a_log_of_before_the_stage_loads_were_carried_matches() {
+    a_log_from_before_matches(
+        flapsim::HUMMINGBIRD_TOML,
+        3.0,
+        |spec| {
+            spec.sim.actuated_stage_loads = StageLoads::Interpolated;
+            spec.sim.strike_share = Some(StrikeShare::SemiImplicitPose);
+        },
+        "actuated_stage_loads",
+        "carried_from_each_step_end",
+        |md| {
+            md.insert(
+                "actuated_stage_loads".into(),
+                "interpolated_between_segment_ends".into(),
+            );
+            md.insert("strike_impulse".into(), "shared_with_next_step".into());
+        },
     );
 }

@@ -79,7 +79,7 @@ impl DynamicWing {
         added: &[[f64; 2]; 2],
     ) -> [[f64; 2]; 2] {
         let i = &self.model.inertia;
-        let (st, ct) = theta.sin_cos();
+        let (st, ct) = memo::sin_cos_pitch(theta);
         let c = i.product_kg_m2();
         let b = i.pitch_inertia_kg_m2;
         [
@@ -157,9 +157,23 @@ impl DynamicWing {
         memo::solved(key, || self.solve(t, y, held))
     }
 
-    /// The drive's voltage at `t_s`, V (through the memo).
+    /// The drive's voltage at `t_s`, V: the sub-step's (`volts`, one sine each for its
+    /// start, middle and end, where the equations are solved over and over), else computed.
     pub(in crate::actuated) fn voltage_v(&self, t_s: f64) -> f64 {
-        memo::voltage_v(self.memo, t_s, || self.drive.voltage_v(t_s))
+        let key = t_s.to_bits();
+        match self.volts.iter().find(|(t, _)| *t == key) {
+            Some((_, v)) => *v,
+            None => self.drive.voltage_v(t_s),
+        }
+    }
+
+    /// Takes the drive's voltage at the start, middle and end of the sub-step from `t0_s`
+    /// of `h_s` (the times as the integrators form them: the middle as t0 + h/2 and, on
+    /// inelastic stops, as t0 + (end - t0)/2, `actuated::contact`).
+    pub(in crate::actuated) fn take_volts(&mut self, t0_s: f64, h_s: f64) {
+        let end = t0_s + h_s;
+        let times = [t0_s, t0_s + 0.5 * h_s, t0_s + 0.5 * (end - t0_s), end];
+        self.volts = times.map(|t| (t.to_bits(), self.drive.voltage_v(t)));
     }
 
     /// The accelerations of the free equations, the stroke acceleration with the pitch held
@@ -175,7 +189,7 @@ impl DynamicWing {
             Stroke::Driven { .. } => None,
         };
         let i = &self.model.inertia;
-        let (st, ct) = theta.sin_cos();
+        let (st, ct) = memo::sin_cos_pitch(theta);
         let b = i.pitch_inertia_kg_m2;
         let c = i.product_kg_m2();
         let m = self.mass_matrix(theta, &held.added);

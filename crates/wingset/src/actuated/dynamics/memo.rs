@@ -1,5 +1,6 @@
 //! What a step of a [`DynamicWing`] asks for more than once, kept so that it is computed
-//! once: the equations' solution at a state and the drive's voltage at a time.
+//! once: the equations' solution at a state (and, kept in the wing itself, the drive's
+//! voltage at a sub-step's start, middle and end: `DynamicWing::voltage_v`).
 //!
 //! A step on an inelastic stop solves the equations at its start for the holding moment, for
 //! the first Runge-Kutta stage and for the first quadrature node, and at its end for the
@@ -7,12 +8,11 @@
 //! bit, five to seven times (callgrind on the hummingbird: 11.3 solutions per wing and step,
 //! about 0.42 k instructions each). The Runge-Kutta stages between them are solved at
 //! states no other call asks for and do not go through the memo
-//! ([`DynamicWing::stage_accelerations`]), so the two entries hold the step's ends. The
-//! drive's voltage is asked for at the three times of a Runge-Kutta step (its start, middle
-//! and end) over and over, one sine each.
+//! ([`DynamicWing::stage_accelerations`]), so its entries hold the steps' ends of a pair's
+//! two wings.
 //!
-//! Both memos compare their arguments bit for bit and hold the results the computation gave,
-//! so a run is the same with or without them. They are kept per thread (a wing set moves
+//! The memo compares its arguments bit for bit and holds the results the computation gave,
+//! so a run is the same with or without it. They are kept per thread (a wing set moves
 //! between threads and is read from several at once: a cell in the wing would make it
 //! neither) and keyed by the wing's [`WingKey`], which stands for its model and its drive,
 //! the inputs besides the arguments (the model cannot change after a wing is built, and a
@@ -89,15 +89,11 @@ impl SolveKey {
 /// right wing's step between the left wing's end and its next start).
 const SOLVED: usize = 4;
 
-/// The entries of one thread, each list with the slot the next new entry replaces.
+/// The entries of one thread and the slot the next new entry replaces.
 struct Entries {
     solved_keys: [SolveKey; SOLVED],
     solved: [Solved; SOLVED],
     next_solved: usize,
-    /// (wing, time's bits) and V.
-    voltage_keys: [(u64, u64); 3],
-    voltages: [f64; 3],
-    next_voltage: usize,
 }
 
 thread_local! {
@@ -106,9 +102,6 @@ thread_local! {
             solved_keys: [SolveKey::NONE; SOLVED],
             solved: [([0.0; 2], 0.0, 0.0); SOLVED],
             next_solved: 0,
-            voltage_keys: [(u64::MAX, 0); 3],
-            voltages: [0.0; 3],
-            next_voltage: 0,
         })
     };
 }
@@ -133,22 +126,22 @@ pub(in crate::actuated) fn solved(key: SolveKey, solve: impl FnOnce() -> Solved)
     s
 }
 
-/// The voltage of `wing`'s drive at `t_s`, V, computed by `voltage` unless held.
-pub(in crate::actuated) fn voltage_v(
-    wing: WingKey,
-    t_s: f64,
-    voltage: impl FnOnce() -> f64,
-) -> f64 {
-    let key = (wing.0, t_s.to_bits());
-    ENTRIES.with_borrow_mut(|e| {
-        if let Some(i) = (0..3).find(|&i| e.voltage_keys[i] == key) {
-            return e.voltages[i];
-        }
-        let v = voltage();
-        let i = e.next_voltage;
-        e.voltage_keys[i] = key;
-        e.voltages[i] = v;
-        e.next_voltage = (i + 1) % 3;
-        v
-    })
+thread_local! {
+    /// The last pitch angle's bits and its sine and cosine ([`sin_cos_pitch`]).
+    static PITCH_TRIG: std::cell::Cell<(u64, f64, f64)> =
+        const { std::cell::Cell::new((u64::MAX, f64::NAN, f64::NAN)) };
+}
+
+/// sin and cos of a pitch angle, rad, the last one's kept: a wing resting on its inelastic
+/// stop (half the hummingbird's steps) solves its equations at one pitch angle over and
+/// over (one sine and cosine, about 120 instructions, each time). Bit for bit `sin_cos`.
+pub(in crate::actuated) fn sin_cos_pitch(theta_rad: f64) -> (f64, f64) {
+    let key = theta_rad.to_bits();
+    let (k, s, c) = PITCH_TRIG.get();
+    if k == key {
+        return (s, c);
+    }
+    let (s, c) = theta_rad.sin_cos();
+    PITCH_TRIG.set((key, s, c));
+    (s, c)
 }

@@ -167,6 +167,7 @@ impl DynamicWing {
             && (self.model.hinge.contact.is_none() || carrying);
         let mut reversals: Vec<(f64, StrokePhase)> = Vec::new();
         for sub in 0..n {
+            self.take_volts(self.t_s, h);
             let (held, aero) = match (sub, &carried) {
                 (0, Some(c)) => (c.held, c.aero),
                 _ => self.aero_held(wing, &motion_at(self.t_s)),

@@ -165,6 +165,9 @@ pub struct DynamicWing {
     /// The key of this wing's model and drive in the memo of what a step asks for more than
     /// once (`memo`; a run is the same without it).
     pub(super) memo: WingKey,
+    /// The drive's voltage at the current sub-step's start, middle (two roundings) and end: (time's bits,
+    /// V) (`DynamicWing::voltage_v`).
+    pub(super) volts: [(u64, f64); 4],
 }
 
 impl DynamicWing {
@@ -229,6 +232,7 @@ impl DynamicWing {
             stage_loads: StageLoads::default(),
             carry: None,
             memo: WingKey::fresh(),
+            volts: [(f64::NAN.to_bits(), f64::NAN); 4],
         };
         w.set_drive(drive)?;
         Ok(w)
@@ -252,6 +256,7 @@ impl DynamicWing {
         }
         self.drive = drive;
         self.memo = WingKey::fresh();
+        self.volts = [(f64::NAN.to_bits(), f64::NAN); 4];
         self.carry = None;
         Ok(())
     }
