@@ -15,8 +15,8 @@
 //! against Floquet"). The stops are inelastic (restitution 0, as the robot's reference
 //! simulator has them: a constraint, `flapsim::actuated::stop`): the strike is an impulse at
 //! the touch, found within the step. With the wing's loads taken afresh at every
-//! Runge-Kutta stage (since 2026-12-07: at each segment's start and the sub-step's end, linear between,
-//! the last test), the step's report the trapezoidal mean over the states the integrator
+//! Runge-Kutta stage (since 2026-12-07: at each segment's start and the sub-step's end,
+//! linear between, the end's carried to the next step: the last tests), the step's report the trapezoidal mean over the states the integrator
 //! passed (the touch taken on both sides of the rates' jump, the release), and the
 //! impulse's reaction taken where the wing struck (shared over the step as a constant, it
 //! acted along axes that turn with the stroke, and M_u swung between -1.5e-5 and +1.2e-5
@@ -112,9 +112,11 @@ fn floquet(steps_per_wingbeat: usize) -> FloquetAnalysis {
 /// The module's last paragraph: with each strike's impulse shared between its step and the
 /// next, the one-wingbeat map is smooth at 3200 steps per wingbeat (it had a jump of 1.84
 /// perturbations there) and its unstable pair's exponent is the file's 400 steps' within 1%
-/// (measured 0.16%: +0.5948 and +0.5957 1/s under the file's step mean; with the impulse
-/// whole in its step +0.5593 at 400 and a jump at 3200, which fails; under step-start 0.12%,
-/// and +0.5601 and +0.8783 with the impulse whole).
+/// (measured 0.57%: +0.5863 and +0.5897 1/s since the stops' loads are carried and the
+/// strikes shared for the trapezoidal pose over three steps, 2026-12-07; +0.5948 and +0.5957
+/// before; with the impulse whole in its step +0.5593 at 400 and a jump at 3200, which fails;
+/// with the trapezoid's shares over two steps, which jump where a strike crosses a step's
+/// end, +0.598 at 3200 and +0.580 at 6400).
 #[test]
 fn the_one_wingbeat_map_follows_the_strikes_in_time() {
     let (file, fine) = (floquet(FILE_STEPS), floquet(3200));
@@ -174,7 +176,9 @@ fn state_error(s: &flapsim::State, r: &flapsim::State) -> f64 {
 /// its global error by 2^p when the step halves (Hairer, Norsett & Wanner, Solving Ordinary
 /// Differential Equations I, 2nd ed., section II.4), so over 30 wingbeats open loop the
 /// error ratio between 200 and 400 steps per wingbeat, against a run at 1600, is above 3.5
-/// (measured 4.4: 5.8e-3 and 1.3e-3).
+/// (measured 4.5: 5.8e-3 and 1.3e-3; the scheme before 2026-12-07 scattered over the step
+/// counts at this horizon against 6400: 4.0 from 200 to 400, but 35 from 150 to 300, 0.59
+/// from 300 to 600 and 5.7 from 600 to 1200).
 #[test]
 fn carried_stop_loads_converge_at_second_order() {
     let reference = open_loop(1600, 30, None);
@@ -194,10 +198,10 @@ fn carried_stop_loads_converge_at_second_order() {
 /// steps, not the exact (2 dt - tau) J / m: dt J / (2 m) at every strike, a first-order
 /// error (wingset's `actuated::dynamics`, `strike.rs`). Over two wingbeats of free flight,
 /// where the body's motion has not yet amplified it, the position error against a run at
-/// 3200 steps per wingbeat therefore halves with the step under the scheme before
-/// 2026-12-07 (ratio below 2.5 between 400 and 800; measured 2.1) and falls by more than 3.5
-/// with the trapezoid's shares (measured 4.1), at a tenth of the error or less (1.5e-7 m
-/// against 4.9e-6 m at 400).
+/// 6400 steps per wingbeat therefore halves with the step under the scheme before
+/// 2026-12-07 (ratio below 2.5 between 400 and 800; measured 2.36) and falls by more than
+/// 3.5 with the trapezoid's shares (measured 3.89), at a tenth of the error or less (2.2e-7 m
+/// against 3.7e-6 m at 400).
 #[test]
 fn strikes_shared_for_the_trapezoidal_pose_keep_the_position_second_order() {
     let position_errors = |scheme| -> Vec<f64> {
@@ -224,9 +228,10 @@ fn strikes_shared_for_the_trapezoidal_pose_keep_the_position_second_order() {
 /// timing from then on. A step across the reversal, or a period's profile sampled only at
 /// the steps' ends where an inelastic strike makes the stroke rate jump, carries an O(h)
 /// error once per half stroke: the scheme before 2026-12-07 converged at first order in
-/// this mean (ratio below 2.5 between 400 and 800 steps per wingbeat; measured 2.2). Split
-/// at the reversal and sampled on both sides of each jump, it converges at second order
-/// (ratio above 3.5; measured 3.8), against a run at 3200.
+/// this mean (ratio below 2.5 between 400 and 800 steps per wingbeat; measured 2.17: 1.3e-5
+/// and 5.8e-6 N). Split at the reversal and sampled on both sides of each jump, it
+/// converges at second order (ratio above 3.5; measured 3.68: 1.2e-6 and 3.2e-7 N), against a
+/// run at 6400.
 #[test]
 fn reversals_and_strikes_within_a_step_keep_the_tethered_loads_second_order() {
     let mean_force = |n: usize, scheme: Option<(StageLoads, StrikeShare)>| {

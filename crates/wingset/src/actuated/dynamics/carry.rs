@@ -4,13 +4,14 @@
 //!
 //! # Why the end's loads serve as the next start's
 //! A step takes its loads at its start and at its end, on the state its path reaches with the
-//! start's loads held (`actuated::contact`), and linear between them. The corrected end (the
-//! path with the interpolated loads) differs from that predicted one by O(h^2) in the rates
-//! and O(h^3) in the angles, so the loads there differ by O(h^2): taken as the next step's
-//! start loads, they move its accelerations by O(h^2), its state by O(h^3) a step, and the
-//! run stays second order (a predictor-corrector pair in PEC mode keeps the corrector's order where
-//! the predictor's error is of that order: Lambert 1991, *Numerical Methods for Ordinary
-//! Differential Systems*, ch. 4; measured in `flapsim/tests/strike_loads.rs`). One
+//! start's loads held (`actuated::contact`; under the carry that path is the midpoint rule's,
+//! `DynamicWing::segment_end`), and linear between them. The corrected end (the path with
+//! the interpolated loads) differs from that predicted one by O(h^2) in the rates and O(h^3)
+//! in the angles, so the loads there differ by O(h^2): taken as the next step's start
+//! loads, they move its accelerations by O(h^2), its state by O(h^3) a step, and the run
+//! stays second order (a predictor-corrector pair in PEC mode keeps the corrector's order
+//! where the predictor's error is of that order: Lambert 1991, *Numerical Methods for
+//! Ordinary Differential Systems*, ch. 4; measured in `flapsim/tests/strike_loads.rs`). One
 //! evaluation a step where there were two.
 //!
 //! The body moves meanwhile: each node's loads are taken with the body's motion at the
@@ -18,7 +19,8 @@
 //! start and the midpoint the wing set predicts: `DynamicWing::step_moving`), so the end's
 //! loads are the next start's in the body's motion too. (Taken with the midpoint's motion,
 //! as a step without the carry takes them, every node's loads would see the body half a step
-//! late: a first-order lag.)
+//! late: a first-order lag, measured on the hummingbird's 30 open-loop wingbeats, errors
+//! 5.8e-4, 3.5e-4 and 1.9e-4 at 400, 800 and 1600 steps per wingbeat.)
 //!
 //! # The end's report
 //! A step whose only nodes are its start and its end (no strike, no release, no stroke
@@ -29,11 +31,24 @@
 //! O(h^2), and their cycle mean vanishes with the trapezoidal rule's error on a periodic
 //! motion.)
 //!
+//! # What else the carried scheme does
+//! Under [`StageLoads::Carried`] a step on inelastic stops is also split at a stroke
+//! reversal inside it, each part advanced with its own half stroke's loads, as a step
+//! without stops is (`DynamicWing::reversal_within`: the wake-capture term restarts there),
+//! and the stroke reference's profile takes the rate on both sides of each jump and reversal
+//! within a step (`DynamicWing::track_period`). Both were O(h) errors once per half stroke:
+//! the hummingbird's tethered mean force over two wingbeats converged at first order
+//! before (errors 1.3e-5 and 5.8e-6 N at 400 and 800 steps per wingbeat), at second order
+//! with them (1.2e-6 and 3.2e-7 N).
+//!
 //! # When the carry is not taken
 //! The next step takes the carry only where it is the step's own start: the same state and
 //! half stroke (a reversal the step tracked starts a new half stroke), a time and a stroke
-//! phase within round-off, and the wing's inflow field unchanged. A new drive, a new state, a new
-//! stroke reference and a restart of the body's motion (`WingSet::restart_motion`) drop it.
+//! phase within round-off (the carry's validity must not hang on the last bit of a sum:
+//! decided on exact times, the hummingbird's one-wingbeat map jumped where a reversal split
+//! summed the step's end otherwise), and the wing's inflow field unchanged. A new drive, a
+//! new state, a new stroke reference and a restart of the body's motion
+//! (`WingSet::restart_motion`) drop it.
 
 use nalgebra::{Vector2, Vector3};
 use wingforce::{BodyMotion, Wing, WingFrame};
