@@ -120,7 +120,7 @@ def test_a_copy_and_a_restored_state_step_as_the_original(name):
         return np.concatenate([out["force_body_n"], out["moment_body_nm"]]).view(np.uint64)
 
     wings = flapwing.WingSet(name)
-    n = 440 if name == "hummingbird" else 60  # the hummingbird strikes near steps 200, 400
+    n = 440 if name == "hummingbird" else 60  # the hummingbird strikes twice a wingbeat
     reference = flapwing.WingSet(name)
     steps = [wrench(reference.step(*body(k))) for k in range(n)]
     saved = copy.copy(wings)

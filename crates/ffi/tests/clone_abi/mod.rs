@@ -148,7 +148,8 @@ fn copying_nothing_is_a_null_pointer_error_and_clears_the_output() {
 #[test]
 fn a_restored_handle_repeats_the_steps_that_followed_the_save() {
     for name in flapsim::BUILTIN_MODELS {
-        // The hummingbird strikes its stops near steps 200 and 400 of its 400 per wingbeat.
+        // The hummingbird strikes its stops twice a wingbeat (of its 200 steps): 440 steps
+        // pass several strikes.
         let steps = if name == "hummingbird" { 440 } else { 60 };
         for wake in ["as built", "dynamic"] {
             let original = match wake {

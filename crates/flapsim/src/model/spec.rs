@@ -138,8 +138,8 @@ pub struct SimSpec {
     #[serde(skip)]
     pub strike_share: Option<StrikeShare>,
     /// How an actuated wing on inelastic hinge stops takes its aerodynamic loads within a
-    /// step (wingset's `actuated::StageLoads`): carried from each step's end to the next
-    /// step's start since 2026-12-07; a log re-runs with the way its `actuated_stage_loads`
+    /// step (wingset's `actuated::StageLoads`): the split scheme since 2026-12-07; a log
+    /// re-runs with the way its `actuated_stage_loads`
     /// metadata names (afresh at every Runge-Kutta stage without it, as before 2026-12-07).
     /// Not a model-file field. Wings without stops take their loads at every stage either
     /// way.

@@ -40,7 +40,7 @@ use crate::json::Json;
 use crate::options::SimSettings;
 use crate::read::read_log;
 use crate::schema::{
-    ACTUATED_STAGE_LOADS_CARRIED, ACTUATED_STAGE_LOADS_INTERPOLATED, ACTUATED_STAGE_LOADS_KEY,
+    ACTUATED_STAGE_LOADS_INTERPOLATED, ACTUATED_STAGE_LOADS_KEY, ACTUATED_STAGE_LOADS_SPLIT,
     ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT,
     STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, STRIKE_IMPULSE_SHARED_TRAPEZOIDAL, TOPIC_STATE,
     TOPIC_WIND,
@@ -320,9 +320,9 @@ fn logged_stage_loads(
     match md.get(ACTUATED_STAGE_LOADS_KEY).map(String::as_str) {
         None => Ok(StageLoads::EveryStage),
         Some(ACTUATED_STAGE_LOADS_INTERPOLATED) => Ok(StageLoads::Interpolated),
-        Some(ACTUATED_STAGE_LOADS_CARRIED) => Ok(StageLoads::Carried),
+        Some(ACTUATED_STAGE_LOADS_SPLIT) => Ok(StageLoads::Split),
         Some(other) => Err(Error::Embedded(format!(
-            "the log's `{ACTUATED_STAGE_LOADS_KEY}` metadata `{other}` is not a way of taking the loads: allowed \"{ACTUATED_STAGE_LOADS_INTERPOLATED}\", \"{ACTUATED_STAGE_LOADS_CARRIED}\" (none: at every stage)"
+            "the log's `{ACTUATED_STAGE_LOADS_KEY}` metadata `{other}` is not a way of taking the loads: allowed \"{ACTUATED_STAGE_LOADS_INTERPOLATED}\", \"{ACTUATED_STAGE_LOADS_SPLIT}\" (none: at every stage)"
         ))),
     }
 }

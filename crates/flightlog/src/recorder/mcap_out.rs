@@ -18,11 +18,10 @@ use crate::options::{LogOptions, RunInfo};
 use crate::sample::{SampleBuilder, WingStatic, time_ns};
 use crate::scene::ForceArrows;
 use crate::schema::{
-    self, ACTUATED_STAGE_LOADS_CARRIED, ACTUATED_STAGE_LOADS_INTERPOLATED,
-    ACTUATED_STAGE_LOADS_KEY, ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY,
-    BODY_ROTATION_MIDPOINT, MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING,
-    STRIKE_IMPULSE_KEY, STRIKE_IMPULSE_SHARED, STRIKE_IMPULSE_SHARED_TRAPEZOIDAL, WingLayout,
-    channel_id,
+    self, ACTUATED_STAGE_LOADS_INTERPOLATED, ACTUATED_STAGE_LOADS_KEY, ACTUATED_STAGE_LOADS_SPLIT,
+    ACTUATED_STEP_MEAN_KEY, ACTUATED_STEP_MEAN_SPLIT, BODY_ROTATION_KEY, BODY_ROTATION_MIDPOINT,
+    MESSAGE_ENCODING, OPTIONAL_CHANNELS, SCHEMA_ENCODING, STRIKE_IMPULSE_KEY,
+    STRIKE_IMPULSE_SHARED, STRIKE_IMPULSE_SHARED_TRAPEZOIDAL, WingLayout, channel_id,
 };
 use crate::writer::{Flushed, Writer};
 
@@ -158,7 +157,7 @@ fn run_metadata(
     let stage_loads = match vehicle.sim.actuated_stage_loads {
         StageLoads::EveryStage => None,
         StageLoads::Interpolated => Some(ACTUATED_STAGE_LOADS_INTERPOLATED),
-        StageLoads::Carried => Some(ACTUATED_STAGE_LOADS_CARRIED),
+        StageLoads::Split => Some(ACTUATED_STAGE_LOADS_SPLIT),
     };
     for (key, value) in [
         (STRIKE_IMPULSE_KEY, share),

@@ -317,8 +317,8 @@ fn a_log_of_before_the_strikes_were_shared_matches() {
     );
 }
 
-/// A hummingbird log since its stops' loads are carried from each step's end to the next
-/// step's start (wingset's `actuated::dynamics::carry`): a log without the
+/// A hummingbird log since its stops' steps are split at stroke reversals (wingset's
+/// `actuated::dynamics::stage_loads`): a log without the
 /// `actuated_stage_loads` metadata re-runs with the loads taken afresh at every Runge-Kutta
 /// stage. The two differ at the scheme's second-order error.
 #[test]
@@ -328,7 +328,7 @@ fn a_log_of_before_the_stage_loads_were_interpolated_matches() {
         3.0,
         |spec| spec.sim.actuated_stage_loads = StageLoads::EveryStage,
         "actuated_stage_loads",
-        "carried_from_each_step_end",
+        "interpolated_split_at_reversals",
         |md| {
             md.remove("actuated_stage_loads");
         },
@@ -338,9 +338,9 @@ fn a_log_of_before_the_stage_loads_were_interpolated_matches() {
 /// A hummingbird log of the morning of 2026-12-07, its stops' loads interpolated within
 /// each step and its strikes shared for a semi-implicit pose (`actuated_stage_loads` =
 /// `interpolated_between_segment_ends`, `strike_impulse` = `shared_with_next_step`), re-runs
-/// as it was written; the carried loads and the trapezoid's shares differ from it.
+/// as it was written; the split scheme and the trapezoid's shares differ from it.
 #[test]
-fn a_log_of_before_the_stage_loads_were_carried_matches() {
+fn a_log_of_before_the_steps_were_split_matches() {
     a_log_from_before_matches(
         flapsim::HUMMINGBIRD_TOML,
         3.0,
@@ -349,7 +349,7 @@ fn a_log_of_before_the_stage_loads_were_carried_matches() {
             spec.sim.strike_share = Some(StrikeShare::SemiImplicitPose);
         },
         "actuated_stage_loads",
-        "carried_from_each_step_end",
+        "interpolated_split_at_reversals",
         |md| {
             md.insert(
                 "actuated_stage_loads".into(),

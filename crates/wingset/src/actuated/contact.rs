@@ -349,7 +349,7 @@ impl DynamicWing {
     /// the rates, so the end's loads are second-order accurate; the segment's loads at its
     /// later stages are then taken linear in time between its start's and these
     /// ([`lerp_loads`]): two evaluations per segment where loads at every stage take four.
-    /// Where the loads are carried from step to step ([`StageLoads::Carried`]) the path is
+    /// Under the split scheme ([`StageLoads::Split`]) the path is
     /// the midpoint rule's (second order, one solution of the equations where the
     /// Runge-Kutta step takes three): its own O(h^3) error in the rates is below the held
     /// loads' O(h^2).
@@ -364,7 +364,7 @@ impl DynamicWing {
     ) -> ([f64; 4], Held) {
         let h = end - t;
         let yp = match self.stage_loads() {
-            StageLoads::Carried => {
+            StageLoads::Split => {
                 let half = 0.5 * h;
                 let ym = [
                     y[0] + half * y[2],

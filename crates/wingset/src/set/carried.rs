@@ -32,13 +32,9 @@ impl WingSet {
     /// Forgets the body states of earlier steps: the host moved the body other than by
     /// integrating the set's loads (a reset, a disturbance set by hand), so the next step
     /// takes the body's state at its start ([`LoadSampling::Midpoint`] predicts the
-    /// midpoint from the last two states otherwise), and actuated wings take their loads
-    /// afresh (`wingset::actuated::StageLoads::Carried`).
+    /// midpoint from the last two states otherwise).
     pub fn restart_motion(&mut self) {
         self.prev_body = None;
-        for w in self.dynamic.iter_mut().flatten() {
-            w.forget_carry();
-        }
         if let Some(i) = &mut self.inflow {
             i.restart();
         }
@@ -94,8 +90,6 @@ impl WingSet {
             d.clone_from_slice(dynamic);
             for w in d.iter_mut() {
                 w.set_load_sampling(self.sampling);
-                // Their last step's end was taken at another body's motion.
-                w.forget_carry();
                 if let Some((stage_loads, share)) = own {
                     if w.stage_loads() != stage_loads {
                         w.set_stage_loads(stage_loads);

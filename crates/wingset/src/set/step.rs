@@ -473,9 +473,9 @@ impl WingSet {
     /// inertial reaction of the wings and actuators is reported in `wing_inertia`, apart
     /// from the aerodynamic terms, and both enter `total`. Each wing is handed the body's
     /// motion at the step's start, its midpoint and its end, the end's extrapolated linearly
-    /// from the other two (second order, as the midpoint's prediction is): where a wing
-    /// carries its loads from step to step it takes each at its own time's motion
-    /// (`wingset::actuated::StageLoads::Carried`).
+    /// from the other two (second order, as the midpoint's prediction is): a wing on
+    /// inelastic stops under the split scheme takes each node's loads at its own time's
+    /// motion (`wingset::actuated::StageLoads::Split`).
     fn actuated_into(
         &mut self,
         given: &State,

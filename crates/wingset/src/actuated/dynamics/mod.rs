@@ -107,18 +107,18 @@
 //! reacts on the body, the body does not shake the wing), the actuator's reaction other
 //! than its reflected inertia about the stroke axis, and gravity on the wing.
 
-mod carry;
 mod equations;
 mod memo;
 mod model;
 mod reversal;
+mod stage_loads;
 mod step;
 mod strike;
 mod wing;
 
-pub use carry::StageLoads;
 pub(super) use equations::Held;
 pub use model::{Hinge, Stroke, WingDynamics, WingInertia};
+pub use stage_loads::StageLoads;
 pub use step::MAX_PENETRATION_RAD;
 pub(super) use step::{Nodes, Reheld};
 pub use strike::StrikeShare;

@@ -8,9 +8,9 @@ use nalgebra::Matrix3;
 use wingforce::{AxisMoments, BodyMotion, StrokePhase, TermForce, Wing, WingForces, WingFrame};
 
 use super::super::actuator::ActuatorState;
-use super::carry::{Carry, StageLoads, motion_between};
 use super::equations::Held;
 use super::model::Stroke;
+use super::stage_loads::{StageLoads, motion_between};
 use super::strike::StrikeShare;
 use super::wing::{DynamicWing, WingState, WingStep};
 use crate::error::{Error, Result};
@@ -105,8 +105,8 @@ impl DynamicWing {
 
     /// [`Self::step`] with the body's motion at the step's start, its midpoint and its end
     /// (`motions`): the loads are taken at the midpoint's motion, or, on inelastic stops
-    /// whose loads are carried from step to step ([`StageLoads::Carried`], `carry`), each
-    /// at the motion of its own time (linear between the start's and the end's).
+    /// under [`StageLoads::Split`] (`stage_loads`), each at the motion of its own time
+    /// (linear between the start's and the end's).
     pub fn step_moving(
         &mut self,
         wing: &mut Wing,
@@ -125,20 +125,15 @@ impl DynamicWing {
         // loads over the step (below).
         let stops = self.model.hinge.contact.is_some() || self.sampling.is_second_order();
         let inelastic = self.model.hinge.contact.is_some_and(|c| c.is_inelastic());
-        // The end's loads (and a smooth step's report) handed from step to step (`carry`).
-        let carrying = self.stage_loads == StageLoads::Carried
+        // Inelastic stops under the split scheme (`stage_loads`).
+        let split_scheme = self.stage_loads == StageLoads::Split
             && inelastic
             && self.sampling.is_second_order()
             && n == 1;
-        let motion_at = |t_s: f64| match carrying {
+        let motion_at = |t_s: f64| match split_scheme {
             true => motion_between(start_motion, end_motion, (t_s - start.t_s) / dt_s),
             false => *body,
         };
-        let carried = match carrying {
-            true => self.carry.take().filter(|c| c.is_start(&start, dt_s, wing)),
-            false => None,
-        };
-        let carried_report = carried.as_ref().and_then(|c| c.report.as_ref());
         let mut out = None;
         let mut frame_start = None;
         let mut nodes = Nodes::new();
@@ -149,9 +144,6 @@ impl DynamicWing {
         // last loads the integrator took (on an inelastic stop, the sub-step's end's, on the
         // state its last segment's path predicted: `predicted_end`), each computed once.
         let mut start_loads = None;
-        // The end node's state, loads and (a smooth step's) report, for the next step
-        // (`carry`).
-        let mut end_node = None;
         // The last node's state, time and frame, where a report took it.
         let mut end_report_frame: Option<(StepStart, WingFrame)> = None;
         let mut moved: Vec<(WingStep, [f64; 3])> = Vec::new();
@@ -162,16 +154,13 @@ impl DynamicWing {
         let mut next_reference = None;
         // Stroke reversals the step was split at (the step mean without stops): time and the
         // stroke phase that starts there.
-        // (With inelastic stops whose loads are carried, too: `carry`.)
+        // (With inelastic stops under the split scheme, too: `stage_loads`.)
         let split_reversals = self.sampling == LoadSampling::StepMean
-            && (self.model.hinge.contact.is_none() || carrying);
+            && (self.model.hinge.contact.is_none() || split_scheme);
         let mut reversals: Vec<(f64, StrokePhase)> = Vec::new();
         for sub in 0..n {
             self.take_volts(self.t_s, h);
-            let (held, aero) = match (sub, &carried) {
-                (0, Some(c)) => (c.held, c.aero),
-                _ => self.aero_held(wing, &motion_at(self.t_s)),
-            };
+            let (held, aero) = self.aero_held(wing, &motion_at(self.t_s));
             let y0 = self.y();
             let t0 = self.t_s;
             // An inelastic stop's segments take their own (`actuated::contact`).
@@ -180,10 +169,7 @@ impl DynamicWing {
                 false => Some(self.accelerations(t0, &y0, &held)),
             };
             if sub == 0 {
-                frame_start = match &carried {
-                    Some(c) => c.frame,
-                    None => aero.as_ref().map(|(_, frame)| *frame),
-                };
+                frame_start = aero.as_ref().map(|(_, frame)| *frame);
                 if stops {
                     start_loads = Some((held, aero));
                 } else {
@@ -325,9 +311,9 @@ impl DynamicWing {
             } else {
                 self.track_reversal(pd_old, t0, h);
             }
-            // Carried: the rate on both sides of each jump and reversal within the sub-step.
+            // Split: the rate on both sides of each jump and reversal within the sub-step.
             let mut within: Vec<(f64, f64)> = Vec::new();
-            if carrying {
+            if split_scheme {
                 for k in (nodes_before.max(1))..nodes.len() {
                     let (a, b) = (&nodes[k - 1], &nodes[k]);
                     if a.2 && a.0 == b.0 && a.0 < self.t_s {
@@ -467,46 +453,18 @@ impl DynamicWing {
                         points.push((at, held, aero, a, w));
                     }
                 }
-                // A smooth step whose loads are carried takes each node's report at its own
-                // accelerations, so that its end's is the next step's start's (`carry`).
-                let smooth = carrying
-                    && points.len() == 2
-                    && kept.len() == 2
-                    && strikes.is_empty()
-                    && reversals.is_empty();
-                let shift = match smooth {
-                    true => [0.0; 2],
-                    false => [acc[0] - mean_acc[0], acc[1] - mean_acc[1]],
-                };
+                let shift = [acc[0] - mean_acc[0], acc[1] - mean_acc[1]];
                 // The report's motion (angles, actuator, stroke phase) is the mid-step one;
                 // its loads are the nodes' weighted sum.
                 let mut mean = self.motion(acc, &mid);
                 let last = points.len().saturating_sub(1);
                 for (k, (node, held, aero, a, w)) in points.into_iter().enumerate() {
                     let a = [a[0] + shift[0], a[1] + shift[1]];
-                    let fresh;
-                    let report = match (k, carried_report) {
-                        (0, Some(r)) if smooth => r,
-                        _ => {
-                            let (r, frame) = self.report_framed(wing, &held, aero, a, &node);
-                            if k == last {
-                                end_report_frame = Some((node, frame));
-                            }
-                            fresh = r;
-                            &fresh
-                        }
-                    };
-                    mean.add_scaled(report, w);
-                    if carrying && k == last {
-                        end_node = Some(Carry {
-                            at: node,
-                            held,
-                            aero,
-                            frame: None,
-                            report: smooth.then_some(*report),
-                            inflow: wing.inflow_field(),
-                        });
+                    let (report, frame) = self.report_framed(wing, &held, aero, a, &node);
+                    if k == last {
+                        end_report_frame = Some((node, frame));
                     }
+                    mean.add_scaled(&report, w);
                 }
                 mean
             };
@@ -535,8 +493,6 @@ impl DynamicWing {
             out = Some(mean);
             if next_reference.is_some() {
                 wing.set_stroke_reference(next_reference);
-                // The wing's loads move with its stroke reference: the end's are stale.
-                end_node = None;
             }
         }
         let mut out = out.expect("at least one sub-step");
@@ -553,10 +509,6 @@ impl DynamicWing {
             Some((at, frame)) if at.t_s == self.t_s && at.state == self.state => frame,
             _ => WingFrame::new(&self.angles([0.0; 2]), wing.mount().side),
         });
-        if let Some(c) = &mut end_node {
-            c.frame = end_frame;
-        }
-        self.carry = end_node;
         if let Some(start) = frame_start {
             // The impulse-form added mass is -dP/dt of the fluid's impulse. Held over the
             // step, its value at the step's start would hand the body an impulse that differs

@@ -8,9 +8,9 @@ use wingforce::{AxisMoments, TermForce, WingAngles, WingForces};
 
 use super::super::actuator::ActuatorState;
 use super::super::drive::Drive;
-use super::carry::{Carry, StageLoads};
 use super::memo::WingKey;
 use super::model::{Stroke, WingDynamics};
+use super::stage_loads::StageLoads;
 use super::strike::StrikeShare;
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;
@@ -160,8 +160,6 @@ pub struct DynamicWing {
     /// How, on an inelastic stop, the aerodynamic loads are taken within a step
     /// ([`DynamicWing::set_stage_loads`]).
     pub(super) stage_loads: StageLoads,
-    /// What the last step hands this one (`carry`), under [`StageLoads::Carried`].
-    pub(super) carry: Option<Carry>,
     /// The key of this wing's model and drive in the memo of what a step asks for more than
     /// once (`memo`; a run is the same without it).
     pub(super) memo: WingKey,
@@ -182,22 +180,15 @@ impl DynamicWing {
     }
 
     /// How a wing on inelastic hinge stops takes its aerodynamic loads within a step
-    /// ([`StageLoads`]): by default carried from each step's end to the next step's start
-    /// (`carry`); a log written before re-runs with its own.
+    /// ([`StageLoads`], by default the split scheme, `stage_loads`); a log written before
+    /// re-runs with its own.
     pub fn set_stage_loads(&mut self, stage_loads: StageLoads) {
         self.stage_loads = stage_loads;
-        self.carry = None;
     }
 
     /// See [`Self::set_stage_loads`].
     pub fn stage_loads(&self) -> StageLoads {
         self.stage_loads
-    }
-
-    /// Forgets what the last step handed the next (`carry`): the body was moved other than
-    /// by the loads the steps reported (the wing set's `restart_motion`).
-    pub fn forget_carry(&mut self) {
-        self.carry = None;
     }
 
     /// A wing at rest at the springs' rest angles (or on its prescribed stroke at t = 0).
@@ -230,7 +221,6 @@ impl DynamicWing {
             carried_strike_after: None,
             strike_share: StrikeShare::default(),
             stage_loads: StageLoads::default(),
-            carry: None,
             memo: WingKey::fresh(),
             volts: [(f64::NAN.to_bits(), f64::NAN); 4],
         };
@@ -257,14 +247,12 @@ impl DynamicWing {
         self.drive = drive;
         self.memo = WingKey::fresh();
         self.volts = [(f64::NAN.to_bits(), f64::NAN); 4];
-        self.carry = None;
         Ok(())
     }
 
     /// Sets the state (angles and rates) directly.
     pub fn set_state(&mut self, state: WingState) {
         self.state = state;
-        self.carry = None;
     }
 
     /// The state now.
