@@ -4,7 +4,7 @@
 //!
 //! The physics: the body feels the wing's loads integrated over time. The hummingbird's wing
 //! swings freely between stops at +-45 deg and strikes one every half stroke, its pitch rate
-//! collapsing within about 7 us, against a body step of 74 us (the file's 400 steps per wingbeat).
+//! collapsing within about 7 us, against a body step of 74 us at 400 steps per wingbeat (147 us at the file's 200).
 //! Loads nonlinear in the rates (the rotational term's pitch-only part goes as
 //! theta_dot |theta_dot|, the inertial reaction as omega x omega) sampled once per step
 //! carry an error of the order of their jump times the fraction of the step the strike
@@ -20,9 +20,9 @@
 //! passed (the touch taken on both sides of the rates' jump, the release), and the
 //! impulse's reaction taken where the wing struck (shared over the step as a constant, it
 //! acted along axes that turn with the stroke, and M_u swung between -1.5e-5 and +1.2e-5
-//! N s over step sizes), M_u by central differences at the file's 400 steps per wingbeat is
+//! N s over step sizes), M_u by central differences at 400 steps per wingbeat (the file's until 2026-12-07) is
 //! the same at 6e-4 m/s (the averaged model's difference step) and at 0.02 m/s (measured
-//! 0.015% under the file's step mean, 0.02% under step-start; bound 1%), and at 400 and 800
+//! 0.015% under the step mean, 0.02% under step-start; bound 1%), and at 400 and 800
 //! steps per wingbeat (1.4%; bound 5%); at 200 steps per wingbeat it is 4.5% off (bound 10%).
 //!
 //! Where the strike's impulse lands in time matters for the body's motion, not for its cycle
@@ -96,7 +96,7 @@ fn the_hummingbird_pitch_moment_is_smooth_in_forward_speed_and_converged_in_the_
         close(small, converged, 0.05),
         "M_u depends on the body step: {small:e} at 400 steps per wingbeat, {converged:e} at 800"
     );
-    // Half the file's steps: its discretisation error, measured 4.5% under step-start
+    // Half those steps (the file's since 2026-12-07): the discretisation error, measured 4.5% under step-start
     // sampling and 4.5% under the step mean (before the stops took the step's mean loads, M_u
     // was +5.1e-7, -5.9e-5 and -9.7e-5 N s at 400, 800 and 200 steps per wingbeat).
     assert!(
@@ -114,10 +114,9 @@ fn floquet(steps_per_wingbeat: usize) -> FloquetAnalysis {
 
 /// The module's last paragraph: with each strike's impulse shared between its step and the
 /// next, the one-wingbeat map is smooth at 3200 steps per wingbeat (it had a jump of 1.84
-/// perturbations there) and its unstable pair's exponent is the file's 400 steps' within 1%
-/// (measured 0.57%: +0.5863 and +0.5897 1/s since the stops' loads are carried and the
-/// strikes shared for the trapezoidal pose over three steps, 2026-12-07; +0.5948 and +0.5957
-/// before; with the impulse whole in its step +0.5593 at 400 and a jump at 3200, which fails;
+/// perturbations there) and its unstable pair's exponent at 400 steps is within 1% of it
+/// (measured 0.45%: +0.5872 and +0.5899 1/s since the split scheme and the strikes shared
+/// for the trapezoidal pose over three steps, 2026-12-07; +0.5948 and +0.5957 before; with the impulse whole in its step +0.5593 at 400 and a jump at 3200, which fails;
 /// with the trapezoid's shares over two steps, which jump where a strike crosses a step's
 /// end, +0.598 at 3200 and +0.580 at 6400).
 #[test]
@@ -175,7 +174,7 @@ fn state_error(s: &flapsim::State, r: &flapsim::State) -> f64 {
 /// its global error by 2^p when the step halves (Hairer, Norsett & Wanner, Solving Ordinary
 /// Differential Equations I, 2nd ed., section II.4), so over 30 wingbeats open loop the
 /// error ratio between 200 and 400 steps per wingbeat, against a run at 1600, is above 3.5
-/// (measured 4.5: 5.8e-3 and 1.3e-3; the scheme before 2026-12-07 scattered over the step
+/// (measured 4.5: 1.6e-3 and 3.6e-4; the scheme before 2026-12-07 scattered over the step
 /// counts at this horizon against 6400: 4.0 from 200 to 400, but 35 from 150 to 300, 0.59
 /// from 300 to 600 and 5.7 from 600 to 1200).
 #[test]
@@ -199,7 +198,7 @@ fn split_stop_loads_converge_at_second_order() {
 /// where the body's motion has not yet amplified it, the position error against a run at
 /// 6400 steps per wingbeat therefore halves with the step under the scheme before
 /// 2026-12-07 (ratio below 2.5 between 400 and 800; measured 2.36) and falls by more than
-/// 3.5 with the trapezoid's shares (measured 3.89), at a tenth of the error or less (2.2e-7 m
+/// 3.5 with the trapezoid's shares (measured 3.74), at a tenth of the error or less (1.9e-7 m
 /// against 3.7e-6 m at 400).
 #[test]
 fn strikes_shared_for_the_trapezoidal_pose_keep_the_position_second_order() {
@@ -229,7 +228,7 @@ fn strikes_shared_for_the_trapezoidal_pose_keep_the_position_second_order() {
 /// error once per half stroke: the scheme before 2026-12-07 converged at first order in
 /// this mean (ratio below 2.5 between 400 and 800 steps per wingbeat; measured 2.17: 1.3e-5
 /// and 5.8e-6 N). Split at the reversal and sampled on both sides of each jump, it
-/// converges at second order (ratio above 3.5; measured 3.68: 1.2e-6 and 3.2e-7 N), against a
+/// converges at second order (ratio above 3.5; measured 3.73: 1.1e-6 and 3.0e-7 N), against a
 /// run at 6400.
 #[test]
 fn reversals_and_strikes_within_a_step_keep_the_tethered_loads_second_order() {
