@@ -95,7 +95,7 @@ def test_a_step_coarser_than_the_stated_bound_is_flagged(tmp_path):
     assert "16 steps per wingbeat, coarser than the 20" in coarse.coarse_step_warning
     assert flapwing.Vehicle("robobee").accurate_steps_per_wingbeat == 40
     bird = flapwing.Vehicle("hummingbird")
-    assert bird.accurate_steps_per_wingbeat == 400 == bird.steps_per_wingbeat
+    assert bird.accurate_steps_per_wingbeat == 200 == bird.steps_per_wingbeat
     assert bird.coarse_step_warning is None
 
 

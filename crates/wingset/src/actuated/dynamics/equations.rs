@@ -153,7 +153,13 @@ impl DynamicWing {
     /// [`Self::solve`] through the memo: the last two distinct arguments and their results.
     fn solve_memo(&self, t: f64, y: &[f64; 4], held: &Held) -> Solved {
         let free_matters = self.model.hinge.contact.is_some_and(|c| !c.is_inelastic());
-        let key = SolveKey::new(self.memo, t, y, held, free_matters);
+        let key = SolveKey::new(
+            self.memo,
+            t,
+            y,
+            (held.q, held.added),
+            held.free && free_matters,
+        );
         memo::solved(key, || self.solve(t, y, held))
     }
 

@@ -21,8 +21,6 @@
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::equations::Held;
-
 /// The free accelerations, the stroke acceleration with the pitch held and the holding
 /// moment ([`DynamicWing::solve`]).
 pub(in crate::actuated) type Solved = ([f64; 2], f64, f64);
@@ -48,14 +46,16 @@ impl WingKey {
 pub(in crate::actuated) struct SolveKey([u64; 13]);
 
 impl SolveKey {
+    /// The key of a solution at time `t` and state `y` under held generalized forces `q`
+    /// and added inertia `added` (`free`: integrated as if without stops, where that
+    /// matters).
     pub(in crate::actuated) fn new(
         wing: WingKey,
         t: f64,
         y: &[f64; 4],
-        held: &Held,
-        free_matters: bool,
+        (q, added): ([f64; 2], [[f64; 2]; 2]),
+        free: bool,
     ) -> Self {
-        let a = &held.added;
         let b = f64::to_bits;
         Self([
             b(t),
@@ -63,14 +63,14 @@ impl SolveKey {
             b(y[1]),
             b(y[2]),
             b(y[3]),
-            b(held.q[0]),
-            b(held.q[1]),
-            b(a[0][0]),
-            b(a[0][1]),
-            b(a[1][0]),
-            b(a[1][1]),
+            b(q[0]),
+            b(q[1]),
+            b(added[0][0]),
+            b(added[0][1]),
+            b(added[1][0]),
+            b(added[1][1]),
             wing.0,
-            u64::from(held.free && free_matters),
+            u64::from(free),
         ])
     }
 

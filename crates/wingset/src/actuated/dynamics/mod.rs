@@ -118,8 +118,7 @@ mod wing;
 
 pub(super) use equations::Held;
 pub use model::{Hinge, Stroke, WingDynamics, WingInertia};
-pub use stage_loads::StageLoads;
+pub use stage_loads::{StageLoads, StrikeShare};
 pub use step::MAX_PENETRATION_RAD;
 pub(super) use step::{Nodes, Reheld};
-pub use strike::StrikeShare;
 pub use wing::{ActuatedWingOutput, DynamicWing, WingState, WingStep};

@@ -1,5 +1,6 @@
 //! How a wing on inelastic hinge stops takes its aerodynamic loads within a step
-//! ([`StageLoads`]), and the body's motion at a node's time.
+//! ([`StageLoads`]) and shares a strike's impulse among the body's steps ([`StrikeShare`],
+//! stated in `strike`), and the body's motion at a node's time.
 //!
 //! # The split scheme (since 2026-12-07, the default)
 //! A step takes its loads at each segment's start and at the sub-step's end, on the state the
@@ -49,6 +50,23 @@ pub enum StageLoads {
     /// of its time (module documentation).
     #[default]
     Split,
+}
+
+/// How a strike's impulse is shared between the body step it falls in and the next (`strike`'s module
+/// documentation). Logs name it (`flightlog`'s `strike_impulse`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StrikeShare {
+    /// Whole in its step (logs written before 2026-12-06).
+    WholeInStep,
+    /// 1 - tau/dt in its step and tau/dt in the next: exact for a host that moves the body
+    /// by dt v_{k+1} (semi-implicit Euler: MuJoCo's, rapier's own). The default: a wing
+    /// set does not know its host.
+    #[default]
+    SemiImplicitPose,
+    /// 3/2 (1 - tau/dt) in its step, 2 tau/dt - 1/2 in the next and -tau/(2 dt) in the one
+    /// after: exact for a host that moves the body by dt (v_k + v_{k+1})/2 (flapsim's hosts
+    /// under a second-order sampling), and continuous in the strike's time.
+    TrapezoidalPose,
 }
 
 /// The body's motion at a time `s` of the way through a step from `start` to `end` (linear).

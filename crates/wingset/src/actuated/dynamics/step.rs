@@ -10,8 +10,7 @@ use wingforce::{AxisMoments, BodyMotion, StrokePhase, TermForce, Wing, WingForce
 use super::super::actuator::ActuatorState;
 use super::equations::Held;
 use super::model::Stroke;
-use super::stage_loads::{StageLoads, motion_between};
-use super::strike::StrikeShare;
+use super::stage_loads::{StageLoads, StrikeShare, motion_between};
 use super::wing::{DynamicWing, WingState, WingStep};
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;

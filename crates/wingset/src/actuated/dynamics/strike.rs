@@ -48,22 +48,7 @@
 
 use wingforce::{BodyMotion, Term, Wing, WingFrame};
 
-/// How a strike's impulse is shared between the body step it falls in and the next (the
-/// module documentation). Logs name it (`flightlog`'s `strike_impulse`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum StrikeShare {
-    /// Whole in its step (logs written before 2026-12-06).
-    WholeInStep,
-    /// 1 - tau/dt in its step and tau/dt in the next: exact for a host that moves the body
-    /// by dt v_{k+1} (semi-implicit Euler: MuJoCo's, rapier's own). The default: a wing
-    /// set does not know its host.
-    #[default]
-    SemiImplicitPose,
-    /// 3/2 (1 - tau/dt) in its step, 2 tau/dt - 1/2 in the next and -tau/(2 dt) in the one
-    /// after: exact for a host that moves the body by dt (v_k + v_{k+1})/2 (flapsim's hosts
-    /// under a second-order sampling), and continuous in the strike's time.
-    TrapezoidalPose,
-}
+use super::stage_loads::StrikeShare;
 
 use super::step::StepStart;
 use super::wing::{DynamicWing, WingState, WingStep};

@@ -10,8 +10,7 @@ use super::super::actuator::ActuatorState;
 use super::super::drive::Drive;
 use super::memo::WingKey;
 use super::model::{Stroke, WingDynamics};
-use super::stage_loads::StageLoads;
-use super::strike::StrikeShare;
+use super::stage_loads::{StageLoads, StrikeShare};
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;
 
