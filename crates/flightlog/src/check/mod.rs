@@ -291,10 +291,6 @@ fn logged_load_sampling(
     }
 }
 
-/// The added-mass form the logged run used: the log's `added_mass_form` metadata, else (a log
-/// written before the forms existed, when eq 7-8 was the only form) the paper's form, unless
-/// the embedded model switched the term off. `from_model` is what the embedded model file
-/// resolves to today.
 /// How the logged run's actuated wings shared a strike between steps
 /// ([`STRIKE_IMPULSE_KEY`]).
 fn logged_strike_share(
@@ -327,6 +323,10 @@ fn logged_stage_loads(
     }
 }
 
+/// The added-mass form the logged run used: the log's `added_mass_form` metadata, else (a log
+/// written before the forms existed, when eq 7-8 was the only form) the paper's form, unless
+/// the embedded model switched the term off. `from_model` is what the embedded model file
+/// resolves to today.
 fn logged_added_mass_form(
     md: &std::collections::BTreeMap<String, String>,
     from_model: wingforce::AddedMassForm,

@@ -349,7 +349,7 @@ impl DynamicWing {
     /// the rates, so the end's loads are second-order accurate; the segment's loads at its
     /// later stages are then taken linear in time between its start's and these
     /// ([`lerp_loads`]): two evaluations per segment where loads at every stage take four.
-    /// Under the split scheme ([`StageLoads::Split`]) the path is
+    /// Under the split scheme ([`DynamicWing::split_scheme`]) the path is
     /// the midpoint rule's (second order, one solution of the equations where the
     /// Runge-Kutta step takes three): its own O(h^3) error in the rates is below the held
     /// loads' O(h^2).
@@ -363,8 +363,8 @@ impl DynamicWing {
         reheld: Reheld,
     ) -> ([f64; 4], Held) {
         let h = end - t;
-        let yp = match self.stage_loads() {
-            StageLoads::Split => {
+        let yp = match self.split_scheme() {
+            true => {
                 let half = 0.5 * h;
                 let ym = [
                     y[0] + half * y[2],
@@ -380,7 +380,7 @@ impl DynamicWing {
                     y[3] + h * km[1],
                 ]
             }
-            _ => self.rk4(t, y, h, base, Some(k1), None).0,
+            false => self.rk4(t, y, h, base, Some(k1), None).0,
         };
         (yp, reheld(end, &yp))
     }

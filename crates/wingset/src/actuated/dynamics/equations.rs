@@ -126,7 +126,7 @@ impl DynamicWing {
     }
 
     /// Accelerations at time t for y = (phi, theta, phi_dot, theta_dot), from the memo of
-    /// the states a step comes back to ([`SolveMemo`]).
+    /// the states a step comes back to (module `memo`).
     pub(in crate::actuated) fn accelerations(&self, t: f64, y: &[f64; 4], held: &Held) -> [f64; 2] {
         self.accelerations_from(self.solve_memo(t, y, held), y, held)
     }

@@ -43,6 +43,15 @@ pub(super) struct StepStart {
 }
 
 impl DynamicWing {
+    /// Whether a step takes the split scheme ([`StageLoads::Split`]): inelastic stops, a
+    /// second-order sampling and one sub-step a step.
+    pub(in crate::actuated) fn split_scheme(&self) -> bool {
+        self.stage_loads == StageLoads::Split
+            && self.model.hinge.contact.is_some_and(|c| c.is_inelastic())
+            && self.sampling.is_second_order()
+            && self.model.substeps.max(1) == 1
+    }
+
     fn stroke_phase(&self) -> StrokePhase {
         StrokePhase {
             half_stroke: self.half_stroke,
@@ -125,10 +134,7 @@ impl DynamicWing {
         let stops = self.model.hinge.contact.is_some() || self.sampling.is_second_order();
         let inelastic = self.model.hinge.contact.is_some_and(|c| c.is_inelastic());
         // Inelastic stops under the split scheme (`stage_loads`).
-        let split_scheme = self.stage_loads == StageLoads::Split
-            && inelastic
-            && self.sampling.is_second_order()
-            && n == 1;
+        let split_scheme = self.split_scheme();
         let motion_at = |t_s: f64| match split_scheme {
             true => motion_between(start_motion, end_motion, (t_s - start.t_s) / dt_s),
             false => *body,
@@ -253,10 +259,12 @@ impl DynamicWing {
                     nodes.push((t_rev, ya, false));
                     let reheld_after = reheld_from(t_rev, after);
                     let held_after = reheld_after(t_rev, &ya);
+                    // The part's length as the sub-step's end less the reversal: exact
+                    // (Sterbenz), so that the part ends on t0 + h, the step's end.
                     let y = self.advance(
                         t_rev,
                         &ya,
-                        h - tau,
+                        (t0 + h) - t_rev,
                         &held_after,
                         None,
                         &mut nodes,
