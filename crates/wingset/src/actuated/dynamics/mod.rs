@@ -110,6 +110,7 @@
 mod equations;
 mod memo;
 mod model;
+mod report;
 mod reversal;
 mod stage_loads;
 mod step;
