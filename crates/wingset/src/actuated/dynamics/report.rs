@@ -56,6 +56,7 @@ impl DynamicWing {
 
     /// [`Self::report`] and the wing's frame at `at` (with the accelerations: its axes and
     /// angular velocity are those of the frame without them, bit for bit).
+    #[inline(always)]
     pub(super) fn report_framed(
         &self,
         wing: &Wing,

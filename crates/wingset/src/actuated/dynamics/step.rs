@@ -5,6 +5,8 @@
 
 use std::cell::Cell;
 
+use smallvec::SmallVec;
+
 use wingforce::{BodyMotion, StrokePhase, TermForce, Wing, WingFrame};
 
 use super::equations::Held;
@@ -27,7 +29,7 @@ pub(in crate::actuated) type Reheld<'a> = &'a dyn Fn(f64, &[f64; 4]) -> Held;
 pub(super) type Aero = (TermForce, WingFrame);
 
 /// The states a step passed: (time, state, the touch's left-side flag).
-pub(in crate::actuated) type Nodes = Vec<(f64, [f64; 4], bool)>;
+pub(in crate::actuated) type Nodes = SmallVec<[(f64, [f64; 4], bool); 8]>;
 
 /// Loads the integrator took: where ([`DynamicWing::aero_at`]'s arguments) and what.
 type Loads = (StepStart, Held, Option<Aero>);
@@ -409,7 +411,8 @@ impl DynamicWing {
                 ],
                 false,
             );
-            let kept = quadrature_nodes(&nodes);
+            let mut kept = Nodes::new();
+            quadrature_nodes(&nodes, &mut kept);
             // A node's loads: the first sub-step's start, the loads the integrator took there,
             // or afresh.
             let node_loads = |k: usize, at: &StepStart| match (k, last_loads.get()) {
@@ -427,13 +430,13 @@ impl DynamicWing {
                 }
                 _ => self.aero_at(wing, &motion_at(at.t_s), at),
             };
-            let mut mean = {
+            let mean = {
                 // Each node's loads and accelerations (the strike's spike resolved by the
                 // contact steps), the accelerations then shifted by one constant so that
                 // their mean is the step's change of rate: the impulse the body receives
                 // stays exact.
                 let span_s = kept.last().map_or(0.0, |n| n.0) - kept[0].0;
-                let mut points = Vec::with_capacity(kept.len());
+                let mut points: SmallVec<[_; 4]> = SmallVec::with_capacity(kept.len());
                 let mut mean_acc = [0.0; 2];
                 for (k, (t_s, y, free)) in kept.iter().enumerate() {
                     let before = if k > 0 { t_s - kept[k - 1].0 } else { 0.0 };
@@ -461,15 +464,15 @@ impl DynamicWing {
                 let shift = [acc[0] - mean_acc[0], acc[1] - mean_acc[1]];
                 // The report's motion (angles, actuator, stroke phase) is the mid-step one;
                 // its loads are the nodes' weighted sum.
-                let mut mean = self.motion(acc, &mid);
+                let mean = out.insert(self.motion(acc, &mid));
                 let last = points.len().saturating_sub(1);
-                for (k, (node, held, aero, a, w)) in points.into_iter().enumerate() {
+                for (k, (node, held, aero, a, w)) in points.iter().enumerate() {
                     let a = [a[0] + shift[0], a[1] + shift[1]];
-                    let (report, frame) = self.report_framed(wing, &held, aero, a, &node);
+                    let (report, frame) = self.report_framed(wing, held, *aero, a, node);
                     if k == last {
-                        end_report_frame = Some((node, frame));
+                        end_report_frame = Some((*node, frame));
                     }
-                    mean.add_scaled(&report, w);
+                    mean.add_scaled(&report, *w);
                 }
                 mean
             };
@@ -495,12 +498,11 @@ impl DynamicWing {
                     moved.push((loads, shares));
                 }
             }
-            out = Some(mean);
             if next_reference.is_some() {
                 wing.set_stroke_reference(next_reference);
             }
         }
-        let mut out = out.expect("at least one sub-step");
+        let out = out.as_mut().expect("at least one sub-step");
         // The strikes' shares for the next step (`super::strike`), taken out after the added
         // mass's change of impulse (which holds the fluid's part), and those carried in.
         let carried = self.carried_strike.take();
@@ -541,7 +543,7 @@ impl DynamicWing {
         if let Some(c) = carried {
             out.add_scaled(&c, 1.0);
         }
-        Ok(out)
+        Ok(*out)
     }
 
     /// One classical fourth-order Runge-Kutta step of length `h` from (t0, y0) with the
@@ -650,12 +652,11 @@ impl DynamicWing {
 /// (with the node before it, so that the loads between two kept nodes vary smoothly and
 /// little). A wing resting in a stop passes many contact steps in which little changes;
 /// a strike's collapse of the pitch rate keeps every one of them.
-fn quadrature_nodes(nodes: &[(f64, [f64; 4], bool)]) -> Nodes {
+fn quadrature_nodes(nodes: &[(f64, [f64; 4], bool)], kept: &mut Nodes) {
     let scale = nodes
         .iter()
         .fold(0.0f64, |m, n| m.max(n.1[2].abs()).max(n.1[3].abs()));
     let tol = NODE_RATE_FRACTION * scale;
-    let mut kept = Nodes::with_capacity(nodes.len());
     for (k, n) in nodes.iter().enumerate() {
         let Some(last) = kept.last().copied() else {
             kept.push(*n);
@@ -670,7 +671,6 @@ fn quadrature_nodes(nodes: &[(f64, [f64; 4], bool)]) -> Nodes {
             kept.push(*n);
         }
     }
-    kept
 }
 
 /// The largest change of a rate, as a fraction of the step's largest rate, between two
