@@ -30,14 +30,22 @@ impl WingFrame {
     /// The frame for given angles. The wing orientation is a rotation by phi about the
     /// stroke-plane normal, then eta about the stroke tangent, then theta about the span.
     pub fn new(a: &WingAngles, side: Side) -> Self {
+        Self::new_with(a, side, f64::sin_cos)
+    }
+
+    /// [`Self::new`] with the angles' sines and cosines from `sin_cos` (bit for bit `new`
+    /// where `sin_cos` is `f64::sin_cos`'s values: a caller that meets the same angles again
+    /// may keep them).
+    #[inline(always)]
+    pub fn new_with(a: &WingAngles, side: Side, sin_cos: impl Fn(f64) -> (f64, f64)) -> Self {
         let s = side.sign();
-        let (sf, cf) = a.phi.sin_cos();
+        let (sf, cf) = sin_cos(a.phi);
         let (se, ce) = if a.eta == 0.0 {
             (0.0, 1.0)
         } else {
-            a.eta.sin_cos()
+            sin_cos(a.eta)
         };
-        let (st, ct) = a.theta.sin_cos();
+        let (st, ct) = sin_cos(a.theta);
         let z = Vector3::z();
         let h = Vector3::new(sf, s * cf, 0.0);
         let t = Vector3::new(cf, -s * sf, 0.0);

@@ -145,3 +145,34 @@ pub(in crate::actuated) fn sin_cos_pitch(theta_rad: f64) -> (f64, f64) {
     PITCH_TRIG.set((key, s, c));
     (s, c)
 }
+
+/// Frames whose angles' sines and cosines [`frame_trig`] keeps (four a wing: a step of
+/// each of a pair's wings lies between a wing's report at a step's end and its loads at the
+/// next step's start).
+const FRAMES: usize = 8;
+
+thread_local! {
+    /// The last [`FRAMES`] frames' (phi's bits, theta's bits, [sin phi, cos phi, sin theta,
+    /// cos theta]) and the slot the next one takes ([`frame_trig`]).
+    static FRAME_TRIG: RefCell<([(u64, u64, [f64; 4]); FRAMES], usize)> =
+        const { RefCell::new(([(u64::MAX, u64::MAX, [f64::NAN; 4]); FRAMES], 0)) };
+}
+
+/// [sin phi, cos phi, sin theta, cos theta] of a wing frame's stroke and pitch angles, rad,
+/// the last [`FRAMES`] frames' kept: a step takes its start's frame for its loads and for
+/// its report, the last step's report took it at its end, and a wing resting on its
+/// inelastic stop keeps its pitch (two sines and cosines, about 230 instructions, each
+/// time). Bit for bit `f64::sin_cos`.
+pub(in crate::actuated) fn frame_trig(phi_rad: f64, theta_rad: f64) -> [f64; 4] {
+    let (p, t) = (phi_rad.to_bits(), theta_rad.to_bits());
+    FRAME_TRIG.with_borrow_mut(|(kept, next)| {
+        if let Some(e) = kept.iter().find(|e| e.0 == p && e.1 == t) {
+            return e.2;
+        }
+        let ((sp, cp), (st, ct)) = (phi_rad.sin_cos(), theta_rad.sin_cos());
+        let trig = [sp, cp, st, ct];
+        kept[*next] = (p, t, trig);
+        *next = (*next + 1) % FRAMES;
+        trig
+    })
+}

@@ -12,6 +12,19 @@ use super::step::{Aero, StepStart};
 use super::wing::{DynamicWing, WingStep};
 
 impl DynamicWing {
+    /// The wing's frame at angles `a` ([`WingFrame::new`], bit for bit), with the sines
+    /// and cosines of the angles met last ([`super::memo::frame_trig`]).
+    #[inline(always)]
+    pub(super) fn frame(&self, a: &wingforce::WingAngles, side: wingforce::Side) -> WingFrame {
+        let trig = super::memo::frame_trig(a.phi, a.theta);
+        let (p, t) = (a.phi.to_bits(), a.theta.to_bits());
+        WingFrame::new_with(a, side, |x| match x.to_bits() {
+            b if b == p => (trig[0], trig[1]),
+            b if b == t => (trig[2], trig[3]),
+            _ => x.sin_cos(),
+        })
+    }
+
     /// The motion at `at` with the accelerations `acc` (angles, actuator and stroke phase)
     /// and no loads: what [`Self::report`] gives there with every load zero.
     pub(super) fn motion(&self, acc: [f64; 2], at: &StepStart) -> WingStep {
@@ -67,7 +80,7 @@ impl DynamicWing {
     ) -> (WingStep, WingFrame) {
         let a = self.angles_at(&at.state, at.t_s, acc);
         let side = wing.mount().side;
-        let frame = WingFrame::new(&a, side);
+        let frame = self.frame(&a, side);
         let (forces, aero_axis) = match aero {
             Some((f, _)) => {
                 let k = wing.kinematic_loads_in(&a, &at.phase, &frame);

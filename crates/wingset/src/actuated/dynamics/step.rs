@@ -84,7 +84,7 @@ impl DynamicWing {
         }
         let a = self.angles_at(&at.state, at.t_s, [0.0, 0.0]);
         let side = wing.mount().side;
-        let frame = WingFrame::new(&a, side);
+        let frame = self.frame(&a, side);
         let k = wing.kinematic_loads_in(&a, &at.phase, &frame);
         let f = wing.evaluate_with(&k, body);
         let q = wing.axis_moments(&frame, &f.total);
@@ -514,7 +514,7 @@ impl DynamicWing {
         // that node is the end.
         let end_frame = frame_start.map(|_| match end_report_frame {
             Some((at, frame)) if at.t_s == self.t_s && at.state == self.state => frame,
-            _ => WingFrame::new(&self.angles([0.0; 2]), wing.mount().side),
+            _ => self.frame(&self.angles([0.0; 2]), wing.mount().side),
         });
         if let Some(start) = frame_start {
             // The impulse-form added mass is -dP/dt of the fluid's impulse. Held over the
