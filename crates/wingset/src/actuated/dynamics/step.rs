@@ -436,7 +436,7 @@ impl DynamicWing {
                 // their mean is the step's change of rate: the impulse the body receives
                 // stays exact.
                 let span_s = kept.last().map_or(0.0, |n| n.0) - kept[0].0;
-                let mut points: SmallVec<[_; 4]> = SmallVec::with_capacity(kept.len());
+                let mut points: SmallVec<[_; 4]> = SmallVec::new();
                 let mut mean_acc = [0.0; 2];
                 for (k, (t_s, y, free)) in kept.iter().enumerate() {
                     let before = if k > 0 { t_s - kept[k - 1].0 } else { 0.0 };
