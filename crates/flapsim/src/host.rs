@@ -20,7 +20,7 @@ use rapier3d_f64::prelude::*;
 use crate::error::{Error, Result};
 use crate::frames::{from_glam, matrix_from_glam, quat_from_glam, quat_to_glam, to_glam};
 use crate::model::Vehicle;
-use crate::wings::{State, WingSet, WingSetOutput};
+use crate::wings::{FromVehicle, State, WingSet, WingSetOutput};
 
 /// A rigid-body builder for a vehicle: dynamic, its mass and inertia about its centre of
 /// mass at the body origin, its initial pose and velocities, never asleep. Add colliders
@@ -211,14 +211,21 @@ impl RapierWings {
     /// Attaches `wings` to `body`, which must be in `bodies` and dynamic. Under a
     /// second-order sampling the host moves the body by the trapezoidal rule
     /// ([`RapierWings::after_step`]), so the wings share a stop strike's impulse between
-    /// steps for that pose (wingset's `actuated::StrikeShare::TrapezoidalPose`).
+    /// steps for that pose (wingset's `actuated::StrikeShare::TrapezoidalPose`), unless the
+    /// vehicle they were built from names its own rule (a replay's, [`crate::SimSpec`]'s
+    /// `strike_share`).
     pub fn attach(
         bodies: &RigidBodySet,
         body: RigidBodyHandle,
         mut wings: WingSet,
     ) -> Result<Self> {
-        if wings.load_sampling().is_second_order() {
-            wings.set_strike_share(wingset::actuated::StrikeShare::TrapezoidalPose);
+        let named = wings.vehicle().and_then(|v| v.sim.strike_share);
+        match named {
+            Some(share) => wings.set_strike_share(share),
+            None if wings.load_sampling().is_second_order() => {
+                wings.set_strike_share(wingset::actuated::StrikeShare::TrapezoidalPose)
+            }
+            None => {}
         }
         match bodies.get(body) {
             None => Err(Error::Input(format!(

@@ -98,6 +98,27 @@ fn an_actuated_vehicle_in_a_users_world_follows_the_simulation() {
     }
 }
 
+/// A vehicle that names how its strikes are shared (a replay of a log written with the
+/// semi-implicit hat under a second-order sampling) keeps that rule in a user's world too,
+/// and so follows the `Simulation` that replays it. (Before 2026-12-07 `RapierWings::attach`
+/// set the trapezoid's shares whatever the vehicle named, and the two parted at the first
+/// strike.)
+#[test]
+fn a_vehicles_own_strike_rule_holds_in_a_users_world() {
+    use flapsim::actuated::dynamics::StrikeShare;
+    let mut v = Vehicle::from_toml(flapsim::HUMMINGBIRD_TOML, "hummingbird").unwrap();
+    assert!(v.load_sampling().is_second_order());
+    v.sim.strike_share = Some(StrikeShare::SemiImplicitPose);
+    let wings = WingSet::from_vehicle_sized(&v).unwrap();
+    let mut world = UserWorld::new(wings.dt_s(), v.gravity_m_s2, v.sim.solver_iterations);
+    let body = world.bodies.insert(vehicle_body(&v));
+    let host = RapierWings::attach(&world.bodies, body, wings).unwrap();
+    for w in host.wings().dynamic_wings().unwrap() {
+        assert_eq!(w.strike_share_rule(), StrikeShare::SemiImplicitPose);
+    }
+    compare_with_simulation(disturbed(v), 1);
+}
+
 /// Runs an example binary that `cargo test` built beside this test.
 fn run_example(name: &str) -> String {
     let exe = std::env::current_exe().unwrap();

@@ -133,8 +133,27 @@ impl DynamicWing {
     }
 
     /// How a strike's impulse is shared among the body's steps ([`StrikeShare`]; the module).
+    /// A rule that shares over two steps takes the share another rule left for the step
+    /// after the next into the next step's: the whole impulse still reaches the body, and
+    /// none of it later than that rule would put it (a wing set started from wings that a
+    /// host of the trapezoidal pose stepped, `WingSet::start_dynamic_from`, in a host that
+    /// moves the body semi-implicitly).
     pub fn set_strike_share(&mut self, share: StrikeShare) {
         self.strike_share = share;
+        if share != StrikeShare::TrapezoidalPose {
+            if let Some(after) = self.carried_strike_after.take() {
+                self.carry_strike(&after, [1.0, 0.0]);
+            }
+        }
+    }
+
+    /// The strike shares this wing carries into its next step's report and into the one
+    /// after ([`Self::set_strike_share`]; the module).
+    pub fn carried_strike(&self) -> [Option<&WingStep>; 2] {
+        [
+            self.carried_strike.as_ref(),
+            self.carried_strike_after.as_ref(),
+        ]
     }
 
     /// See [`Self::set_strike_share`].
