@@ -273,7 +273,9 @@ velocity_m_s = [{s * math.cos(g):.4f}, 0.0, {s * math.sin(g):.4f}]
 A85 = """Azuma et al. 1985 ("Flight mechanics of a dragonfly", J Exp Biol
 # 116:79-107): the specimen, flight and Fourier series as digitised in the public repository
 # github.com/jpecquet/dragonfly-flight-control (cases/azuma1985/case.yaml, commit fe767a9, and
-# its page docs/validation/azuma1985.md, Tables 1-4, commit cf19b0a). That repository writes
+# its page docs/validation/azuma1985.md, whose Tables 1-4 tabulate the paper's Table 1, Eqs 1-2
+# and Fig. 4, commit cf19b0a), checked against the paper itself (the PDF in that repository's
+# history, azuma1985.pdf, added in fe767a9 and removed in 6b22936). That repository writes
 # the series in its simulator's convention (flapping phi = -paper, pitch psi = paper theta - 90
 # deg), the same convention as its Azuma & Watanabe 1988 cases, whose experiment 2 is
 # models/dragonfly.toml: flapwing's stroke is -phi and its pitch psi + 90 deg in both"""
@@ -286,14 +288,20 @@ def write_1985():
     fore, _ = wing_tables(f, 3.0, 43.0, *fore_pitch, 8.0, 0.0)
     hind, shifted = wing_tables(f, -2.0, 47.0, *hind_pitch, -2.0, 77.0)
     shifted = [(a, ((p + 180) % 360) - 180) for a, p in shifted]
-    g, s = math.radians(60.0), 0.54
+    g, s = math.radians(50.0), 0.54
     text = f'''# Azuma et al. 1985 ("Flight mechanics of a dragonfly", J Exp Biol 116:79-107): a dragonfly
 # (Sympetrum frequens, as Azuma & Watanabe 1988's introduction names it: "can make steady
-# climbing flight", journals.biologists.com/jeb/article/137/1/221) in steady climbing flight at
-# 0.54 m/s, 60 deg above the horizontal, 41.5 Hz. The paper's own calculation of the forces
-# (local circulation method; its fore- and hindwing force curves as digitised in the
-# repository's cases/azuma1985/paper_data.csv, commit 6b22936) averages 2.557 up over the
-# wingbeat, read as mN: the weight (260 mg, 2.551 mN), 1.002 of it.
+# climbing flight", journals.biologists.com/jeb/article/137/1/221) in "almost steady flight
+# ... in very slow climbing flight" (p. 84) at 0.54 m/s "in a direction nearly normal to the
+# stroke plane" (p. 87, (v)): 50 deg above the horizontal, normal to the stroke planes at
+# gamma = 40 deg (p. 84, (ii); the arrow of Fig. 4 reads about 50 deg too), 41.5 Hz, the body
+# "tipped about 10 deg head-up with respect to the horizontal" (p. 84, (i)). The paper's own
+# calculation of the forces (local circulation method, Fig. 16; its fore- and hindwing force
+# curves as digitised in the repository's cases/azuma1985/paper_data.csv, commit 6b22936)
+# averages 2.557 up over the wingbeat, read as mN: the weight (260 mg, 2.551 mN), 1.002 of it;
+# and in the horizontal fore -0.156, hind +0.323, together +0.167 (Fig. 16A, captioned
+# "Thrust": forward read as positive; the text, p. 104: "The mean horizontal force is a very
+# small positive value because the dragonfly is climbing only slowly").
 #
 # Source of the numbers: {A85}.
 # Written by scripts/dragonfly-cases/generate.py with models/dragonfly.toml's sampling.
@@ -323,28 +331,30 @@ pitch_axis_from_le_frac = 0.25      # estimate: as models/dragonfly.toml
 [hinge]
 # estimate: models/dragonfly.toml's hinges scaled by the body length (40/75).
 left_in_body_m = [1.9e-3, 1.3e-3, 1.6e-3]
-# Forewing stroke plane 37 deg (Table 4). estimate: read as from the horizontal with the body
-# level (the paper's body attitude was not found; the repository's tethered runs hold the body
-# level too), so the tilt from the body is the angle to the horizontal.
-stroke_plane_tilt_deg = 37.0
+# Forewing stroke plane 47 deg from the body axis: 37 deg from the horizontal with the body
+# 10 deg head-up (Fig. 4 gives both; p. 84, (ii): "about 50 deg with respect to the body axis,
+# or gamma = 40 deg with respect to the horizontal").
+stroke_plane_tilt_deg = 47.0
 
 [kinematics]
-# Tables 2-3 (repository's convention phi, psi), sampled 48 times a wingbeat at f = 41.5 Hz:
+# Eqs 1-2 (p. 87; the repository's Tables 2-3, in its convention phi, psi), sampled 48 times a
+# wingbeat at f = 41.5 Hz (the pitch theta "with respect to the stroke plane", p. 87, (vi)):
 #   flapping phi = 3 + 43 cos(w t) deg: flapwing's stroke -3 - 43 cos(w t) (an 86 deg stroke; t = 0 the top);
 #   pitch psi = 8 - 77 cos(w t - 49) - 3 cos(2 w t + 67) - 8 cos(3 w t + 29) deg:
 #     flapwing's theta = psi + 90 = {fmt_series(*fore_pitch)} deg
 #     (37 deg at mid-downstroke, 180 - 161 = 19 deg at mid-upstroke);
-#   deviation: the forewing's coning angle, +8 deg (Table 4), as models/dragonfly.toml reads it.
+#   deviation: estimate: +8 deg, Azuma & Watanabe 1988's forewing coning angle (the 1985 paper
+#   gives none; the repository's case takes 1988's), as models/dragonfly.toml reads it.
 {fore}
 
 # The hindwings.
 [[pairs]]
-# Table 2: the hindwing's flapping phase 77 deg against the forewing's 0: it leads by 77 deg.
+# The hindwing leads by 77 deg (p. 104: "the phase lead of the hindwing ... = 77 deg").
 phase_offset_deg = 77.0
 
 [pairs.hinge]
 left_in_body_m = [-1.9e-3, 1.3e-3, 1.6e-3]  # estimate: see [hinge]
-stroke_plane_tilt_deg = 40.0                 # hindwing stroke plane 40 deg (Table 4; estimate: from the horizontal, see [hinge])
+stroke_plane_tilt_deg = 50.0                 # hindwing stroke plane 50 deg from the body axis, 40 deg from the horizontal (Fig. 4; see [hinge])
 
 [pairs.wing.planform]
 shape = "ellington_beta"
@@ -355,19 +365,20 @@ root_offset_m = 0.0                 # estimate: as the forewing
 pitch_axis_from_le_frac = 0.25      # estimate: as the forewing
 
 [pairs.kinematics]
-# Tables 2-3 in the hindwing's own wingbeat (each pitch harmonic n moved by -77 n deg):
+# Eqs 1-2 in the hindwing's own wingbeat (each pitch harmonic n moved by -77 n deg):
 #   flapping phi = -2 + 47 cos(w t + 77) deg: flapwing's stroke 2 - 47 cos(w t') (a 94 deg stroke);
 #   pitch psi = 3 - 65 cos(w t + 18) + 8 cos(2 w t + 74) + 8 cos(3 w t + 28) deg:
 #     theta = psi + 90 = {fmt_series(hind_pitch[0], shifted, "w t'")} deg;
-#   deviation: coning -2 deg (Table 4).
+#   deviation: estimate: -2 deg, Azuma & Watanabe 1988's hindwing coning angle (none in 1985).
 {hind}
 
 [sim]
 steps_per_wingbeat = 100
 
 [initial]
-# 0.54 m/s at 60 deg above the horizontal (the repository's reading of the paper's flight);
-# estimate: body level (see [hinge]).
+# 0.54 m/s at 50 deg above the horizontal, the body 10 deg head-up (p. 84, (i); p. 87, (v);
+# Fig. 4). (The repository's case reads 60 deg, with no source given for it.)
+attitude_deg = [0.0, 10.0, 0.0]
 velocity_m_s = [{s * math.cos(g):.4f}, 0.0, {s * math.sin(g):.4f}]
 '''
     open("models/dragonfly_azuma1985.toml", "w").write(text)
