@@ -108,6 +108,7 @@
 //! than its reflected inertia about the stroke axis, and gravity on the wing.
 
 mod equations;
+mod mean;
 mod memo;
 mod model;
 mod report;
