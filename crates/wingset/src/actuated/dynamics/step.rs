@@ -189,21 +189,28 @@ impl DynamicWing {
             }
             let phase0 = self.stroke_phase();
             let freq_hz = self.drive.freq_hz;
-            let reheld = |t_s: f64, y: &[f64; 4]| {
-                let at = StepStart {
-                    state: WingState::from_y(y),
-                    t_s,
-                    phase: StrokePhase {
-                        t_star: phase0.t_star + (t_s - t0) * freq_hz,
-                        ..phase0
-                    },
-                };
-                let (held, aero) = self.aero_at(wing, &motion_at(t_s), &at);
-                if stops {
-                    last_loads.set(Some((at, held, aero)));
+            // The loads at a time and state (`Reheld`), the stroke phase that `phase` has at
+            // `t_ref` going on from there: the sub-step's start's, or from a reversal at
+            // `t_ref` within it, the half stroke's that starts there (`after`, t* = 0).
+            let reheld_from = |t_ref: f64, phase: StrokePhase| {
+                let (this, wing, last_loads, motion_at) = (&*self, &*wing, &last_loads, &motion_at);
+                move |t_s: f64, y: &[f64; 4]| {
+                    let at = StepStart {
+                        state: WingState::from_y(y),
+                        t_s,
+                        phase: StrokePhase {
+                            t_star: phase.t_star + (t_s - t_ref) * freq_hz,
+                            ..phase
+                        },
+                    };
+                    let (held, aero) = this.aero_at(wing, &motion_at(t_s), &at);
+                    if stops {
+                        last_loads.set(Some((at, held, aero)));
+                    }
+                    held
                 }
-                held
             };
+            let reheld = reheld_from(t0, phase0);
             let nodes_before = nodes.len();
             let y = self.advance(
                 t0,
@@ -215,23 +222,6 @@ impl DynamicWing {
                 &reheld,
                 &mut predicted_end,
             )?;
-            // The loads of the half stroke that starts at a reversal at `t_rev` (`after`).
-            let reheld_from = |t_rev: f64, after: StrokePhase| {
-                let (this, wing, last_loads, motion_at) = (&*self, &*wing, &last_loads, &motion_at);
-                move |t_s: f64, y: &[f64; 4]| {
-                    let at = StepStart {
-                        state: WingState::from_y(y),
-                        t_s,
-                        phase: StrokePhase {
-                            t_star: (t_s - t_rev) * freq_hz,
-                            ..after
-                        },
-                    };
-                    let (held, aero) = this.aero_at(wing, &motion_at(t_s), &at);
-                    last_loads.set(Some((at, held, aero)));
-                    held
-                }
-            };
             // The step mean without stops: a stroke reversal inside the sub-step splits it
             // (see `reversal_within`), each part integrated with its own half stroke's loads.
             let split = match split_reversals {
