@@ -151,10 +151,13 @@ pub(in crate::actuated) fn sin_cos_pitch(theta_rad: f64) -> (f64, f64) {
 /// next step's start).
 const FRAMES: usize = 8;
 
+/// A frame's (phi's bits, theta's bits, [sin phi, cos phi, sin theta, cos theta]).
+type FrameTrig = (u64, u64, [f64; 4]);
+
 thread_local! {
-    /// The last [`FRAMES`] frames' (phi's bits, theta's bits, [sin phi, cos phi, sin theta,
-    /// cos theta]) and the slot the next one takes ([`frame_trig`]).
-    static FRAME_TRIG: RefCell<([(u64, u64, [f64; 4]); FRAMES], usize)> =
+    /// The last [`FRAMES`] frames' angles and their sines and cosines, and the slot the next
+    /// one takes ([`frame_trig`]).
+    static FRAME_TRIG: RefCell<([FrameTrig; FRAMES], usize)> =
         const { RefCell::new(([(u64::MAX, u64::MAX, [f64::NAN; 4]); FRAMES], 0)) };
 }
 
