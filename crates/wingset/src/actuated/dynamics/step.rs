@@ -11,7 +11,7 @@ use wingforce::{BodyMotion, StrokePhase, TermForce, Wing, WingFrame};
 
 use super::equations::Held;
 use super::mean::StepPoints;
-use super::stage_loads::{StageLoads, motion_between};
+use super::stage_loads::{StageLoads, StrikeShare, motion_between};
 use super::wing::{DynamicWing, WingState, WingStep};
 use crate::error::{Error, Result};
 use crate::sampling::LoadSampling;
@@ -351,9 +351,17 @@ impl DynamicWing {
         let out = out.as_mut().expect("at least one sub-step");
         // The strikes' shares for the next step (`super::strike`), taken out after the added
         // mass's change of impulse (which holds the fluid's part), and those carried in.
-        let carried = self.carried_strike.take();
-        if self.carried_strike_after.is_some() {
-            self.carried_strike = self.carried_strike_after.take();
+        // A rule that shares over two steps reports here a share another rule left for the
+        // step after this one (`DynamicWing::set_strike_share`).
+        let mut carried = self.carried_strike.take();
+        if let Some(after) = self.carried_strike_after.take() {
+            match self.strike_share {
+                StrikeShare::TrapezoidalPose => self.carried_strike = Some(after),
+                _ => match &mut carried {
+                    Some(c) => c.add_scaled(&after, 1.0),
+                    None => carried = Some(after),
+                },
+            }
         }
         // The wing's frame at the step's end (the added mass's impulse takes its axes and
         // angular velocity, not its angular acceleration): the last node's report's, where

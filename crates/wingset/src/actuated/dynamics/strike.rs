@@ -133,18 +133,14 @@ impl DynamicWing {
     }
 
     /// How a strike's impulse is shared among the body's steps ([`StrikeShare`]; the module).
-    /// A rule that shares over two steps takes the share another rule left for the step
-    /// after the next into the next step's: the whole impulse still reaches the body, and
-    /// none of it later than that rule would put it (a wing set started from wings that a
-    /// host of the trapezoidal pose stepped, `WingSet::start_dynamic_from`, in a host that
-    /// moves the body semi-implicitly).
+    /// Under a rule that shares over two steps, the next step also reports the share another
+    /// rule left for the step after it: the whole impulse still reaches the body, and none of
+    /// it later than that rule would put it (a wing set started from wings that a host of the
+    /// trapezoidal pose stepped, `WingSet::start_dynamic_from`, in a host that moves the body
+    /// semi-implicitly). Taken at the step, so setting a rule and setting it back changes
+    /// nothing.
     pub fn set_strike_share(&mut self, share: StrikeShare) {
         self.strike_share = share;
-        if share != StrikeShare::TrapezoidalPose {
-            if let Some(after) = self.carried_strike_after.take() {
-                self.carry_strike(&after, [1.0, 0.0]);
-            }
-        }
     }
 
     /// The strike shares this wing carries into its next step's report and into the one
