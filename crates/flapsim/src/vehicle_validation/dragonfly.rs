@@ -234,23 +234,6 @@ impl DragonflyFlight {
         Ok([pair(0)?, pair(1)?])
     }
 
-    /// `v` with every stroke plane level in the body (the body is level in these flights,
-    /// so level in the world too): what the wings' force does when the files' reading of the
-    /// stroke-plane angles (from the horizontal, an estimate) is taken away.
-    pub fn with_level_stroke_planes(v: &Vehicle) -> Vehicle {
-        let mut level = v.clone();
-        for w in &mut level.wings {
-            let mut mount = *w.mount();
-            mount.stroke_plane_tilt_rad = 0.0;
-            *w = wingforce::Wing::builder(w.geometry().clone(), w.kinematics().clone())
-                .mount(mount)
-                .fluid(*w.fluid())
-                .options(w.options().clone())
-                .build();
-        }
-        level
-    }
-
     /// Each pair's mean force per half stroke at the flight, over the weight, world frame, in
     /// still air (each wing's loads at 400 phases, by the half stroke its stroke phase says):
     /// fore then hind, each as [`Self::paper_half_strokes`].
