@@ -1,7 +1,7 @@
 //! The sub-stepped integrator (stated in [`super`]): one body step of a [`DynamicWing`]
 //! as held aerodynamic loads and Runge-Kutta sub-steps, the checks that end a run, the
-//! stroke reversals and per-period stroke reference it tracks, and the mean of the loads it
-//! reports at the points it passed (each point's report: `report`).
+//! stroke reversals and per-period stroke reference it tracks, and the loads it reports (their
+//! mean over the points it passed: `mean`; each point's report: `report`).
 
 use std::cell::Cell;
 
