@@ -6,8 +6,8 @@ use smallvec::SmallVec;
 use wingforce::{BodyMotion, StrokePhase, Wing, WingFrame};
 
 use super::equations::Held;
+use super::points::{Aero, Loads, Nodes, StepStart, quadrature_nodes};
 use super::stage_loads::StrikeShare;
-use super::step::{Aero, Loads, Nodes, StepStart, quadrature_nodes};
 use super::wing::{DynamicWing, WingState, WingStep};
 
 /// What a step passed that its mean loads need (`step`).

@@ -111,6 +111,7 @@ mod equations;
 mod mean;
 mod memo;
 mod model;
+mod points;
 mod report;
 mod reversal;
 mod stage_loads;
@@ -120,7 +121,8 @@ mod wing;
 
 pub(super) use equations::Held;
 pub use model::{Hinge, Stroke, WingDynamics, WingInertia};
+pub(super) use points::Nodes;
 pub use stage_loads::{StageLoads, StrikeShare};
 pub use step::MAX_PENETRATION_RAD;
-pub(super) use step::{Nodes, Reheld};
+pub(super) use step::Reheld;
 pub use wing::{ActuatedWingOutput, DynamicWing, WingState, WingStep};

@@ -8,7 +8,7 @@ use wingforce::{AxisMoments, Wing, WingForces, WingFrame};
 use super::super::actuator::ActuatorState;
 use super::equations::Held;
 use super::model::Stroke;
-use super::step::{Aero, StepStart};
+use super::points::{Aero, StepStart};
 use super::wing::{DynamicWing, WingStep};
 
 impl DynamicWing {

@@ -5,12 +5,11 @@
 
 use std::cell::Cell;
 
-use smallvec::SmallVec;
-
-use wingforce::{BodyMotion, StrokePhase, TermForce, Wing, WingFrame};
+use wingforce::{BodyMotion, StrokePhase, Wing, WingFrame};
 
 use super::equations::Held;
 use super::mean::StepPoints;
+use super::points::{Aero, Loads, Nodes, StepStart};
 use super::stage_loads::{StageLoads, StrikeShare, motion_between};
 use super::wing::{DynamicWing, WingState, WingStep};
 use crate::error::{Error, Result};
@@ -23,25 +22,6 @@ pub const MAX_PENETRATION_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0;
 
 /// The aerodynamic loads at a time and integrator state (phi, theta, phi_dot, theta_dot).
 pub(in crate::actuated) type Reheld<'a> = &'a dyn Fn(f64, &[f64; 4]) -> Held;
-
-/// What [`DynamicWing::report`] needs of an aerodynamic evaluation besides the held loads:
-/// its translational term (the others follow from the motion alone,
-/// [`Wing::with_translational`]) and the wing's frame.
-pub(super) type Aero = (TermForce, WingFrame);
-
-/// The states a step passed: (time, state, the touch's left-side flag).
-pub(in crate::actuated) type Nodes = SmallVec<[(f64, [f64; 4], bool); 8]>;
-
-/// Loads the integrator took: where ([`DynamicWing::aero_at`]'s arguments) and what.
-pub(super) type Loads = (StepStart, Held, Option<Aero>);
-
-/// The state, time and stroke phase at a step's start (what its report describes).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct StepStart {
-    pub(super) state: WingState,
-    pub(super) t_s: f64,
-    pub(super) phase: StrokePhase,
-}
 
 impl DynamicWing {
     /// Whether a step takes the split scheme ([`StageLoads::Split`]): inelastic stops, a
@@ -499,34 +479,3 @@ impl DynamicWing {
         Ok(())
     }
 }
-
-/// Of the states a step passed (time, state, the touch's left-side flag), those its mean
-/// loads need: the first and the last, both sides of a touch, and wherever a rate has moved
-/// by more than [`NODE_RATE_FRACTION`] of the step's largest rate since the last one kept
-/// (with the node before it, so that the loads between two kept nodes vary smoothly and
-/// little). A wing resting in a stop passes many contact steps in which little changes;
-/// a strike's collapse of the pitch rate keeps every one of them.
-pub(super) fn quadrature_nodes(nodes: &[(f64, [f64; 4], bool)], kept: &mut Nodes) {
-    let scale = nodes
-        .iter()
-        .fold(0.0f64, |m, n| m.max(n.1[2].abs()).max(n.1[3].abs()));
-    let tol = NODE_RATE_FRACTION * scale;
-    for (k, n) in nodes.iter().enumerate() {
-        let Some(last) = kept.last().copied() else {
-            kept.push(*n);
-            continue;
-        };
-        let touch = n.2 || nodes[k - 1].2;
-        let moved = (n.1[2] - last.1[2]).abs() > tol || (n.1[3] - last.1[3]).abs() > tol;
-        if touch || moved || k + 1 == nodes.len() {
-            if moved && last.0 < nodes[k - 1].0 {
-                kept.push(nodes[k - 1]);
-            }
-            kept.push(*n);
-        }
-    }
-}
-
-/// The largest change of a rate, as a fraction of the step's largest rate, between two
-/// nodes of a step's mean loads ([`quadrature_nodes`]).
-const NODE_RATE_FRACTION: f64 = 0.001;

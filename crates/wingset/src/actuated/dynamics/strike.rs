@@ -52,7 +52,7 @@ use wingforce::{BodyMotion, Term, Wing, WingFrame};
 
 use super::stage_loads::StrikeShare;
 
-use super::step::StepStart;
+use super::points::StepStart;
 use super::wing::{DynamicWing, WingState, WingStep};
 
 impl DynamicWing {
