@@ -338,7 +338,9 @@ stroke_plane_tilt_deg = 47.0
 
 [kinematics]
 # Eqs 1-2 (p. 87; the repository's Tables 2-3, in its convention phi, psi), sampled 48 times a
-# wingbeat at f = 41.5 Hz (the pitch theta "with respect to the stroke plane", p. 87, (vi)):
+# wingbeat at f = 41.5 Hz (the pitch theta "with respect to the stroke plane", p. 87, (vi),
+# observed at the painted wing tips and taken along the whole span, as the paper's simple
+# analysis takes it: assumption (ii), p. 89; no spanwise twist was measured):
 #   flapping phi = 3 + 43 cos(w t) deg: flapwing's stroke -3 - 43 cos(w t) (an 86 deg stroke; t = 0 the top);
 #   pitch psi = 8 - 77 cos(w t - 49) - 3 cos(2 w t + 67) - 8 cos(3 w t + 29) deg:
 #     flapwing's theta = psi + 90 = {fmt_series(*fore_pitch)} deg

@@ -76,6 +76,14 @@ pub const AZUMA_1985_FIG16_MN: [[f64; 4]; 2] = [
     [-0.2196, 1.4182, 0.5422, -0.0035],
 ];
 
+/// What Azuma et al. 1985's own calculations rest on, for the climb's vertical row: its
+/// pitch was measured at the wing tips only (p. 87, (vi)) and its simple analysis took it
+/// along the whole span (assumption (ii), p. 89), as the model file does; that analysis (momentum
+/// theory over the stroke planes and blade elements, pp. 88-94: flapwing's model with a
+/// frozen uniform wake) trimmed the climb only with an interference coefficient of 0.3
+/// (p. 94), where its local circulation method's mean is about 1.2 (p. 104).
+const AZUMA_1985_PITCH_AND_SIMPLE_ANALYSIS: &str = " with the wake's unsteady, non-uniform induced flow, not modelled here; its pitch was measured at the wing tips only (p. 87 (vi)): no spanwise twist was measured, and the file takes the tips' pitch along the whole span as the paper's simple analysis did (its assumption (ii), p. 89: \"The pitch angle is independent of the spanwise position\"); that analysis, momentum theory over the stroke planes and blade elements as here, trimmed the climb only by counting 0.3 of the fore pair's induced velocity on the hind pair, \"very much smaller than that expected\" (p. 94; its local circulation method's mean is about 1.2, p. 104)";
+
 /// The weight of Azuma et al. 1985's dragonfly, mN (260 mg, Table 1).
 const AZUMA_1985_WEIGHT_MN: f64 = 2.551;
 
@@ -351,20 +359,23 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
             });
             let twist = match twist {
                 Ok(Some((r25, r50, r75))) => format!(
-                    " (that flow is not modelled here); the file's wings twist as Table 3 measured (the feathering at 0.25R, 0.5R and 0.75R, linear between them and extended beyond, in the translational term): rigid wings feathering as at 0.75R give {:.3}, as at 0.5R {:.3}, as at 0.25R {:.3} {}, so the twist moves it by {:+.3}",
+                    " with the measured spanwise twist and the wake's unsteady, non-uniform induced flow (that flow is not modelled here); the file's wings twist as Table 3 measured (the feathering at 0.25R, 0.5R and 0.75R, linear between them and extended beyond, in the translational term): rigid wings feathering as at 0.75R give {:.3}, as at 0.5R {:.3}, as at 0.25R {:.3} {}, so the twist moves it by {:+.3}",
                     pick(r75),
                     pick(r50),
                     pick(r25),
                     under(v.inflow_model()),
                     value - pick(r75)
                 ),
-                Ok(None) => ", neither modelled here".into(),
-                Err(e) => format!(", neither modelled here (the wing's twist: {e})"),
+                // 1985: no stations; the paper's pitch is the wing tips', taken along the span.
+                Ok(None) => AZUMA_1985_PITCH_AND_SIMPLE_ANALYSIS.into(),
+                Err(e) => format!(
+                    " with the measured spanwise twist and the wake's unsteady, non-uniform induced flow, neither modelled here (the wing's twist: {e})"
+                ),
             };
             // The paper's own calculation is of the vertical force (its load factor).
             let paper = match quantity {
                 "L/W" => format!(
-                    "the paper's own local-circulation calculation gives a load factor of {} with the measured spanwise twist and the wake's unsteady, non-uniform induced flow{twist}",
+                    "the paper's own local-circulation calculation gives a load factor of {}{twist}",
                     flight.paper_load_factor
                 ),
                 _ => {
