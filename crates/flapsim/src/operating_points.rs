@@ -194,7 +194,7 @@ pub fn bumblebee_heave_note(bee: &Vehicle, c: &sun_xiong::Comparison) -> Result<
     let published = sun_xiong::published("Z_w").unwrap_or(f64::NAN);
     let frozen = sun_xiong::compare(&bee.with_inflow_model(wingforce::InflowModel::Frozen)?)?;
     Ok(Some(format!(
-        "the slow subsidence is the heave mode (rate about Z_w / m): the model's Z_w is {:.2} of the CFD's with its wake ({}), {:.2} with the wake frozen ({:.3} s half time); the CFD's Z_w is {:.2} of the frozen wake's, where momentum theory's fully responsive disc gives m / (2m + k) and the model's wake {:.2}: the CFD's wake answers a heave less than the disc of momentum theory",
+        "the slow subsidence is the heave mode (rate about Z_w / m): the model's Z_w is {:.2} of the CFD's with its wake ({}), {:.2} with the wake frozen ({:.3} s half time); the CFD's Z_w is {:.2} of the frozen wake's, where momentum theory's fully responsive disc gives m / (2m + k) and the model's wake {:.2}: the CFD's heave damping lies between the frozen and the responsive wake's (which part of its wake answers a heave is not in its stored text)",
         z_w(c) / published,
         bee.inflow_model(),
         z_w(&frozen) / published,

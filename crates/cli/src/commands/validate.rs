@@ -557,6 +557,13 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
             causes.push((causes.len() + 1, c));
             verdict = format!("{verdict} (cause {})", causes.len());
         }
+        // A miss under the other wake has its own cause, measured under that wake.
+        if let Some(o) = &r.other_wake
+            && let Some(c) = &o.cause
+        {
+            causes.push((causes.len() + 1, c));
+            verdict = format!("{verdict}; {}: cause {}", o.inflow, causes.len());
+        }
         let value = |x: f64| {
             if x.abs() < 1e-2 && x != 0.0 {
                 format!("{x:.3e}")
@@ -602,7 +609,7 @@ fn vehicles_table(v: &VehicleSection) -> Result<String, std::fmt::Error> {
     let others: Vec<_> = v
         .rows
         .iter()
-        .filter_map(|r| r.other_wake.map(|o| (r, o)))
+        .filter_map(|r| r.other_wake.as_ref().map(|o| (r, o)))
         .collect();
     if let Some((_, first)) = others.first() {
         let pass = |own: bool| {

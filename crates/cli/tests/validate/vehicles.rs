@@ -98,6 +98,27 @@ fn every_builtin_vehicle_has_rows_with_sources_and_consistent_verdicts() {
         let mut shown = r.clone();
         shown["model"] = other["model"].clone();
         assert_eq!(other["verdict"] == "pass", passes(&shown), "{r}");
+        // A miss under the other wake carries its own cause, measured under that wake (the
+        // bumblebee's slow subsidence passes frozen and misses dynamic).
+        assert_eq!(
+            other["verdict"] == "MISS",
+            other["cause"].as_str().is_some_and(|c| !c.is_empty()),
+            "{r}"
+        );
+    }
+    // The dragonfly's induced-flow causes say which way the wakes modelled here push the row,
+    // still air beside the dynamic wake, and where the paper's own calculation lies.
+    for r in rows.iter().filter(|r| r["vehicle"] == "dragonfly") {
+        for cause in [&r["cause"], &r["other_wake"]["cause"]] {
+            if let Some(c) = cause.as_str() {
+                assert!(
+                    c.contains("the induced flow modelled here moves the row from ")
+                        && c.contains("the paper's own calculation ("),
+                    "{}: {c}",
+                    r["quantity"]
+                );
+            }
+        }
     }
     // A dragonfly row that misses names the pairs' share in its own quantity: the pairs
     // together under the dynamic wake are the row's dynamic-wake value (the horizontal row's
@@ -253,4 +274,18 @@ fn text_report_prints_the_section() {
     for name in VEHICLES {
         assert!(out.lines().any(|l| l.starts_with(name)), "{name}");
     }
+    // A miss under the other wake names its cause, listed with the others: the bumblebee's
+    // slow subsidence passes as the model stands (frozen) and misses under the dynamic wake.
+    let row = out
+        .lines()
+        .find(|l| {
+            l.starts_with("bumblebee") && l.contains("slow subsidence") && l.contains("dynamic")
+        })
+        .unwrap_or_else(|| panic!("{out}"));
+    let n: usize = row
+        .split("dynamic: cause ")
+        .nth(1)
+        .and_then(|t| t.trim().parse().ok())
+        .unwrap_or_else(|| panic!("{row}"));
+    assert!(out.contains(&format!("  cause {n}: ")), "{out}");
 }

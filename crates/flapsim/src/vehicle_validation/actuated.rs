@@ -17,7 +17,7 @@ fn pitch_cause(v: &Vehicle, r: &TetheredRun) -> String {
     let m = &r.motion;
     let d = &v.actuation.as_ref().expect("actuated").dynamics;
     format!(
-        "pitch +-{:.1} deg at phase {:+.1} deg: it correlates {:+.2} with the stroke acceleration and {:+.2} with the stroke velocity (a hinge loaded by the air alone follows the velocity); pitch mode {:.0} Hz from hinge stiffness {:.2e} N m/rad and pitch inertia {:.2e} kg m^2, drive {:.0} Hz{}",
+        "pitch +-{:.1} deg at phase {:+.1} deg: it correlates {:+.2} with the stroke acceleration and {:+.2} with the stroke velocity; pitch mode {:.0} Hz from hinge stiffness {:.2e} N m/rad and pitch inertia {:.2e} kg m^2, drive {:.0} Hz{}",
         m.pitch_amplitude_deg,
         m.pitch_phase_deg,
         m.pitch_stroke_acceleration_correlation,
@@ -50,11 +50,12 @@ fn identified_hinges(v: &Vehicle, freq_hz: f64, amplitude_v: f64) -> String {
             }
             match tethered(&variant, freq_hz, amplitude_v) {
                 Ok(r) if r.failed.is_none() => format!(
-                    "{k:.1e} N m/rad: pitch +-{:.1} deg, phase {:+.1} deg, stroke {:.1} deg p-p, the air's damping of the stroke {:.2} of critical",
+                    "{k:.1e} N m/rad: pitch +-{:.1} deg, phase {:+.1} deg, stroke {:.1} deg p-p, the air's damping of the stroke {:.2} of critical, mean lift {:.3} mN",
                     r.motion.pitch_amplitude_deg,
                     r.motion.pitch_phase_deg,
                     2.0 * r.motion.stroke_amplitude_deg,
-                    r.stroke_damping_ratio
+                    r.stroke_damping_ratio,
+                    1e3 * r.mean_lift_n
                 ),
                 Ok(r) => format!(
                     "{k:.1e} N m/rad: the run stopped: {}",
@@ -69,6 +70,49 @@ fn identified_hinges(v: &Vehicle, freq_hz: f64, amplitude_v: f64) -> String {
         runs.join("; ")
     )
 }
+
+/// The model's own stroke over [`SWEEP_HZ`] at `amplitude_v`, for the stroke rows' causes:
+/// where its stroke is largest, and where it lags the drive by 90 deg (a linear oscillator's
+/// natural frequency, whatever its damping), beside the undamped natural frequency of the
+/// lumped inertia and stiffness `fn_hz` and the quasi-static stroke `quasi_static_pp`.
+fn own_sweep(v: &Vehicle, amplitude_v: f64, fn_hz: f64, quasi_static_pp: f64) -> String {
+    let runs: Vec<(f64, f64, f64)> = SWEEP_HZ
+        .iter()
+        .filter_map(|&f| tethered(v, f, amplitude_v).ok().map(|r| (f, r)))
+        .filter(|(_, r)| r.failed.is_none())
+        .map(|(f, r)| {
+            (
+                f,
+                2.0 * r.motion.stroke_amplitude_deg,
+                r.motion.stroke_lag_deg,
+            )
+        })
+        .collect();
+    let Some(&(f_peak, peak_pp, _)) = runs.iter().max_by(|a, b| a.1.total_cmp(&b.1)) else {
+        return format!("its own sweep at {amplitude_v:.0} V: no run finished");
+    };
+    let quarter = runs.windows(2).find_map(|w| {
+        let ((f0, _, l0), (f1, _, l1)) = (w[0], w[1]);
+        (l0 < 90.0 && l1 >= 90.0).then(|| f0 + (90.0 - l0) / (l1 - l0) * (f1 - f0))
+    });
+    let quarter = match quarter {
+        Some(f) => format!("lags the drive by 90 deg at {f:.0} Hz"),
+        None => "never lags the drive by 90 deg".to_owned(),
+    };
+    format!(
+        "the model's own sweep at {amplitude_v:.0} V ({:.0}-{:.0} Hz, every {:.0} Hz): its stroke is largest, {peak_pp:.1} deg p-p ({:.2} of quasi-static), at {f_peak:.0} Hz, and {quarter}, where the undamped lumped inertia and stiffness give {fn_hz:.0} Hz",
+        SWEEP_HZ[0],
+        SWEEP_HZ[SWEEP_HZ.len() - 1],
+        SWEEP_HZ[1] - SWEEP_HZ[0],
+        peak_pp / quasi_static_pp
+    )
+}
+
+/// The drive frequencies of [`own_sweep`], Hz.
+const SWEEP_HZ: [f64; 17] = [
+    40.0, 50.0, 60.0, 70.0, 80.0, 90.0, 100.0, 110.0, 120.0, 130.0, 140.0, 150.0, 160.0, 170.0,
+    180.0, 190.0, 200.0,
+];
 
 pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
     let v = b.vehicle("robobee")?;
@@ -89,6 +133,8 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
         .map(|&(f, _)| tethered(&v, f, amp_180))
         .collect::<Result<_>>()?;
     let quasi_static_pp = 2.0 * (torque_per_volt * amp_180 / k).to_degrees();
+    // Measured once, for every stroke row that misses.
+    let sweep = std::cell::OnceCell::new();
     for (&(f, bench), r) in ROBOBEE_STROKE_180V.iter().zip(&runs) {
         let model = 2.0 * r.motion.stroke_amplitude_deg;
         b.push(
@@ -101,8 +147,9 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
             false,
             || {
                 format!(
-                    "model/bench {:.2}: the model's quasi-static stroke at {amp_180:.0} V is {quasi_static_pp:.1} deg p-p (2 T F_V V / k, force per volt an estimate, k = {k:.2e} N m/rad) against the bench's 56 deg at 100-140 Hz; its stroke's undamped resonance is {fn_hz:.0} Hz, but the air damps it at {:.2} of critical here (energy-equivalent, from the aerodynamic stroke moment over the measured periods) with the wing at a mid-stroke angle of attack of {:.0} deg (pitch +-{:.0} deg), so no resonance rise shows where the bench's stroke jumps between 160 and 165 Hz{}; {}",
+                    "model/bench {:.2}: the model's quasi-static stroke at {amp_180:.0} V is {quasi_static_pp:.1} deg p-p (2 T F_V V / k, force per volt an estimate, k = {k:.2e} N m/rad) against the bench's 56 deg at 100-140 Hz; {}; the bench's stroke instead jumps between 160 and 165 Hz; here at {f:.0} Hz the air damps the model's stroke at {:.2} of critical (energy-equivalent, from the aerodynamic stroke moment over the measured periods) with the wing at a mid-stroke angle of attack of {:.0} deg (pitch +-{:.0} deg){}; {}",
                     model / bench,
+                    sweep.get_or_init(|| own_sweep(&v, amp_180, fn_hz, quasi_static_pp)),
                     r.stroke_damping_ratio,
                     r.motion.mid_stroke_aoa_deg,
                     r.motion.pitch_amplitude_deg,
@@ -132,7 +179,13 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
             Some(bench),
             Check::Relative { tolerance: 0.15 },
             false,
-            || pitch_cause(&v, &r),
+            || {
+                format!(
+                    "{}; {}",
+                    pitch_cause(&v, &r),
+                    identified_hinges(&v, 170.0, amp)
+                )
+            },
         );
     }
 
@@ -206,13 +259,22 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
         false,
         || {
             let m = &r.motion;
+            // The bench's stroke at this frequency (at 90 V: the bench files have no 100 V).
+            let bench = ROBOBEE_STROKE_180V
+                .iter()
+                .find(|(f, _)| *f == drive.freq_hz)
+                .map(|(f, pp)| format!(" (the bench at 180 Vpp, 90 V, {f:.0} Hz: +-{:.1} deg)", pp / 2.0))
+                .unwrap_or_default();
             format!(
-                "at {limit_v:.0} V the model strokes +-{:.1} deg (bench at 180 Vpp, 160-170 Hz: +-32 to +-43 deg) with pitch +-{:.1} deg, phase {:+.1} deg and mid-stroke angle of attack {:.1} deg (Jafferis 2016: the best mid-stroke hinge angle is about 70 deg from vertical, angle of attack about 20 deg); L/W {:.2}",
+                "at {limit_v:.0} V, {:.0} Hz the model strokes +-{:.1} deg{bench} with pitch +-{:.1} deg, phase {:+.1} deg and mid-stroke angle of attack {:.1} deg; L/W {:.2}; the 140 mg-f is of the bee before Jafferis et al.'s redesign, whose abstract finds the best mid-stroke hinge angle \"about 70 rather than 45-50 as previously assumed\", where the model's wing turns +-{:.1} deg on its hinge; {}",
+                drive.freq_hz,
                 m.stroke_amplitude_deg,
                 m.pitch_amplitude_deg,
                 m.pitch_phase_deg,
                 m.mid_stroke_aoa_deg,
-                r.mean_lift_n / v.weight_n()
+                r.mean_lift_n / v.weight_n(),
+                m.pitch_amplitude_deg,
+                identified_hinges(&v, drive.freq_hz, limit_v)
             )
         },
     );

@@ -8,13 +8,13 @@
 //! downwash, without Lee et al.'s f_AR f_Ro), and for the couplings through a moment arm
 //! (X_q, M_u, M_w) the arm the model's and the CFD's derivatives imply.
 
-use wingforce::{AddedMassForm, AeroOptions};
+use wingforce::{AddedMassForm, AeroOptions, InflowModel};
 
 use super::rows::{Check, RowBuilder};
 use crate::error::Result;
 use crate::flight::{FlightCondition, trim_point};
 use crate::model::Vehicle;
-use crate::operating_points::{SUN_XIONG_SOURCE, bumblebee_pitch_modes_note};
+use crate::operating_points::{SUN_XIONG_SOURCE, bumblebee_heave_note, bumblebee_pitch_modes_note};
 use crate::stability::analyze;
 use crate::sun_xiong::{self, Comparison, MODE_TIME_NAMES, MODE_TIMES_S, TABLE_SOURCE};
 use crate::trim::{LiftVariable, trim_at};
@@ -27,6 +27,35 @@ const TOLERANCE: f64 = 0.30;
 pub(super) fn bumblebee_rows(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
     let c = sun_xiong::compare(bee)?;
     let note = bumblebee_pitch_modes_note(&c);
+    // The same bumblebee under the other wake, for the heave's causes (measured once).
+    let other = std::cell::OnceCell::new();
+    let other = || -> std::result::Result<&Comparison, String> {
+        other
+            .get_or_init(|| {
+                let wake = match bee.inflow_model() {
+                    InflowModel::Dynamic => InflowModel::Frozen,
+                    _ => InflowModel::Dynamic,
+                };
+                bee.with_inflow_model(wake)
+                    .and_then(|b| sun_xiong::compare(&b))
+                    .map_err(|e| e.to_string())
+            })
+            .as_ref()
+            .map_err(Clone::clone)
+    };
+    // The bumblebee with its half strokes' angles of attack apart (a pitch bias, re-trimmed),
+    // for the couplings' causes (measured once).
+    let biased = std::cell::OnceCell::new();
+    let biased = || -> std::result::Result<&Comparison, String> {
+        biased
+            .get_or_init(|| {
+                let mut b = bee.clone();
+                b.controls.pitch_bias_rad += HALF_STROKE_AOA_SPLIT_DEG.to_radians();
+                sun_xiong::compare(&b).map_err(|e| e.to_string())
+            })
+            .as_ref()
+            .map_err(Clone::clone)
+    };
     for i in 0..4 {
         let (computed, published) = (c.model_times_s[i], MODE_TIMES_S[i]);
         b.push(
@@ -39,7 +68,15 @@ pub(super) fn bumblebee_rows(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
                 tolerance: TOLERANCE,
             },
             false,
-            || format!("{:+.0}% off: {note}", 100.0 * (computed / published - 1.0)),
+            || {
+                // The slow subsidence is the heave mode: its cause is the heave damping's.
+                let why = match (i, bumblebee_heave_note(bee, &c)) {
+                    (3, Ok(Some(heave))) => heave,
+                    (3, Err(e)) => e.to_string(),
+                    _ => note.clone(),
+                };
+                format!("{:+.0}% off: {why}", 100.0 * (computed / published - 1.0))
+            },
         );
     }
 
@@ -58,7 +95,20 @@ pub(super) fn bumblebee_rows(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
                 tolerance: TOLERANCE,
             },
             false,
-            || derivative_cause(name, model, published, &c, &variants),
+            || {
+                derivative_cause(
+                    name,
+                    model,
+                    published,
+                    &c,
+                    &variants,
+                    bee,
+                    &Elsewhere {
+                        other_wake: &other,
+                        biased: &biased,
+                    },
+                )
+            },
         );
     }
     power_row(b, bee)
@@ -141,6 +191,18 @@ fn value(set: &[(&'static str, f64)], name: &str) -> f64 {
         .map_or(f64::NAN, |&(_, v)| v)
 }
 
+/// The pitch bias, deg, that sets the half strokes' angles of attack apart for the couplings'
+/// causes: one way up and the other down, so 2 deg apart.
+const HALF_STROKE_AOA_SPLIT_DEG: f64 = 1.0;
+
+/// The bumblebee's comparison elsewhere than as it stands, each measured on first use.
+struct Elsewhere<'a, 'b> {
+    /// Under the other wake.
+    other_wake: &'b dyn Fn() -> std::result::Result<&'a Comparison, String>,
+    /// With a pitch bias of [`HALF_STROKE_AOA_SPLIT_DEG`].
+    biased: &'b dyn Fn() -> std::result::Result<&'a Comparison, String>,
+}
+
 /// Why a derivative misses, measured on the model.
 fn derivative_cause(
     name: &str,
@@ -148,20 +210,30 @@ fn derivative_cause(
     published: f64,
     c: &Comparison,
     v: &Variants,
+    bee: &Vehicle,
+    elsewhere: &Elsewhere,
 ) -> String {
+    let other = elsewhere.other_wake;
+    let translational = value(&v.translational_only, name);
     let mut why = format!(
-        "model/CFD {:.2}; with the translational term alone {:+.3}, without the hover downwash {:+.3}, without f_AR f_Ro {:+.3}",
+        "model/CFD {:.2}; with the translational term alone {translational:+.3}, without the hover downwash {:+.3}, without f_AR f_Ro {:+.3}",
         model / published,
-        value(&v.translational_only, name),
         value(&v.no_downwash, name),
         value(&v.no_ar_ro, name),
     );
     let within = |x: f64| (x / published - 1.0).abs() <= TOLERANCE;
-    if ![&v.translational_only, &v.no_downwash, &v.no_ar_ro]
+    let none_within = ![&v.translational_only, &v.no_downwash, &v.no_ar_ro]
         .iter()
-        .any(|set| within(value(set, name)))
-    {
-        why += ": none of these comes within the tolerance, so the quasi-steady translational term's response to the body's motion sets the miss";
+        .any(|set| within(value(set, name)));
+    // Said only of the derivatives the strips' own response makes (the heave's is the wake's,
+    // below; the couplings and M_w are near zero by the trim and the strokes' symmetry), and
+    // only where the translational term alone carries the model's value.
+    let strips_set_it = matches!(name, "X_u" | "M_u" | "X_q" | "M_q");
+    if strips_set_it && none_within && (translational / model - 1.0).abs() <= 0.15 {
+        why += &format!(
+            ": none of these comes within the tolerance, and the translational term alone carries {:.2} of the model's value: its quasi-steady response to the body's motion sets the miss",
+            translational / model
+        );
     }
     let m = |n: &str| value(&c.model_derivatives, n);
     let p = |n: &str| sun_xiong::published(n).unwrap_or(f64::NAN);
@@ -194,11 +266,59 @@ fn derivative_cause(
                 -chord_mm * p("M_w") / p("Z_w")
             )
         }
+        "Z_w" => {
+            // The heave damping under both wakes: the frozen wake holds the induced flow while
+            // the body heaves, a responsive one relieves it as momentum theory's disc does
+            // (m / (2m + k): crates/flapsim/tests/responsive_wake).
+            why += &match other() {
+                Ok(o) => {
+                    let there = value(&o.model_derivatives, "Z_w");
+                    let (frozen, dynamic) = match bee.inflow_model() {
+                        InflowModel::Dynamic => (there, model),
+                        _ => (model, there),
+                    };
+                    format!(
+                        "; under the {} wake {there:+.3} ({:.2} of the CFD's): the dynamic wake's Z_w is {:.3} of the frozen wake's (momentum theory's responsive disc: m / (2m + k), crates/flapsim/tests/responsive_wake), the CFD's {:.2} of it, between the two; which part of the CFD's wake answers a heave is not in its stored text (its flow fields were not read)",
+                        if bee.inflow_model() == InflowModel::Dynamic {
+                            "frozen"
+                        } else {
+                            "dynamic"
+                        },
+                        there / published,
+                        dynamic / frozen,
+                        published / frozen,
+                    )
+                }
+                Err(e) => format!("; under the other wake: {e}"),
+            }
+        }
         "X_w" | "Z_u" | "Z_q" => {
-            why += &format!(
-                "; the model's down- and upstrokes mirror each other (equal angles of attack, no deviation), which leaves no coupling of the fore-aft and vertical motions: {model:+.1e}, where the CFD's is {:.0}% of its diagonal derivatives",
-                100.0 * published.abs() / p("X_u").abs().min(p("Z_w").abs())
-            )
+            let diagonal = p("X_u").abs().min(p("Z_w").abs());
+            let share = 100.0 * published.abs() / diagonal;
+            why += &if model.abs() < 1e-3 * diagonal {
+                format!(
+                    "; the model's down- and upstrokes mirror each other (equal angles of attack, no deviation) and its wake holds no fore-aft gradient, which leaves no coupling of the fore-aft and vertical motions: {model:+.1e}, where the CFD's is {share:.0}% of its diagonal derivatives"
+                )
+            } else {
+                format!(
+                    "; the model's down- and upstrokes mirror each other (equal angles of attack, no deviation), so its coupling comes from the wake's fore-aft gradient: {model:+.1e}, {:.0}% of the CFD's, which is {share:.0}% of its diagonal derivatives",
+                    100.0 * model / published
+                )
+            };
+            // Sun & Xiong trimmed the mid-stroke angles of attack and the mean stroke angle to
+            // balance the forces and the moment (their values were not read); the model one
+            // angle for both half strokes. What half strokes apart do, measured:
+            why += &match (elsewhere.biased)() {
+                Ok(b) => {
+                    let x = value(&b.model_derivatives, name);
+                    format!(
+                        "; with the half strokes' angles of attack {:.0} deg apart (a pitch bias of {HALF_STROKE_AOA_SPLIT_DEG} deg, re-trimmed) it is {x:+.1e}, {:.0}% of the CFD's: half strokes that differ couple the motions, and Sun & Xiong trimmed their half strokes' angles of attack with the mean stroke angle to balance forces and moment (the trimmed values were not read)",
+                        2.0 * HALF_STROKE_AOA_SPLIT_DEG,
+                        100.0 * x / published
+                    )
+                }
+                Err(e) => format!("; with the half strokes apart: {e}"),
+            }
         }
         _ => {}
     }

@@ -78,11 +78,11 @@ pub const AZUMA_1985_FIG16_MN: [[f64; 4]; 2] = [
 
 /// What Azuma et al. 1985's own calculations rest on, for the climb's vertical row: its
 /// pitch was measured at the wing tips only (p. 87, (vi)) and its simple analysis took it
-/// along the whole span (assumption (ii), p. 89), as the model file does; that analysis (momentum
-/// theory over the stroke planes and blade elements, pp. 88-94: flapwing's model with a
-/// frozen uniform wake) trimmed the climb only with an interference coefficient of 0.3
-/// (p. 94), where its local circulation method's mean is about 1.2 (p. 104).
-const AZUMA_1985_PITCH_AND_SIMPLE_ANALYSIS: &str = " with the wake's unsteady, non-uniform induced flow, not modelled here; its pitch was measured at the wing tips only (p. 87 (vi)): no spanwise twist was measured, and the file takes the tips' pitch along the whole span as the paper's simple analysis did (its assumption (ii), p. 89: \"The pitch angle is independent of the spanwise position\"); that analysis, momentum theory over the stroke planes and blade elements as here, trimmed the climb only by counting 0.3 of the fore pair's induced velocity on the hind pair, \"very much smaller than that expected\" (p. 94; its local circulation method's mean is about 1.2, p. 104)";
+/// along the whole span (assumption (ii), p. 89), as the model file does; that analysis
+/// (an induced velocity from momentum theory, constant over and normal to each stroke plane,
+/// and blade elements, pp. 88-94) trimmed the climb only with an interference coefficient of
+/// 0.3 (p. 94), where its local circulation method's mean is about 1.2 (p. 104).
+const AZUMA_1985_PITCH_AND_SIMPLE_ANALYSIS: &str = "the paper's local circulation method, in which each span station meets the induced velocity of its wing's loading at that instant and what the wings before it left there (pp. 95-99), is not modelled here; its pitch was measured at the wing tips only (p. 87 (vi)): no spanwise twist was measured, and the file takes the tips' pitch along the whole span as the paper's simple analysis did (its assumption (ii), p. 89: \"The pitch angle is independent of the spanwise position\"); that analysis, an induced velocity from momentum theory constant over and normal to each stroke plane (its assumption (iii)) with blade elements, trimmed the climb only by counting 0.3 of the fore pair's induced velocity on the hind pair, \"very much smaller than that expected\" (p. 94; its local circulation method's mean is about 1.2, p. 104)";
 
 /// The weight of Azuma et al. 1985's dragonfly, mN (260 mg, Table 1).
 const AZUMA_1985_WEIGHT_MN: f64 = 2.551;
@@ -357,9 +357,44 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
                     })
                     .map_err(|e| e.to_string())
             });
+            // Which way the induced flow modelled here pushes the row, measured: still air
+            // beside the dynamic wake.
+            let wakes = match other {
+                Ok((o, m)) => {
+                    let mine = (v.inflow_model(), value);
+                    let theirs = (*m, pick(o));
+                    let (still, dynamic) = if mine.0 == wingforce::InflowModel::Dynamic {
+                        (theirs, mine)
+                    } else {
+                        (mine, theirs)
+                    };
+                    // The paper's own value of the row: its load factor, or its Fig. 16's
+                    // mean forward force.
+                    let paper = match quantity {
+                        "L/W" => Some(flight.paper_load_factor),
+                        _ => flight
+                            .paper_half_strokes
+                            .map(|[f, h]| f[0] + f[2] + h[0] + h[2]),
+                    };
+                    format!(
+                        "the induced flow modelled here moves the row from {:.3} {} to {:.3} {}{}",
+                        still.1,
+                        under(still.0),
+                        dynamic.1,
+                        under(dynamic.0),
+                        paper
+                            .map(|p| format!(
+                                ", and the paper's own calculation ({p:.3}) lies {:+.3} of the weight from the latter",
+                                p - dynamic.1
+                            ))
+                            .unwrap_or_default()
+                    )
+                }
+                Err(e) => format!("under the other wake: {e}"),
+            };
             let twist = match twist {
                 Ok(Some((r25, r50, r75))) => format!(
-                    " with the measured spanwise twist and the wake's unsteady, non-uniform induced flow (that flow is not modelled here); the file's wings twist as Table 3 measured (the feathering at 0.25R, 0.5R and 0.75R, linear between them and extended beyond, in the translational term): rigid wings feathering as at 0.75R give {:.3}, as at 0.5R {:.3}, as at 0.25R {:.3} {}, so the twist moves it by {:+.3}",
+                    " (its Table 2); {wakes}; the paper's local circulation method, in which each span station meets the induced velocity of its wing's loading at that instant and what the wings before it left there (Azuma et al. 1985, pp. 95-99), is not modelled here; the file's wings twist as Table 3 measured (the feathering at 0.25R, 0.5R and 0.75R, linear between them and extended beyond, in the translational term): rigid wings feathering as at 0.75R give {:.3}, as at 0.5R {:.3}, as at 0.25R {:.3} {}, so the twist moves it by {:+.3}",
                     pick(r75),
                     pick(r50),
                     pick(r25),
@@ -367,10 +402,10 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
                     value - pick(r75)
                 ),
                 // 1985: no stations; the paper's pitch is the wing tips', taken along the span.
-                Ok(None) => AZUMA_1985_PITCH_AND_SIMPLE_ANALYSIS.into(),
-                Err(e) => format!(
-                    " with the measured spanwise twist and the wake's unsteady, non-uniform induced flow, neither modelled here (the wing's twist: {e})"
+                Ok(None) => format!(
+                    " (the mean of its Fig. 16 as digitised); {wakes}; {AZUMA_1985_PITCH_AND_SIMPLE_ANALYSIS}"
                 ),
+                Err(e) => format!(" ({wakes}; the wing's twist: {e})"),
             };
             // The paper's own calculation is of the vertical force (its load factor).
             let paper = match quantity {
@@ -396,7 +431,7 @@ pub(super) fn dragonfly_rows(b: &mut RowBuilder) -> Result<()> {
                         (Ok([mf, mh]), Some([pf, ph])) => {
                             let excess = |k: usize| mf[k] + mh[k] - pf[k] - ph[k];
                             format!(
-                                "per half stroke (horizontal, vertical) in still air the model's fore pair gives {}, its hind pair {}, where the paper's own local-circulation calculation (its Fig. 16, as digitised) gives {} and {}: the model's forward excess is {:+.3} on the downstrokes and {:+.3} on the upstrokes, and where the paper's upstrokes carry {:+.3} of the weight up the model's carry {:+.3} (the paper: \"The vertical force is mostly generated in the downstroke of the respective wings\", its induced flow, non-uniform over the disc and unsteady, and its own lift and drag curves, not modelled here)",
+                                "per half stroke (horizontal, vertical) in still air the model's fore pair gives {}, its hind pair {}, where the paper's own local-circulation calculation (its Fig. 16, as digitised) gives {} and {}: the model's forward excess is {:+.3} on the downstrokes and {:+.3} on the upstrokes, and where the paper's upstrokes carry {:+.3} of the weight up the model's carry {:+.3} (the paper: \"The vertical force is mostly generated in the downstroke of the respective wings\", and its angles of attack at 0.75R stay in the linear range of its lift curve in the strokes' effective phases, Fig. 15, p. 104); {wakes}",
                                 pair(&mf),
                                 pair(&mh),
                                 pair(&pf),

@@ -81,6 +81,7 @@ pub fn vehicle_section() -> Result<VehicleSection> {
                 inflow,
                 model: o.model,
                 verdict: o.verdict,
+                cause: o.cause,
             });
         }
     }

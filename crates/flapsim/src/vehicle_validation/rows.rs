@@ -75,8 +75,8 @@ pub struct VehicleRow {
     pub other_wake: Option<OtherWake>,
 }
 
-/// A row's value and verdict under the other wake ([`VehicleRow::other_wake`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+/// A row's value, verdict and cause under the other wake ([`VehicleRow::other_wake`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OtherWake {
     /// The induced-flow model of this value.
     pub inflow: wingforce::InflowModel,
@@ -84,6 +84,8 @@ pub struct OtherWake {
     pub model: f64,
     /// Its verdict against the same measured value and check.
     pub verdict: Verdict,
+    /// For a miss: its cause, measured on the model under this wake.
+    pub cause: Option<String>,
 }
 
 impl VehicleRow {
@@ -214,8 +216,9 @@ impl RowBuilder {
         };
         if row.passes() {
             row.verdict = Verdict::Pass;
-        } else if !self.other_wake {
-            // The other pass shows its value and verdict only ([`OtherWake`]).
+        } else {
+            // Measured under this pass's wake: the other pass's cause is its miss's
+            // ([`OtherWake::cause`]).
             row.cause = Some(cause());
         }
         self.rows.push(row);
