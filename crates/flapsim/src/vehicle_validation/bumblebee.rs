@@ -274,19 +274,28 @@ fn derivative_cause(
                 Ok(o) => {
                     let there = value(&o.model_derivatives, "Z_w");
                     let (frozen, dynamic) = match bee.inflow_model() {
-                        InflowModel::Dynamic => (there, model),
-                        _ => (model, there),
+                        InflowModel::Dynamic => (o, c),
+                        _ => (c, o),
+                    };
+                    // Dimensional (N s/m): each wake's trim has its own stroke, and so its own
+                    // non-dimensional reference.
+                    let si = |c: &Comparison| {
+                        c.report
+                            .nondimensional
+                            .iter()
+                            .find(|d| d.name == "Z_w")
+                            .map_or(f64::NAN, |d| d.value)
                     };
                     format!(
-                        "; under the {} wake {there:+.3} ({:.2} of the CFD's): the dynamic wake's Z_w is {:.3} of the frozen wake's (momentum theory's responsive disc: m / (2m + k), crates/flapsim/tests/responsive_wake), the CFD's {:.2} of it, between the two; which part of the CFD's wake answers a heave is not in its stored text (its flow fields were not read)",
+                        "; under the {} wake {there:+.3} ({:.2} of the CFD's): the dynamic wake's Z_w is {:.3} of the frozen wake's in N s/m (momentum theory's responsive disc: m / (2m + k), crates/flapsim/tests/responsive_wake), the CFD's {:.2} of it, between the two; which part of the CFD's wake answers a heave is not in its stored text (its flow fields were not read)",
                         if bee.inflow_model() == InflowModel::Dynamic {
                             "frozen"
                         } else {
                             "dynamic"
                         },
                         there / published,
-                        dynamic / frozen,
-                        published / frozen,
+                        si(dynamic) / si(frozen),
+                        published / value(&frozen.model_derivatives, "Z_w"),
                     )
                 }
                 Err(e) => format!("; under the other wake: {e}"),
