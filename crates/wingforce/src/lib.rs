@@ -33,6 +33,7 @@ mod mount;
 pub mod pitch_flip;
 pub mod planform;
 pub mod quad;
+pub mod reproduction;
 mod spline;
 mod strips;
 mod terms;
