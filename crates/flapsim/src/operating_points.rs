@@ -134,7 +134,7 @@ pub fn operating_points() -> Result<Vec<OperatingPoint>> {
         limitation: None,
     });
     let (modes, note) = bumblebee_modes(&bee)?;
-    let heave = bumblebee_heave_note(&bee, &sun_xiong::compare(&bee)?)?;
+    let heave = bumblebee_heave_note(&bee, &sun_xiong::compare(&bee)?, None)?;
     for (i, (name, published, computed, limited)) in modes.into_iter().enumerate() {
         let limitation = match (limited, i, &heave) {
             (true, _, _) => Some(note.clone()),
@@ -176,11 +176,15 @@ pub fn bumblebee_modes(bee: &Vehicle) -> Result<([(&'static str, f64, f64, bool)
 }
 
 /// Why the bumblebee's slow subsidence (the heave mode, whose rate is about Z_w / m) misses
-/// Sun & Xiong's half time, measured on the model with its wake as it stands and frozen;
-/// `None` when it does not miss. Momentum theory's linear result for a fully responsive disc
-/// (issue #38): the frozen wake's Z_w times m / (2 m + k), m = 2 rho A w_h the disc's mass
-/// flow and k the wings' thrust sensitivity to the flow through the disc.
-pub fn bumblebee_heave_note(bee: &Vehicle, c: &sun_xiong::Comparison) -> Result<Option<String>> {
+/// Sun & Xiong's half time, measured on the model with its wake as it stands and under the
+/// other wake ([`sun_xiong::Heave`]: both in N s/m beside the CFD's and momentum theory's);
+/// `None` when it does not miss. `other`: the bumblebee's comparison under the other wake,
+/// where already measured.
+pub fn bumblebee_heave_note(
+    bee: &Vehicle,
+    c: &sun_xiong::Comparison,
+    other: Option<&sun_xiong::Comparison>,
+) -> Result<Option<String>> {
     let half_time = c.model_times_s[3];
     if (half_time / sun_xiong::MODE_TIMES_S[3] - 1.0).abs() <= 0.30 {
         return Ok(None);
@@ -192,16 +196,58 @@ pub fn bumblebee_heave_note(bee: &Vehicle, c: &sun_xiong::Comparison) -> Result<
             .map_or(f64::NAN, |&(_, v)| v)
     };
     let published = sun_xiong::published("Z_w").unwrap_or(f64::NAN);
-    let frozen = sun_xiong::compare(&bee.with_inflow_model(wingforce::InflowModel::Frozen)?)?;
+    let measured;
+    let other = match other {
+        Some(o) => o,
+        None => {
+            measured = other_wake_comparison(bee)?;
+            &measured
+        }
+    };
+    let heave = bumblebee_heave(bee, c, other)?;
+    let frozen = if bee.inflow_model() == wingforce::InflowModel::Dynamic {
+        other
+    } else {
+        c
+    };
     Ok(Some(format!(
-        "the slow subsidence is the heave mode (rate about Z_w / m): the model's Z_w is {:.2} of the CFD's with its wake ({}), {:.2} with the wake frozen ({:.3} s half time); the CFD's Z_w is {:.2} of the frozen wake's, where momentum theory's fully responsive disc gives m / (2m + k) and the model's wake {:.2}: the CFD's heave damping lies between the frozen and the responsive wake's (which part of its wake answers a heave is not in its stored text)",
+        "the slow subsidence is the heave mode (rate about Z_w / m): the model's Z_w is {:.2} of the CFD's with its wake ({}), {:.2} with the wake frozen ({:.3} s half time); {}: the CFD's heave damping lies between the frozen and the responsive wake's (which part of its wake answers a heave is not in its stored text)",
         z_w(c) / published,
         bee.inflow_model(),
         z_w(&frozen) / published,
         frozen.model_times_s[3],
-        published / z_w(&frozen),
-        z_w(c) / z_w(&frozen),
+        heave.describe(),
     )))
+}
+
+/// The bumblebee beside Sun & Xiong under the other wake: frozen for a dynamic one, dynamic
+/// else.
+pub fn other_wake_comparison(bee: &Vehicle) -> Result<sun_xiong::Comparison> {
+    use wingforce::InflowModel::{Dynamic, Frozen};
+    let wake = if bee.inflow_model() == Dynamic {
+        Frozen
+    } else {
+        Dynamic
+    };
+    sun_xiong::compare(&bee.with_inflow_model(wake)?)
+}
+
+/// The bumblebee's heave damping under both wakes ([`sun_xiong::Heave`]), from its comparison
+/// `c` as it stands and `other` under the other wake ([`other_wake_comparison`]).
+pub fn bumblebee_heave(
+    bee: &Vehicle,
+    c: &sun_xiong::Comparison,
+    other: &sun_xiong::Comparison,
+) -> Result<sun_xiong::Heave> {
+    use wingforce::InflowModel::{Dynamic, Frozen};
+    let frozen_bee = bee.with_inflow_model(Frozen)?;
+    match bee.inflow_model() {
+        Dynamic => sun_xiong::Heave::measure(&frozen_bee, other, c),
+        Frozen => sun_xiong::Heave::measure(&frozen_bee, c, other),
+        off => Err(Error::Analysis(format!(
+            "the heave damping under both wakes is measured on a bumblebee with an induced flow, not `{off}`"
+        ))),
+    }
 }
 
 /// Why the two pitch-dominated modes of the bumblebee miss Sun & Xiong's times (issue 17),

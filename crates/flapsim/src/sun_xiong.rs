@@ -217,3 +217,76 @@ mod tests {
         assert_eq!(c.model_derivatives.len(), 9);
     }
 }
+
+/// The heave damping Z_w in N s/m under the frozen and the dynamic wake, beside the CFD's
+/// and momentum theory's linear result for a responsive disc (issue #38): the frozen wake's
+/// Z_w times m / (2m + k), m = 2 rho A w_h the mass flow through the disc the wings sweep at
+/// the frozen trim and k = -Z_w (frozen) the wings' thrust sensitivity to the flow through it
+/// (`crates/flapsim/tests/responsive_wake` checks the dynamic wake against it).
+///
+/// Dimensional, because each wake's trim flaps its own stroke and so has its own
+/// non-dimensional reference; the CFD's derivative is made dimensional at the paper's stroke
+/// ([`Comparison::paper_reference`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Heave {
+    /// Z_w with the wake frozen, N s/m (flapwing's axes, z up).
+    pub frozen_n_s_m: f64,
+    /// Z_w with the wake that answers, N s/m.
+    pub dynamic_n_s_m: f64,
+    /// Sun & Xiong's, N s/m.
+    pub cfd_n_s_m: f64,
+    /// m / (2m + k).
+    pub momentum_ratio: f64,
+    /// The stroke at which the CFD's derivative is made dimensional, rad.
+    pub paper_stroke_rad: f64,
+}
+
+impl Heave {
+    /// Measures it from the bumblebee with its wake frozen and the two comparisons.
+    pub fn measure(
+        frozen_bee: &Vehicle,
+        frozen: &Comparison,
+        dynamic: &Comparison,
+    ) -> Result<Self> {
+        let si = |c: &Comparison| {
+            c.report
+                .nondimensional
+                .iter()
+                .find(|d| d.name == "Z_w")
+                .map(|d| d.value)
+                .ok_or_else(|| Error::Analysis("the stability report has no Z_w".into()))
+        };
+        let frozen_n_s_m = si(frozen)?;
+        let (_, _, column, moment, _) = LONGITUDINAL
+            .iter()
+            .copied()
+            .find(|d| d.0 == "Z_w")
+            .ok_or_else(|| Error::Analysis("no Z_w among the derivatives".into()))?;
+        let cfd_n_s_m = published("Z_w").unwrap_or(f64::NAN) * to_sun_axes("Z_w")
+            / frozen.paper_reference.scale(column, moment);
+        let trimmed = crate::trim::trimmed_vehicle(frozen_bee, &frozen.report.trim)?;
+        let w = &trimmed.wings[0];
+        let rho = w.fluid().density_kg_m3;
+        let area = w.kinematics().amplitude_rad * w.geometry().r_tip_m.powi(2);
+        let mass_flow = (2.0 * rho * area * frozen_bee.weight_n()).sqrt();
+        let k = -frozen_n_s_m;
+        Ok(Self {
+            paper_stroke_rad: frozen.paper_reference.stroke_amplitude_rad,
+            frozen_n_s_m,
+            dynamic_n_s_m: si(dynamic)?,
+            cfd_n_s_m,
+            momentum_ratio: mass_flow / (2.0 * mass_flow + k),
+        })
+    }
+
+    /// The ratios in words.
+    pub fn describe(&self) -> String {
+        format!(
+            "in N s/m the dynamic wake's Z_w is {:.3} of the frozen wake's, where momentum theory's responsive disc gives m / (2m + k) = {:.3}, and the CFD's is {:.2} of it (made dimensional at the paper's {:.0} deg stroke)",
+            self.dynamic_n_s_m / self.frozen_n_s_m,
+            self.momentum_ratio,
+            self.cfd_n_s_m / self.frozen_n_s_m,
+            self.paper_stroke_rad.to_degrees(),
+        )
+    }
+}

@@ -40,7 +40,13 @@ const ROBOBEE_IDENTIFIED_HINGES_NM_RAD: [f64; 2] = [4.6e-6, 2.4e-6];
 
 /// The wing motion at `freq_hz`, `amplitude_v` with each identified hinge in place of the
 /// file's (a cause's measurement: which published parameter decides the row).
-fn identified_hinges(v: &Vehicle, freq_hz: f64, amplitude_v: f64) -> String {
+/// `row`: the row's own value and verdict from a run, appended to each hinge's numbers.
+fn identified_hinges(
+    v: &Vehicle,
+    freq_hz: f64,
+    amplitude_v: f64,
+    row: &dyn Fn(&TetheredRun) -> String,
+) -> String {
     let runs: Vec<String> = ROBOBEE_IDENTIFIED_HINGES_NM_RAD
         .iter()
         .map(|&k| {
@@ -50,12 +56,13 @@ fn identified_hinges(v: &Vehicle, freq_hz: f64, amplitude_v: f64) -> String {
             }
             match tethered(&variant, freq_hz, amplitude_v) {
                 Ok(r) if r.failed.is_none() => format!(
-                    "{k:.1e} N m/rad: pitch +-{:.1} deg, phase {:+.1} deg, stroke {:.1} deg p-p, the air's damping of the stroke {:.2} of critical, mean lift {:.3} mN",
+                    "{k:.1e} N m/rad: pitch +-{:.1} deg, phase {:+.1} deg, stroke {:.1} deg p-p, the air's damping of the stroke {:.2} of critical, mean lift {:.3} mN ({})",
                     r.motion.pitch_amplitude_deg,
                     r.motion.pitch_phase_deg,
                     2.0 * r.motion.stroke_amplitude_deg,
                     r.stroke_damping_ratio,
-                    1e3 * r.mean_lift_n
+                    1e3 * r.mean_lift_n,
+                    row(&r)
                 ),
                 Ok(r) => format!(
                     "{k:.1e} N m/rad: the run stopped: {}",
@@ -114,6 +121,29 @@ const SWEEP_HZ: [f64; 17] = [
     180.0, 190.0, 200.0,
 ];
 
+/// A row's value with a variant's run, and whether it would pass (the verdict of
+/// [`identified_hinges`]).
+fn verdict(what: &str, value: f64, passes: bool) -> String {
+    format!(
+        "the row's {what} {}: {}",
+        if value.abs() < 10.0 {
+            format!("{value:.3}")
+        } else {
+            format!("{value:.1}")
+        },
+        if passes {
+            "within its tolerance"
+        } else {
+            "outside it"
+        }
+    )
+}
+
+/// Within `tolerance` of `bench` (a relative check).
+fn near(value: f64, bench: f64, tolerance: f64) -> bool {
+    (value / bench - 1.0).abs() <= tolerance
+}
+
 pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
     let v = b.vehicle("robobee")?;
     let act = v.actuation.as_ref().expect("robobee is actuated");
@@ -157,7 +187,10 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
                         .as_ref()
                         .map(|e| format!("; the run stopped: {e}"))
                         .unwrap_or_default(),
-                    identified_hinges(&v, f, amp_180)
+                    identified_hinges(&v, f, amp_180, &|r| {
+                        let pp = 2.0 * r.motion.stroke_amplitude_deg;
+                        verdict("stroke", pp, near(pp, bench, 0.15))
+                    })
                 )
             },
         );
@@ -183,7 +216,10 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
                 format!(
                     "{}; {}",
                     pitch_cause(&v, &r),
-                    identified_hinges(&v, 170.0, amp)
+                    identified_hinges(&v, 170.0, amp, &|r| {
+                        let p = r.motion.pitch_amplitude_deg;
+                        verdict("pitch", p, near(p, bench, 0.15))
+                    })
                 )
             },
         );
@@ -203,7 +239,15 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
                 format!(
                     "{}; {}",
                     pitch_cause(&v, &r),
-                    identified_hinges(&v, 165.0, amp_video)
+                    identified_hinges(&v, 165.0, amp_video, &|r| {
+                        let (p, ph) = (r.motion.pitch_amplitude_deg, r.motion.pitch_phase_deg);
+                        let mean_phase = 0.5 * (phase_l + phase_r);
+                        format!(
+                            "{}; {}",
+                            verdict("pitch", p, near(p, 0.5 * (pitch_l + pitch_r), 0.15)),
+                            verdict("phase", ph, (ph - mean_phase).abs() <= 20.0)
+                        )
+                    })
                 )
             })
             .clone()
@@ -266,15 +310,22 @@ pub(super) fn robobee_rows(b: &mut RowBuilder) -> Result<()> {
                 .map(|(f, pp)| format!(" (the bench at 180 Vpp, 90 V, {f:.0} Hz: +-{:.1} deg)", pp / 2.0))
                 .unwrap_or_default();
             format!(
-                "at {limit_v:.0} V, {:.0} Hz the model strokes +-{:.1} deg{bench} with pitch +-{:.1} deg, phase {:+.1} deg and mid-stroke angle of attack {:.1} deg; L/W {:.2}; the 140 mg-f is of the bee before Jafferis et al.'s redesign, whose abstract finds the best mid-stroke hinge angle \"about 70 rather than 45-50 as previously assumed\", where the model's wing turns +-{:.1} deg on its hinge; {}",
+                "at {limit_v:.0} V, {:.0} Hz the model strokes +-{:.1} deg{bench} with pitch +-{:.1} deg, phase {:+.1} deg and mid-stroke angle of attack {:.1} deg; L/W {:.2}; the 140 mg-f is of the bee before Jafferis et al.'s redesign, whose abstract finds the best mid-stroke hinge angle \"about 70 rather than 45-50 as previously assumed\", where the model's mid-stroke hinge angle is {:.1} deg (90 deg less its mid-stroke angle of attack); {}",
                 drive.freq_hz,
                 m.stroke_amplitude_deg,
                 m.pitch_amplitude_deg,
                 m.pitch_phase_deg,
                 m.mid_stroke_aoa_deg,
                 r.mean_lift_n / v.weight_n(),
-                m.pitch_amplitude_deg,
-                identified_hinges(&v, drive.freq_hz, limit_v)
+                90.0 - m.mid_stroke_aoa_deg,
+                identified_hinges(&v, drive.freq_hz, limit_v, &|r| {
+                    let mn = 1e3 * r.mean_lift_n;
+                    verdict(
+                        "lift (mN)",
+                        mn,
+                        near(r.mean_lift_n, ROBOBEE_MEAN_LIFT_N, 0.15),
+                    )
+                })
             )
         },
     );

@@ -14,7 +14,10 @@ use super::rows::{Check, RowBuilder};
 use crate::error::Result;
 use crate::flight::{FlightCondition, trim_point};
 use crate::model::Vehicle;
-use crate::operating_points::{SUN_XIONG_SOURCE, bumblebee_heave_note, bumblebee_pitch_modes_note};
+use crate::operating_points::{
+    SUN_XIONG_SOURCE, bumblebee_heave, bumblebee_heave_note, bumblebee_pitch_modes_note,
+    other_wake_comparison,
+};
 use crate::stability::analyze;
 use crate::sun_xiong::{self, Comparison, MODE_TIME_NAMES, MODE_TIMES_S, TABLE_SOURCE};
 use crate::trim::{LiftVariable, trim_at};
@@ -31,15 +34,7 @@ pub(super) fn bumblebee_rows(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
     let other = std::cell::OnceCell::new();
     let other = || -> std::result::Result<&Comparison, String> {
         other
-            .get_or_init(|| {
-                let wake = match bee.inflow_model() {
-                    InflowModel::Dynamic => InflowModel::Frozen,
-                    _ => InflowModel::Dynamic,
-                };
-                bee.with_inflow_model(wake)
-                    .and_then(|b| sun_xiong::compare(&b))
-                    .map_err(|e| e.to_string())
-            })
+            .get_or_init(|| other_wake_comparison(bee).map_err(|e| e.to_string()))
             .as_ref()
             .map_err(Clone::clone)
     };
@@ -70,9 +65,16 @@ pub(super) fn bumblebee_rows(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
             false,
             || {
                 // The slow subsidence is the heave mode: its cause is the heave damping's.
-                let why = match (i, bumblebee_heave_note(bee, &c)) {
-                    (3, Ok(Some(heave))) => heave,
-                    (3, Err(e)) => e.to_string(),
+                let heave = || match other() {
+                    Ok(o) => bumblebee_heave_note(bee, &c, Some(o)),
+                    Err(e) => Err(crate::error::Error::Analysis(e)),
+                };
+                let why = match i {
+                    3 => match heave() {
+                        Ok(Some(h)) => h,
+                        Ok(None) => note.clone(),
+                        Err(e) => e.to_string(),
+                    },
                     _ => note.clone(),
                 };
                 format!("{:+.0}% off: {why}", 100.0 * (computed / published - 1.0))
@@ -203,6 +205,25 @@ struct Elsewhere<'a, 'b> {
     biased: &'b dyn Fn() -> std::result::Result<&'a Comparison, String>,
 }
 
+/// What half strokes with different angles of attack do to a derivative that the mirrored
+/// strokes leave near zero, measured: Sun & Xiong trimmed "mid-stroke angles of attack and
+/// mean positional angle" to balance the forces and the moment (a public summary of the paper,
+/// bohrium.com's page on it; their values were not read), where the model trims one angle for
+/// both half strokes.
+fn split_cause(name: &str, published: f64, elsewhere: &Elsewhere) -> String {
+    match (elsewhere.biased)() {
+        Ok(b) => {
+            let x = value(&b.model_derivatives, name);
+            format!(
+                "; with the half strokes' angles of attack {:.0} deg apart (a pitch bias of {HALF_STROKE_AOA_SPLIT_DEG} deg: one half stroke up by it, the other down, re-trimmed) it is {x:+.1e}, {:+.0}% of the CFD's (the sign follows which half stroke leads); Sun & Xiong trimmed their \"mid-stroke angles of attack and mean positional angle\" to balance forces and moment (a public summary of the paper; their values were not read)",
+                2.0 * HALF_STROKE_AOA_SPLIT_DEG,
+                100.0 * x / published
+            )
+        }
+        Err(e) => format!("; with the half strokes apart: {e}"),
+    }
+}
+
 /// Why a derivative misses, measured on the model.
 fn derivative_cause(
     name: &str,
@@ -264,38 +285,29 @@ fn derivative_cause(
                 "; M_w/Z_w puts the w-force {:+.3} mm from the centre of mass in x (x forward; the trim puts the mean lift over it), the CFD's {:+.3} mm",
                 -chord_mm * m("M_w") / m("Z_w"),
                 -chord_mm * p("M_w") / p("Z_w")
-            )
+            );
+            why += &split_cause(name, published, elsewhere);
         }
         "Z_w" => {
             // The heave damping under both wakes: the frozen wake holds the induced flow while
             // the body heaves, a responsive one relieves it as momentum theory's disc does
             // (m / (2m + k): crates/flapsim/tests/responsive_wake).
-            why += &match other() {
-                Ok(o) => {
+            why += &match other().and_then(|o| {
+                bumblebee_heave(bee, c, o)
+                    .map(|h| (o, h))
+                    .map_err(|e| e.to_string())
+            }) {
+                Ok((o, heave)) => {
                     let there = value(&o.model_derivatives, "Z_w");
-                    let (frozen, dynamic) = match bee.inflow_model() {
-                        InflowModel::Dynamic => (o, c),
-                        _ => (c, o),
-                    };
-                    // Dimensional (N s/m): each wake's trim has its own stroke, and so its own
-                    // non-dimensional reference.
-                    let si = |c: &Comparison| {
-                        c.report
-                            .nondimensional
-                            .iter()
-                            .find(|d| d.name == "Z_w")
-                            .map_or(f64::NAN, |d| d.value)
-                    };
                     format!(
-                        "; under the {} wake {there:+.3} ({:.2} of the CFD's): the dynamic wake's Z_w is {:.3} of the frozen wake's in N s/m (momentum theory's responsive disc: m / (2m + k), crates/flapsim/tests/responsive_wake), the CFD's {:.2} of it, between the two; which part of the CFD's wake answers a heave is not in its stored text (its flow fields were not read)",
+                        "; under the {} wake {there:+.3} ({:.2} of the CFD's); {}: the CFD's lies between the frozen and the responsive wake's; which part of its wake answers a heave is not in its stored text (its flow fields were not read)",
                         if bee.inflow_model() == InflowModel::Dynamic {
                             "frozen"
                         } else {
                             "dynamic"
                         },
                         there / published,
-                        si(dynamic) / si(frozen),
-                        published / value(&frozen.model_derivatives, "Z_w"),
+                        heave.describe(),
                     )
                 }
                 Err(e) => format!("; under the other wake: {e}"),
@@ -304,30 +316,23 @@ fn derivative_cause(
         "X_w" | "Z_u" | "Z_q" => {
             let diagonal = p("X_u").abs().min(p("Z_w").abs());
             let share = 100.0 * published.abs() / diagonal;
-            why += &if model.abs() < 1e-3 * diagonal {
-                format!(
-                    "; the model's down- and upstrokes mirror each other (equal angles of attack, no deviation) and its wake holds no fore-aft gradient, which leaves no coupling of the fore-aft and vertical motions: {model:+.1e}, where the CFD's is {share:.0}% of its diagonal derivatives"
-                )
+            why += &if bee.inflow_model() == InflowModel::Dynamic {
+                // What the wake adds: the same row with the wake frozen.
+                match other() {
+                    Ok(o) => format!(
+                        "; the model's down- and upstrokes mirror each other (equal angles of attack, no deviation), and with the wake frozen the coupling is {:+.1e}: the dynamic wake makes it {model:+.1e}, {:.0}% of the CFD's, which is {share:.0}% of its diagonal derivatives",
+                        value(&o.model_derivatives, name),
+                        100.0 * model / published
+                    ),
+                    Err(e) => format!("; with the wake frozen: {e}"),
+                }
             } else {
                 format!(
-                    "; the model's down- and upstrokes mirror each other (equal angles of attack, no deviation), so its coupling comes from the wake's fore-aft gradient: {model:+.1e}, {:.0}% of the CFD's, which is {share:.0}% of its diagonal derivatives",
-                    100.0 * model / published
+                    "; the model's down- and upstrokes mirror each other (equal angles of attack, no deviation) and its wake ({}) has no gradient over the disc, which leaves no coupling of the fore-aft and vertical motions: {model:+.1e}, where the CFD's is {share:.0}% of its diagonal derivatives",
+                    bee.inflow_model()
                 )
             };
-            // Sun & Xiong trimmed the mid-stroke angles of attack and the mean stroke angle to
-            // balance the forces and the moment (their values were not read); the model one
-            // angle for both half strokes. What half strokes apart do, measured:
-            why += &match (elsewhere.biased)() {
-                Ok(b) => {
-                    let x = value(&b.model_derivatives, name);
-                    format!(
-                        "; with the half strokes' angles of attack {:.0} deg apart (a pitch bias of {HALF_STROKE_AOA_SPLIT_DEG} deg, re-trimmed) it is {x:+.1e}, {:.0}% of the CFD's: half strokes that differ couple the motions, and Sun & Xiong trimmed their half strokes' angles of attack with the mean stroke angle to balance forces and moment (the trimmed values were not read)",
-                        2.0 * HALF_STROKE_AOA_SPLIT_DEG,
-                        100.0 * x / published
-                    )
-                }
-                Err(e) => format!("; with the half strokes apart: {e}"),
-            }
+            why += &split_cause(name, published, elsewhere);
         }
         _ => {}
     }
