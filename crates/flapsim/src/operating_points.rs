@@ -214,7 +214,7 @@ pub fn bumblebee_heave_note(
         "the slow subsidence is the heave mode (rate about Z_w / m): the model's Z_w is {:.2} of the CFD's with its wake ({}), {:.2} with the wake frozen ({:.3} s half time); {}: the CFD's heave damping lies between the frozen and the responsive wake's (which part of its wake answers a heave is not in its stored text)",
         z_w(c) / published,
         bee.inflow_model(),
-        z_w(&frozen) / published,
+        z_w(frozen) / published,
         frozen.model_times_s[3],
         heave.describe(),
     )))

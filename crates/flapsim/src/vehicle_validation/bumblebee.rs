@@ -205,6 +205,46 @@ struct Elsewhere<'a, 'b> {
     biased: &'b dyn Fn() -> std::result::Result<&'a Comparison, String>,
 }
 
+/// The wings' fluid impulse turning with the body, measured: MODEL.md 4.3 writes the
+/// added-mass force as -dP/dt in an inertial frame with the wing's whole angular velocity,
+/// body rotation included, so a body pitching steadily at q about its lateral axis y meets
+/// the cycle mean -q y x P_mean of the strips' impulse P (which does not vanish: the strips
+/// push the air down in both half strokes). flapwing's impulse form takes the air as steady
+/// in the stroke frame (`wingforce::added_mass`), which leaves that term out of the averaged
+/// model and the simulation: its size and sign here, per unit pitch rate, in the
+/// derivative's axes. (Its pitch component, -q y x H of the angular impulse H, is zero: M_q
+/// does not move.)
+fn rotating_impulse_cause(bee: &Vehicle, c: &Comparison, name: &str, model: f64) -> String {
+    let trimmed = match crate::trim::trimmed_vehicle(bee, &c.report.trim) {
+        Ok(t) => t,
+        Err(e) => return format!("; the wings' fluid impulse: {e}"),
+    };
+    let n = 400;
+    let mut p_body = nalgebra::Vector3::zeros();
+    for w in &trimmed.wings {
+        for k in 0..n {
+            let a = w.kinematics().angles(k as f64 / n as f64);
+            let frame = wingforce::WingFrame::new(&a, w.mount().side);
+            if let Some(p) = w.fluid_impulse_n_s(&frame) {
+                p_body += w.body_from_stroke() * p / n as f64;
+            }
+        }
+    }
+    // Level axes (x forward, z up), as the derivatives: -q y x P = q (-P_z, 0, P_x).
+    let p_level = trimmed.initial_attitude * p_body;
+    let per_q = match name {
+        "X_q" => -p_level.z,
+        _ => p_level.x,
+    };
+    let r = &c.report.nondimensional_reference;
+    let added = per_q * r.scale(3, false) * sun_xiong::to_sun_axes(name);
+    format!(
+        "; the wings' mean fluid impulse at the trim is {:.2e} N s down (MODEL.md 4.3's added mass counts the body's rotation in the wing's, so a pitching body turns it: -q y x P), which flapwing's added mass leaves out (it takes the air as steady in the stroke frame; the averaged model and the simulation alike): it would add {added:+.3} to {name}, to {:+.3}",
+        -p_level.z,
+        model + added
+    )
+}
+
 /// What half strokes with different angles of attack do to a derivative that the mirrored
 /// strokes leave near zero, measured: Sun & Xiong trimmed "mid-stroke angles of attack and
 /// mean positional angle" to balance the forces and the moment (a public summary of the paper,
@@ -271,7 +311,8 @@ fn derivative_cause(
                 "; X_q/X_u puts the u-force {:+.2} mm from the centre of mass in z (the wings' mean centre of pressure; z down), the CFD's {:+.2} mm",
                 beat_mm * m("X_q") / m("X_u"),
                 paper_beat_mm * p("X_q") / p("X_u")
-            )
+            );
+            why += &rotating_impulse_cause(bee, c, name, model);
         }
         "M_u" => {
             why += &format!(
