@@ -106,6 +106,9 @@ const INTEGRAL_STEPS: usize = 20_000;
 pub fn cases(wing: &Wing) -> Result<Vec<Case>> {
     use Rule::{Absolute, SignificantDigits};
     let mut cases = Vec::new();
+    let mut add = |name: &str, source: &'static str, published: f64, computed: f64, rule: Rule| {
+        cases.push(Case::new(name, source, published, computed, rule));
+    };
 
     // Wake capture, eq 17-19 (plus sign in eq 19), raw formula: Table 5 to five significant
     // digits; mu* is printed to five decimals.
@@ -113,107 +116,107 @@ pub fn cases(wing: &Wing) -> Result<Vec<Case>> {
     for (run, re, dd, da, dcl, dcd, mu) in TABLE5 {
         let p = wake.raw(re, da, dd);
         let at = format!("Re {re}, dtau_D {dd}");
-        cases.push(Case::new(
-            format!("{run} dCL_bar ({at})"),
+        add(
+            &format!("{run} dCL_bar ({at})"),
             "paper Table 5, eq 17",
             dcl,
             p.dcl_bar,
             SignificantDigits(5),
-        ));
-        cases.push(Case::new(
-            format!("{run} dCD_bar ({at})"),
+        );
+        add(
+            &format!("{run} dCD_bar ({at})"),
             "paper Table 5, eq 18",
             dcd,
             p.dcd_bar,
             SignificantDigits(5),
-        ));
-        cases.push(Case::new(
-            format!("{run} mu* (Re {re}, dtau_A {da})"),
+        );
+        add(
+            &format!("{run} mu* (Re {re}, dtau_A {da})"),
             "paper Table 5, eq 19 (+)",
             mu,
             p.mu_star,
             Absolute(5e-6),
-        ));
+        );
     }
 
     // Lee et al. 2016 at Re 1360, alpha 40 deg, and the corrections for the robofly planform.
     let g = wing.geometry();
     let (cl, cd) = lee2016(40f64.to_radians(), 1360.0);
     let model_md = "MODEL.md 5";
-    cases.push(Case::new(
+    add(
         "C_l Lee, Re 1360, alpha 40",
         model_md,
         1.76007,
         cl,
         Absolute(5e-6),
-    ));
-    cases.push(Case::new(
+    );
+    add(
         "C_d Lee, Re 1360, alpha 40",
         model_md,
         1.44000,
         cd,
         Absolute(5e-6),
-    ));
-    cases.push(Case::new(
+    );
+    add(
         "f_AR robofly",
         model_md,
         1.01547,
         f_ar(g.aspect_ratio),
         Absolute(5e-6),
-    ));
-    cases.push(Case::new(
+    );
+    add(
         "f_Ro robofly",
         model_md,
         0.77526,
         f_ro(g.rossby),
         Absolute(5e-6),
-    ));
+    );
 
     // The translational check: the whole blade-element sum at mid-downstroke (constant stroke
     // rate, uniform alpha 40 deg) reduces to f_AR f_Ro C_l. MODEL.md prints C_D,trans = 1.13370
     // but its own factors give 1.13364 (a 5e-5 slip), hence 1e-4 for C_D.
     let mid = wing.evaluate(0.25, &BodyMotion::default());
     let trans = mid.term(Term::Translational);
-    cases.push(Case::new(
+    add(
         "C_L,trans robofly, mid-downstroke",
         model_md,
         1.38562,
         trans.c_l,
         Absolute(2e-5),
-    ));
-    cases.push(Case::new(
+    );
+    add(
         "C_D,trans robofly, mid-downstroke",
         "MODEL.md 5 (5e-5 slip)",
         1.13370,
         trans.c_d,
         Absolute(1e-4),
-    ));
+    );
 
     // Dickinson, Lehmann and Sane 1999 robofly fits.
     let dickinson = "Dickinson et al. 1999";
     let (cl45, cd45) = dickinson1999_deg(45.0);
     let (cl90, _) = dickinson1999_deg(90.0);
-    cases.push(Case::new(
+    add(
         "Dickinson C_L(45 deg)",
         dickinson,
         1.8046,
         cl45,
         Absolute(5e-5),
-    ));
-    cases.push(Case::new(
+    );
+    add(
         "Dickinson C_D(45 deg)",
         dickinson,
         1.7037,
         cd45,
         Absolute(5e-5),
-    ));
-    cases.push(Case::new(
+    );
+    add(
         "Dickinson C_L(90 deg)",
         dickinson,
         0.1010,
         cl90,
         Absolute(5e-5),
-    ));
+    );
 
     // Eq 22-23: the instantaneous wake-capture term is a Gaussian (sigma = mu*/3 at mu*)
     // holding 0.1 dC_bar; over one half stroke t* in [0, 0.5] that is
@@ -236,58 +239,46 @@ pub fn cases(wing: &Wing) -> Result<Vec<Case>> {
         int_d += w.c_d * h;
     }
     let analytic = "eq 22-23, analytic";
-    cases.push(Case::new(
+    add(
         "half-stroke integral of C_L,WC (robofly)",
         analytic,
         0.1 * params.dcl_bar * fraction,
         int_l,
         Absolute(1e-6),
-    ));
-    cases.push(Case::new(
+    );
+    add(
         "half-stroke integral of C_D,WC (robofly)",
         analytic,
         0.1 * params.dcd_bar * fraction,
         int_d,
         Absolute(1e-6),
-    ));
+    );
 
     // The robofly planform (paper Table 3: S = 0.02296 m^2, b = 0.25 m, R = 0.3631 m).
     let table3 = "paper Table 3, MODEL.md 5";
-    cases.push(Case::new(
-        "AR robofly",
-        table3,
-        2.7221,
-        g.aspect_ratio,
-        Absolute(5e-5),
-    ));
-    cases.push(Case::new(
+    add("AR robofly", table3, 2.7221, g.aspect_ratio, Absolute(5e-5));
+    add(
         "c_bar robofly, m",
         table3,
         0.09184,
         g.mean_chord_m,
         Absolute(5e-6),
-    ));
-    cases.push(Case::new(
-        "Ro robofly",
-        table3,
-        3.9536,
-        g.rossby,
-        Absolute(5e-5),
-    ));
-    cases.push(Case::new(
+    );
+    add("Ro robofly", table3, 3.9536, g.rossby, Absolute(5e-5));
+    add(
         "R_g robofly, m",
         table3,
         0.2394,
         g.r_gyration_m,
         Absolute(5e-5),
-    ));
-    cases.push(Case::new(
+    );
+    add(
         "V_ref robofly, m/s",
         "paper section 4",
         0.1905,
         wing.v_ref_m_s(),
         Absolute(1e-9),
-    ));
+    );
     Ok(cases)
 }
 
