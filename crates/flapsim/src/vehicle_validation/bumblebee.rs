@@ -65,15 +65,13 @@ pub(super) fn bumblebee_rows(b: &mut RowBuilder, bee: &Vehicle) -> Result<()> {
             false,
             || {
                 // The slow subsidence is the heave mode: its cause is the heave damping's.
-                let heave = || match other() {
-                    Ok(o) => bumblebee_heave_note(bee, &c, Some(o)),
-                    Err(e) => Err(crate::error::Error::Analysis(e)),
-                };
                 let why = match i {
-                    3 => match heave() {
+                    3 => match other().and_then(|o| {
+                        bumblebee_heave_note(bee, &c, Some(o)).map_err(|e| e.to_string())
+                    }) {
                         Ok(Some(h)) => h,
                         Ok(None) => note.clone(),
-                        Err(e) => e.to_string(),
+                        Err(e) => e,
                     },
                     _ => note.clone(),
                 };
@@ -214,7 +212,7 @@ struct Elsewhere<'a, 'b> {
 /// model and the simulation: its size and sign here, per unit pitch rate, in the
 /// derivative's axes. (Its pitch component, -q y x H of the angular impulse H, is zero: M_q
 /// does not move.)
-fn rotating_impulse_cause(bee: &Vehicle, c: &Comparison, name: &str, model: f64) -> String {
+fn rotating_impulse_cause(bee: &Vehicle, c: &Comparison, x_q: f64) -> String {
     let trimmed = match crate::trim::trimmed_vehicle(bee, &c.report.trim) {
         Ok(t) => t,
         Err(e) => return format!("; the wings' fluid impulse: {e}"),
@@ -230,18 +228,15 @@ fn rotating_impulse_cause(bee: &Vehicle, c: &Comparison, name: &str, model: f64)
             }
         }
     }
-    // Level axes (x forward, z up), as the derivatives: -q y x P = q (-P_z, 0, P_x).
+    // Level axes (x forward, z up), as the derivatives: -q y x P = q (-P_z, 0, P_x), so X_q
+    // gains -P_z.
     let p_level = trimmed.initial_attitude * p_body;
-    let per_q = match name {
-        "X_q" => -p_level.z,
-        _ => p_level.x,
-    };
     let r = &c.report.nondimensional_reference;
-    let added = per_q * r.scale(3, false) * sun_xiong::to_sun_axes(name);
+    let added = -p_level.z * r.scale(3, false) * sun_xiong::to_sun_axes("X_q");
     format!(
-        "; the wings' mean fluid impulse at the trim is {:.2e} N s down (MODEL.md 4.3's added mass counts the body's rotation in the wing's, so a pitching body turns it: -q y x P), which flapwing's added mass leaves out (it takes the air as steady in the stroke frame; the averaged model and the simulation alike): it would add {added:+.3} to {name}, to {:+.3}",
+        "; the wings' mean fluid impulse at the trim is {:.2e} N s down (MODEL.md 4.3's added mass counts the body's rotation in the wing's, so a pitching body turns it: -q y x P), which flapwing's added mass leaves out (it takes the air as steady in the stroke frame; the averaged model and the simulation alike): it would add {added:+.3} to X_q, to {:+.3}",
         -p_level.z,
-        model + added
+        x_q + added
     )
 }
 
@@ -312,7 +307,7 @@ fn derivative_cause(
                 beat_mm * m("X_q") / m("X_u"),
                 paper_beat_mm * p("X_q") / p("X_u")
             );
-            why += &rotating_impulse_cause(bee, c, name, model);
+            why += &rotating_impulse_cause(bee, c, model);
         }
         "M_u" => {
             why += &format!(
